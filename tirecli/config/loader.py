@@ -1,0 +1,135 @@
+"""Study configs: read a YAML config, apply ``--set`` overrides, resolve parameter groups.
+
+A config is a YAML mapping; each study checks its own keys (see ``tirecli.studies``).
+Overrides ``--set a.b=VALUE`` (``a.b[1].c=VALUE`` for list items) are applied to the raw
+document before it is checked; ``VALUE`` is read as YAML (``170``, ``[5, 10]``, ``Z``).
+"""
+from __future__ import annotations
+
+import hashlib
+import json
+import re
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import yaml
+
+from tirecli.config.schema import Spec, check_document
+from tirecli.errors import ConfigError, Problem, UsageError
+from tirecli.io.yamlio import Origins, load_yaml, parse_yaml
+from tirecli.parameters.sets import ParameterSet, resolve_group
+
+OVERRIDE_FILE = "<command line --set>"
+_PART = re.compile(r"([A-Za-z_][A-Za-z0-9_\-]*)|\[(\d+)\]")
+
+
+@dataclass
+class Config:
+    """A loaded config.
+
+    Attributes
+    ----------
+    data : dict
+        The raw document with overrides applied.
+    origins : Origins
+        Key path -> (file, line) of every value.
+    base_dir : Path
+        Directory relative paths in the config are resolved against.
+    label : str
+        The file name, or the built-in config's name.
+    """
+
+    data: dict
+    origins: Origins
+    base_dir: Path
+    label: str
+
+    def checked(self, spec: Spec) -> dict:
+        """The document checked against ``spec`` (every problem reported at once)."""
+        return check_document(self.data, spec, self.origins)
+
+    def group(self, key: str, kind: str, default_set: str | None = None) -> ParameterSet:
+        """Resolve the parameter group ``key`` (e.g. ``tire``) of ``kind``."""
+        raw = self.data.get(key)
+        if raw is None and default_set is None:
+            raise ConfigError(self.origins.problem((), f"missing required key {key!r} (a {kind} parameter set)"))
+        return resolve_group(raw, self.origins, (key,), kind, self.base_dir, default_set)
+
+    def digest(self) -> str:
+        """SHA-256 of the document (overrides included), canonical JSON."""
+        blob = json.dumps(self.data, sort_keys=True, default=str).encode()
+        return hashlib.sha256(blob).hexdigest()
+
+
+def parse_key_path(text: str) -> tuple:
+    """``"sweep.models[1].lambda"`` -> ``("sweep", "models", 1, "lambda")``."""
+    parts: list = []
+    for chunk in text.split("."):
+        pos = 0
+        if not chunk:
+            raise UsageError(f"--set: empty key in {text!r}")
+        while pos < len(chunk):
+            m = _PART.match(chunk, pos)
+            if not m:
+                raise UsageError(f"--set: cannot read key {text!r} (expected a.b.c or a.b[1].c)")
+            parts.append(m.group(1) if m.group(1) is not None else int(m.group(2)))
+            pos = m.end()
+    return tuple(parts)
+
+
+def apply_override(data: dict, origins: Origins, text: str) -> None:
+    """Apply one ``KEY=VALUE`` override in place."""
+    if "=" not in text:
+        raise UsageError(f"--set {text!r}: expected KEY=VALUE, e.g. tire.sigma0=170")
+    key, _, value_text = text.partition("=")
+    path = parse_key_path(key.strip())
+    try:
+        value = yaml.safe_load(value_text) if value_text.strip() else None
+    except yaml.YAMLError:
+        raise UsageError(f"--set {text!r}: cannot read the value {value_text!r}") from None
+    node: Any = data
+    for i, part in enumerate(path[:-1]):
+        nxt = path[i + 1]
+        if isinstance(part, int):
+            if not isinstance(node, list) or part >= len(node):
+                raise UsageError(f"--set {text!r}: no list item {part} at {key}")
+            node = node[part]
+            continue
+        if not isinstance(node, dict):
+            raise UsageError(f"--set {text!r}: {part!r} is not inside a mapping")
+        if isinstance(node.get(part), str) and not isinstance(nxt, int):
+            node[part] = {"set": node[part]}  # tire: NAME -> tire: {set: NAME, ...}
+        node = node.setdefault(part, [] if isinstance(nxt, int) else {})
+    last = path[-1]
+    if isinstance(last, int):
+        if not isinstance(node, list) or last >= len(node):
+            raise UsageError(f"--set {text!r}: no list item {last} at {key}")
+        node[last] = value
+    else:
+        if not isinstance(node, dict):
+            raise UsageError(f"--set {text!r}: {key!r} is not inside a mapping")
+        node[last] = value
+    origins.drop(path)
+    origins.set(path, OVERRIDE_FILE, None)
+
+
+def load_config(path: str | Path, overrides: list[str] | tuple = ()) -> Config:
+    """Read a config file and apply ``overrides``."""
+    path = Path(path)
+    data, origins = load_yaml(path)
+    return _finish(data, origins, path.parent, str(path), overrides)
+
+
+def config_from_text(text: str, label: str, base_dir: Path | None = None, overrides=()) -> Config:
+    """A config from YAML text (built-in study configs)."""
+    data, origins = parse_yaml(text, label)
+    return _finish(data, origins, base_dir or Path.cwd(), label, overrides)
+
+
+def _finish(data, origins, base_dir, label, overrides) -> Config:
+    if not isinstance(data, dict):
+        raise ConfigError(Problem(label, 1, "", "expected a YAML mapping of keys at the top level"))
+    for text in overrides:
+        apply_override(data, origins, text)
+    return Config(data=data, origins=origins, base_dir=Path(base_dir), label=label)

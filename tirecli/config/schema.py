@@ -1,0 +1,277 @@
+"""A small declarative schema for YAML inputs: types, units, ranges, did-you-mean.
+
+Each spec checks a value at a key path and appends a :class:`~tirecli.errors.Problem` per
+fault (unknown key, missing key, wrong type, out of range, NaN/inf), so one run reports every
+problem of a file at once. The same specs document the format (``tirecli params show``,
+README) so units live in one place.
+"""
+from __future__ import annotations
+
+import difflib
+import math
+from dataclasses import dataclass, field
+from typing import Any, Callable
+
+from tirecli.errors import ConfigError
+from tirecli.io.yamlio import KeyPath, Origins
+
+MISSING = object()
+
+
+class Context:
+    """Collects problems while a document is checked."""
+
+    def __init__(self, origins: Origins):
+        self.origins = origins
+        self.problems: list = []
+
+    def fail(self, path: KeyPath, message: str) -> None:
+        self.problems.append(self.origins.problem(path, message))
+
+    def raise_if_any(self) -> None:
+        if self.problems:
+            raise ConfigError(self.problems)
+
+
+def _type_name(value: Any) -> str:
+    if value is None:
+        return "nothing (null)"
+    if isinstance(value, bool):
+        return f"a boolean ({value})"
+    if isinstance(value, (int, float)):
+        return f"the number {value}"
+    if isinstance(value, str):
+        return f"the text {value!r}"
+    if isinstance(value, list):
+        return "a list"
+    if isinstance(value, dict):
+        return "a mapping"
+    return type(value).__name__
+
+
+@dataclass
+class Spec:
+    """Base of all specs."""
+
+    doc: str = ""
+    default: Any = MISSING
+
+    @property
+    def required(self) -> bool:
+        return self.default is MISSING
+
+    def check(self, value: Any, path: KeyPath, ctx: Context) -> Any:  # pragma: no cover
+        raise NotImplementedError
+
+    def describe(self) -> str:
+        return self.doc
+
+
+@dataclass
+class Num(Spec):
+    """A finite real number with optional bounds and a unit.
+
+    ``unit`` is printed as ``[unit]``; ``eq`` names the paper's equation or table.
+    """
+
+    unit: str = "-"
+    gt: float | None = None
+    ge: float | None = None
+    lt: float | None = None
+    le: float | None = None
+    integer: bool = False
+    eq: str = ""
+
+    def bounds_text(self) -> str:
+        parts = []
+        if self.gt is not None:
+            parts.append(f"> {self.gt:g}")
+        if self.ge is not None:
+            parts.append(f">= {self.ge:g}")
+        if self.lt is not None:
+            parts.append(f"< {self.lt:g}")
+        if self.le is not None:
+            parts.append(f"<= {self.le:g}")
+        return " and ".join(parts)
+
+    def check(self, value, path, ctx):
+        kind = "a whole number" if self.integer else "a number"
+        if isinstance(value, bool) or not isinstance(value, (int, float)):
+            ctx.fail(path, f"expected {kind} [{self.unit}], got {_type_name(value)}")
+            return MISSING
+        if isinstance(value, float) and not math.isfinite(value):
+            ctx.fail(path, f"expected a finite number [{self.unit}], got {value}")
+            return MISSING
+        if self.integer and not float(value).is_integer():
+            ctx.fail(path, f"expected a whole number, got {value}")
+            return MISSING
+        v = int(value) if self.integer else float(value)
+        bad = ((self.gt is not None and not v > self.gt) or (self.ge is not None and not v >= self.ge)
+               or (self.lt is not None and not v < self.lt) or (self.le is not None and not v <= self.le))
+        if bad:
+            ctx.fail(path, f"out of range: must be {self.bounds_text()}, got {value:g}")
+            return MISSING
+        return v
+
+    def describe(self) -> str:
+        b = self.bounds_text()
+        return f"{self.doc} [{self.unit}]" + (f" ({b})" if b else "")
+
+
+@dataclass
+class Str(Spec):
+    """A text value, optionally restricted to ``choices`` (case-sensitive)."""
+
+    choices: tuple | None = None
+
+    def check(self, value, path, ctx):
+        if not isinstance(value, str):
+            ctx.fail(path, f"expected text, got {_type_name(value)}")
+            return MISSING
+        if self.choices is not None and value not in self.choices:
+            hint = difflib.get_close_matches(value, self.choices, n=1)
+            dym = f"; did you mean {hint[0]!r}?" if hint else ""
+            ctx.fail(path, f"unknown value {value!r}{dym} (expected one of: {', '.join(self.choices)})")
+            return MISSING
+        return value
+
+
+@dataclass
+class Bool(Spec):
+    def check(self, value, path, ctx):
+        if not isinstance(value, bool):
+            ctx.fail(path, f"expected true or false, got {_type_name(value)}")
+            return MISSING
+        return value
+
+
+@dataclass
+class ListOf(Spec):
+    """A list whose items follow ``item``; a single scalar is accepted as a one-item list."""
+
+    item: Spec = field(default_factory=Spec)
+    min_len: int = 1
+    max_len: int | None = None
+
+    def check(self, value, path, ctx):
+        if not isinstance(value, list):
+            if isinstance(value, (int, float, str)) and not isinstance(value, bool):
+                value = [value]
+            else:
+                ctx.fail(path, f"expected a list, got {_type_name(value)}")
+                return MISSING
+        if len(value) < self.min_len:
+            ctx.fail(path, f"expected at least {self.min_len} item(s), got {len(value)}")
+            return MISSING
+        if self.max_len is not None and len(value) > self.max_len:
+            ctx.fail(path, f"expected at most {self.max_len} item(s), got {len(value)}")
+            return MISSING
+        out = [self.item.check(v, path + (i,), ctx) for i, v in enumerate(value)]
+        return MISSING if any(o is MISSING for o in out) else out
+
+
+@dataclass
+class AnyOf(Spec):
+    """The first of several specs that accepts the value (problems of the best match are kept)."""
+
+    options: tuple = ()
+    what: str = ""
+
+    def check(self, value, path, ctx):
+        best = None
+        for opt in self.options:
+            sub = Context(ctx.origins)
+            out = opt.check(value, path, sub)
+            if not sub.problems:
+                return out
+            if best is None or len(sub.problems) < len(best):
+                best = sub.problems
+        if self.what:
+            ctx.fail(path, f"expected {self.what}; " + (best[0].message if best else ""))
+        else:
+            ctx.problems.extend(best or [])
+        return MISSING
+
+
+@dataclass
+class Map(Spec):
+    """A mapping with known keys; unknown keys are errors with a did-you-mean.
+
+    ``post`` is called with the checked dict for cross-field rules (e.g. ``mu_c <= mu_s``).
+    """
+
+    fields: dict = field(default_factory=dict)
+    post: Callable | None = None
+    open_keys: Spec | None = None  # spec for arbitrary extra keys, if allowed
+
+    def check(self, value, path, ctx):
+        if not isinstance(value, dict):
+            ctx.fail(path, f"expected a mapping of keys, got {_type_name(value)}")
+            return MISSING
+        out: dict = {}
+        n0 = len(ctx.problems)
+        for key, v in value.items():
+            if key in self.fields:
+                continue
+            if self.open_keys is not None:
+                out[key] = self.open_keys.check(v, path + (key,), ctx)
+                continue
+            names = list(self.fields)
+            hint = difflib.get_close_matches(str(key), names, n=1, cutoff=0.6)
+            dym = f"; did you mean {hint[0]!r}?" if hint else ""
+            ctx.fail(path + (key,), f"unknown key{dym} (expected one of: {', '.join(names)})")
+        for key, spec in self.fields.items():
+            if key in value:
+                out[key] = spec.check(value[key], path + (key,), ctx)
+            elif spec.required:
+                what = spec.describe()
+                ctx.fail(path, f"missing required key {key!r}" + (f" ({what})" if what else ""))
+                out[key] = MISSING
+            else:
+                out[key] = spec.default
+        if self.post is not None and len(ctx.problems) == n0:
+            self.post(out, path, ctx)
+        return out
+
+
+def check_document(data: Any, spec: Spec, origins: Origins, path: KeyPath = ()) -> Any:
+    """Check ``data`` against ``spec``; raise one :class:`ConfigError` listing every problem."""
+    ctx = Context(origins)
+    out = spec.check(data, path, ctx)
+    ctx.raise_if_any()
+    return out
+
+
+@dataclass
+class Raw(Spec):
+    """Any value, checked elsewhere (e.g. a parameter group resolved by the parameter sets)."""
+
+    def check(self, value, path, ctx):
+        return value
+
+
+@dataclass
+class Grid(Spec):
+    """A list of numbers, or ``{start, stop, num}`` (inclusive linear grid), with bounds and unit."""
+
+    unit: str = "-"
+    ge: float | None = None
+    le: float | None = None
+    gt: float | None = None
+    max_num: int = 10_000_000
+
+    def check(self, value, path, ctx):
+        num = Num(unit=self.unit, ge=self.ge, le=self.le, gt=self.gt)
+        if isinstance(value, dict):
+            spec = Map(fields={"start": num, "stop": num,
+                               "num": Num(unit="-", integer=True, ge=1, le=self.max_num, doc="number of points")})
+            out = spec.check(value, path, ctx)
+            if out is MISSING or any(v is MISSING for v in out.values()):
+                return MISSING
+            import numpy as np
+
+            return [float(x) for x in np.linspace(out["start"], out["stop"], out["num"])]
+        return ListOf(item=num).check(value, path, ctx)
+
+    def describe(self) -> str:
+        return f"{self.doc} [{self.unit}]: a list, or {{start, stop, num}}"

@@ -1,0 +1,2 @@
+"""Figure functions, registered in :mod:`tirecli.figures.registry` on import."""
+from tirecli.figures import steady  # noqa: F401

@@ -1,0 +1,106 @@
+"""The figure registry: every paper figure (and generic plot) as a registered function.
+
+A figure function draws from a :class:`~tirecli.studies.base.StudyResult` and returns a
+matplotlib ``Figure`` (or a :class:`Table`); it never saves. Commands draw the figures a
+result asks for; ``tirecli report`` runs each entry's built-in study and draws them all.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Callable
+
+
+@dataclass
+class Table:
+    """A table figure (e.g. a paper's parameter table): column names and rows of cells."""
+
+    columns: list
+    rows: list
+    notes: list = field(default_factory=list)
+
+
+@dataclass(frozen=True)
+class FigureDef:
+    """A registered figure.
+
+    Attributes
+    ----------
+    id : str
+        Identifier, e.g. ``fm-fig1-left``.
+    paper : str
+        ``FM``, ``OBS``, ``MF`` (Magic Formula) or ``generic``.
+    label : str
+        The paper's numbering, e.g. ``Fig. 1 (left)``.
+    title : str
+        Short title.
+    caption : str
+        Caption in our words (what is plotted, parameters, assumptions).
+    paper_shows : str
+        What the paper's figure shows, for the side-by-side reading in the report.
+    study : str or None
+        Built-in study config (``tirecli/studies/configs/NAME.yaml``) the report runs.
+    draw : callable
+        ``draw(result) -> Figure | Table``.
+    checks : callable or None
+        ``checks(result) -> list[Check]`` reference checks of the spec.
+    order : int
+        Position within its paper's section of the report.
+    """
+
+    id: str
+    paper: str
+    label: str
+    title: str
+    caption: str
+    paper_shows: str
+    study: str | None
+    draw: Callable
+    checks: Callable | None = None
+    order: int = 0
+
+
+REGISTRY: dict[str, FigureDef] = {}
+
+PAPERS = {
+    "FM": "Canudas-de-Wit, Tsiotras, Velenis, Basset, Gissinger: Dynamic friction models for "
+          "longitudinal road/tire interaction, experimental results",
+    "OBS": "Canudas-de-Wit, Petersen, Shiriaev: A new nonlinear observer for tire/road distributed "
+           "contact friction (IEEE CDC 2003)",
+    "MF": "Magic Formula tyre model (Pacejka; MF 6.1 / 5.2 / PAC89) with public .tir files",
+    "generic": "Generic plots for any config",
+}
+
+
+def register(id: str, *, paper: str, label: str, title: str, caption: str, paper_shows: str = "",
+             study: str | None = None, checks: Callable | None = None, order: int = 0):
+    """Decorator registering a draw function as figure ``id``."""
+
+    def deco(fn: Callable) -> Callable:
+        if id in REGISTRY:
+            raise ValueError(f"figure {id!r} registered twice")
+        REGISTRY[id] = FigureDef(id=id, paper=paper, label=label, title=title, caption=caption,
+                                 paper_shows=paper_shows, study=study, draw=fn, checks=checks, order=order)
+        return fn
+
+    return deco
+
+
+def load_all() -> dict[str, FigureDef]:
+    """Import every figure module (registering them) and return the registry."""
+    import tirecli.figures  # noqa: F401
+
+    return REGISTRY
+
+
+def get(id: str) -> FigureDef:
+    """A registered figure; ``UsageError`` with a did-you-mean if unknown."""
+    import difflib
+
+    from tirecli.errors import UsageError
+
+    reg = load_all()
+    if id not in reg:
+        hint = difflib.get_close_matches(id, list(reg), n=1)
+        dym = f"; did you mean {hint[0]!r}?" if hint else ""
+        raise UsageError(f"unknown figure {id!r}{dym} (see 'tirecli figures list')")
+    return reg[id]

@@ -1,0 +1,335 @@
+"""Steady-state friction figures: FM Fig. 1, OBS Fig. 1, FM Fig. 6 surface, FM Table 1, generic sweeps."""
+from __future__ import annotations
+
+import numpy as np
+
+from tirecli.figures.registry import Table, register
+from tirecli.figures.style import COLORS, LINESTYLES, finish, new_figure
+from tirecli.studies.base import Check
+
+MU_TOL = 5e-4   # spec values are printed to 4 decimals
+S_TOL = 2e-3    # peak slip, printed to 3 decimals
+
+
+def curve(df, model=None, speed=None, theta=None, direction="braking"):
+    """``(|s|, |mu|)`` of one curve of a sweep frame, sorted by ``|s|``."""
+    sel = df["direction"] == direction
+    if model is not None:
+        sel &= df["model"] == model
+    if speed is not None:
+        sel &= np.isclose(df["speed"], speed)
+    if theta is not None:
+        sel &= np.isclose(df["theta"], theta)
+    d = df[sel]
+    s = np.abs(d["slip"].to_numpy())
+    mu = np.abs(d["mu"].to_numpy())
+    order = np.argsort(s)
+    return s[order], mu[order]
+
+
+def peak(s, mu):
+    """Peak ``(|s|, |mu|)`` of a sampled curve, refined by a parabola through the top 3 samples."""
+    i = int(np.argmax(mu))
+    if 0 < i < len(mu) - 1:
+        y0, y1, y2 = mu[i - 1], mu[i], mu[i + 1]
+        den = y0 - 2 * y1 + y2
+        if den < 0:
+            d = 0.5 * (y0 - y2) / den
+            h = s[i + 1] - s[i]
+            return s[i] + d * h, y1 - 0.25 * (y0 - y2) * d
+    return s[i], mu[i]
+
+
+def value_at(s, mu, s0):
+    """``|mu|`` at ``|s| = s0`` by linear interpolation."""
+    return float(np.interp(s0, s, mu))
+
+
+def _first_model(df):
+    return df["model"].iloc[0]
+
+
+# --------------------------------------------------------------------------- generic
+
+
+def _legend_label(parts: dict, varying: set) -> str:
+    names = {"model": "{}", "speed": "v = {:g} m/s", "theta": "theta = {:g}"}
+    return ", ".join(names[k].format(v) for k, v in parts.items() if k in varying) or "mu"
+
+
+@register("sweep-mu-slip", paper="generic", label="sweep", title="Friction vs slip",
+          caption="Steady-state |mu| against |s| for every model, speed and adhesion of the sweep; "
+                  "braking solid, driving dashed. The held speed is v when braking and r*omega when driving.")
+def draw_sweep_mu_slip(result):
+    df = result.data["sweep"]
+    fig, ax = new_figure()
+    keys = ["model", "speed", "theta"]
+    varying = {k for k in keys if df[k].nunique() > 1}
+    for i, ((model, speed, theta), _) in enumerate(df.groupby(keys, sort=False)):
+        for direction, ls in (("braking", "-"), ("driving", "--")):
+            s, mu = curve(df, model, speed, theta, direction)
+            if len(s) == 0:
+                continue
+            lab = _legend_label({"model": model, "speed": speed, "theta": theta}, varying)
+            if df["direction"].nunique() > 1:
+                lab += f" ({direction})"
+            ax.plot(s, mu, ls, color=COLORS[i % len(COLORS)], label=lab)
+    title = result.meta.get("title") or "Steady-state friction"
+    finish(ax, "slip |s| [-]", "friction |mu| = |F|/F_n [-]", title)
+    ax.set_xlim(left=0)
+    ax.set_ylim(bottom=0)
+    return fig
+
+
+def _surface(result, title):
+    df = result.data["sweep"]
+    model = _first_model(df)
+    theta = df["theta"].iloc[0]
+    d = df[(df["model"] == model) & np.isclose(df["theta"], theta) & (df["direction"] == "braking")]
+    speeds = np.unique(d["speed"])
+    slips = np.unique(np.abs(d["slip"]))
+    piv = d.assign(s=np.abs(d["slip"]), m=np.abs(d["mu"])).pivot_table(index="speed", columns="s", values="m")
+    S, V = np.meshgrid(piv.columns.to_numpy(), piv.index.to_numpy())
+    fig = new_figure(width=6.6, height=5.0)[0]
+    fig.clf()
+    ax = fig.add_subplot(projection="3d")
+    ax.plot_surface(S, V, piv.to_numpy(), cmap="viridis", linewidth=0, antialiased=True, alpha=0.9)
+    ax.set_xlabel("slip |s| [-]")
+    ax.set_ylabel("speed v [m/s]")
+    ax.set_zlabel("|mu| [-]")
+    ax.set_title(title, fontsize=10)
+    ax.view_init(elev=25, azim=-130)
+    del speeds, slips
+    return fig
+
+
+@register("sweep-surface", paper="generic", label="sweep", title="Friction surface over slip and speed",
+          caption="Steady-state |mu| over |s| and the held speed (braking) for the first model and adhesion of the sweep.")
+def draw_sweep_surface(result):
+    return _surface(result, result.meta.get("title") or "Steady-state friction surface")
+
+
+# --------------------------------------------------------------------------- FM Fig. 1
+
+_REF_SPEEDS = {  # lugre.md §9: v -> (peak |mu|, at |s|, |mu(0.05)|, |mu(1)|)
+    5: (1.2818, 0.374, 0.6556, 1.1594),
+    10: (1.1770, 0.279, 0.6520, 0.9817),
+    15: (1.1074, 0.237, 0.6486, 0.9035),
+    20: (1.0552, 0.212, 0.6451, 0.8717),
+    25: (1.0137, 0.196, 0.6417, 0.8617),
+    30: (0.9795, 0.184, 0.6384, 0.8618),
+}
+_REF_THETA = {  # lugre.md §5: theta_fm -> (peak, at |s|, |mu(1)|) at v = 20 m/s
+    1.0: (1.0552, 0.212, 0.8717),
+    0.8: (0.8714, 0.187, 0.7046),
+    0.6: (0.6795, 0.159, 0.5374),
+    0.4: (0.4764, 0.128, 0.3703),
+}
+
+
+def _speed_checks(df, model, theta=1.0, source="lugre.md §9"):
+    out = []
+    for v, (pk, sp, m05, m1) in _REF_SPEEDS.items():
+        s, mu = curve(df, model, v, theta)
+        if len(s) == 0:
+            continue
+        ps, pm = peak(s, mu)
+        out += [
+            Check(f"peak-v{v}", f"peak |mu| at v = {v} m/s", float(pm), pk, MU_TOL, "-", source),
+            Check(f"speak-v{v}", f"|s| of the peak at v = {v} m/s", float(ps), sp, S_TOL, "-", source),
+            Check(f"mu005-v{v}", f"|mu(0.05)| at v = {v} m/s", value_at(s, mu, 0.05), m05, MU_TOL, "-", source),
+            Check(f"mu1-v{v}", f"|mu(1)| (locked wheel) at v = {v} m/s", value_at(s, mu, 1.0), m1, MU_TOL, "-", source),
+        ]
+    return out
+
+
+def _slope_check(result, v=20.0):
+    p = result.payload["params"]
+    var = result.payload["variants"][0]
+    ds = 1e-7
+    slope = abs(float(var.mu_ss(-v * ds, v * (1 - ds), p))) / ds
+    return Check("slope-v20", "initial slope d|mu|/d|s| at v = 20 m/s (sigma0 L/2 + sigma2 v)", slope, 18.19, 0.005,
+                 "-", "lugre.md §9")
+
+
+def _fig1_left_checks(result):
+    df = result.data["sweep"]
+    return _speed_checks(df, _first_model(df)) + [_slope_check(result)]
+
+
+def _theta_label(theta_fm, convention):
+    return f"theta_obs = {1.0 / theta_fm:.3g}" if convention == "obs" else f"theta = {theta_fm:g}"
+
+
+def _draw_speed_family(ax, df, model, theta=1.0, dashed_model=None, dashed_speed=20.0):
+    speeds = sorted(df["speed"].unique())
+    for i, v in enumerate(speeds):
+        s, mu = curve(df, model, v, theta)
+        ax.plot(s, mu, color=COLORS[i % len(COLORS)], label=f"v = {v:g} m/s ({v * 3.6:.0f} km/h)")
+    if dashed_model is not None:
+        s, mu = curve(df, dashed_model, dashed_speed, theta)
+        ax.plot(s, mu, "k--", lw=1.2, label=f"{dashed_model}, v = {dashed_speed:g} m/s")
+    ax.set_xlim(0, 1)
+    ax.set_ylim(bottom=0)
+
+
+def _draw_theta_family(ax, df, model, speed, convention):
+    thetas = sorted(df["theta"].unique(), reverse=True)
+    for i, th in enumerate(thetas):
+        s, mu = curve(df, model, speed, th)
+        ax.plot(s, mu, color=COLORS[i % len(COLORS)], ls=LINESTYLES[i % len(LINESTYLES)],
+                label=_theta_label(th, convention))
+    ax.set_xlim(0, 1)
+    ax.set_ylim(bottom=0)
+
+
+@register(
+    "fm-fig1-left", paper="FM", label="Fig. 1 (left)", study="fm-fig1-left", order=10,
+    title="Steady-state friction vs slip at several vehicle speeds",
+    caption="Distributed LuGre model, uniform normal load (FM eq. 4), braking at constant vehicle speed "
+            "v = 5-30 m/s, Table 1 parameters with the Stribeck exponent alpha = 1 [assumed]. All curves share "
+            "the initial slope sigma0 L/2 + sigma2 v; peak height and peak slip fall as v grows.",
+    paper_shows="|mu| against |s| in [0, 1] for several vehicle speeds (braking, uniform load, Table 1): a common "
+                "linear rise, a peak that is lower and earlier at higher speed, then a decay towards the sliding level.",
+    checks=_fig1_left_checks,
+)
+def draw_fm_fig1_left(result):
+    df = result.data["sweep"]
+    fig, ax = new_figure()
+    _draw_speed_family(ax, df, _first_model(df))
+    finish(ax, "slip |s| [-]", "friction |mu| = |F|/F_n [-]", "FM Fig. 1 (left): braking, uniform load, Table 1")
+    return fig
+
+
+def _fig1_right_checks(result):
+    df = result.data["sweep"]
+    model = _first_model(df)
+    out = []
+    for th, (pk, sp, m1) in _REF_THETA.items():
+        s, mu = curve(df, model, 20.0, th)
+        if len(s) == 0:
+            continue
+        ps, pm = peak(s, mu)
+        out += [
+            Check(f"peak-th{th:g}", f"peak |mu| for theta_fm = {th:g}, v = 20 m/s", float(pm), pk, MU_TOL, "-", "lugre.md §5"),
+            Check(f"speak-th{th:g}", f"|s| of the peak for theta_fm = {th:g}", float(ps), sp, S_TOL, "-", "lugre.md §5"),
+            Check(f"mu1-th{th:g}", f"|mu(1)| for theta_fm = {th:g}", value_at(s, mu, 1.0), m1, MU_TOL, "-", "lugre.md §5"),
+        ]
+    return out + [_slope_check(result)]
+
+
+@register(
+    "fm-fig1-right", paper="FM", label="Fig. 1 (right)", study="fm-fig1-right", order=11,
+    title="Steady-state friction vs slip for several road adhesions at 72 km/h",
+    caption="Distributed LuGre model, uniform load, braking at v = 20 m/s, Table 1 (alpha = 1 [assumed]), "
+            "adhesion theta = 1, 0.8, 0.6, 0.4 in the FM convention (g -> theta g) [assumed values]. Lower "
+            "adhesion lowers peak and sliding level and moves the peak to smaller slip; the initial slope is unchanged.",
+    paper_shows="|mu| against |s| at v = 20 m/s = 72 km/h for several road conditions theta: same initial slope, "
+                "lower peaks and plateaus for lower adhesion.",
+    checks=_fig1_right_checks,
+)
+def draw_fm_fig1_right(result):
+    df = result.data["sweep"]
+    fig, ax = new_figure()
+    _draw_theta_family(ax, df, _first_model(df), 20.0, "fm")
+    finish(ax, "slip |s| [-]", "friction |mu| = |F|/F_n [-]", "FM Fig. 1 (right): v = 20 m/s, adhesion theta (FM convention)")
+    return fig
+
+
+# --------------------------------------------------------------------------- OBS Fig. 1
+
+
+def _obs_fig1_checks(result):
+    df = result.data["sweep"]
+    models = list(dict.fromkeys(df["model"]))
+    dist = models[0]
+    out = _speed_checks(df, dist, 1.0)
+    s, mu = curve(df, dist, 20.0, 0.4)
+    if len(s):
+        ps, pm = peak(s, mu)
+        out += [Check("peak-thobs2.5", "peak |mu| for theta_obs = 2.5 at v = 20 m/s", float(pm), 0.4764, MU_TOL, "-", "figures.md OBS Fig. 1"),
+                Check("speak-thobs2.5", "|s| of that peak", float(ps), 0.128, S_TOL, "-", "figures.md OBS Fig. 1")]
+    if len(models) > 1:
+        s, mu = curve(df, models[1], 20.0, 1.0)
+        ps, pm = peak(s, mu)
+        out += [Check("peak-lumped-k2", "lumped kappa0 = 2 (kappa = 10 1/m) peak |mu| at v = 20 m/s", float(pm), 0.9767, MU_TOL, "-", "lugre.md §4.2 check (c)"),
+                Check("speak-lumped-k2", "|s| of that peak", float(ps), 0.272, S_TOL, "-", "lugre.md §4.2 check (c)")]
+    return out
+
+
+@register(
+    "obs-fig1", paper="OBS", label="Fig. 1 (a), (b)", study="obs-fig1", order=10,
+    title="Steady-state friction curves of the observer paper",
+    caption="(a) Distributed LuGre model, uniform load, braking, OBS Fig. 1 parameters (= FM Table 1, alpha = 1 "
+            "[assumed]) at v = 5-30 m/s [assumed speeds]; dashed: the lumped model with kappa = 10 1/m (kappa0 = 2) at "
+            "20 m/s, which peaks lower and later. (b) Adhesion theta in the OBS convention (theta_obs = 1/theta_fm: "
+            "1 dry, larger = less grip) at v = 20 m/s [assumed values].",
+    paper_shows="Fig. 1(a): mu against slip for several vehicle speeds; Fig. 1(b): for several road conditions theta "
+                "(OBS convention, theta > 1 less grip). Same figure as FM Fig. 1.",
+    checks=_obs_fig1_checks,
+)
+def draw_obs_fig1(result):
+    df = result.data["sweep"]
+    models = list(dict.fromkeys(df["model"]))
+    fig, (a, b) = new_figure(ncols=2, width=11.0, height=4.2)
+    _draw_speed_family(a, df, models[0], 1.0, dashed_model=models[1] if len(models) > 1 else None)
+    finish(a, "slip |s| [-]", "friction |mu| [-]", "(a) several speeds, theta_obs = 1")
+    _draw_theta_family(b, df, models[0], 20.0, "obs")
+    finish(b, "slip |s| [-]", "friction |mu| [-]", "(b) several road conditions, v = 20 m/s")
+    return fig
+
+
+# --------------------------------------------------------------------------- FM Fig. 6 surface
+
+_REF_T2 = {15: (1.1247, 0.206), 20: (1.0549, 0.175), 25: (0.9970, 0.155)}
+
+
+def _fig6_surface_checks(result):
+    df = result.data["sweep"]
+    model = _first_model(df)
+    out = []
+    for v, (pk, sp) in _REF_T2.items():
+        s, mu = curve(df, model, v, 1.0)
+        if len(s) == 0:
+            continue
+        ps, pm = peak(s, mu)
+        out += [Check(f"peak-v{v}", f"Table 2 surface peak |mu| at v = {v} m/s", float(pm), pk, MU_TOL, "-", "figures.md FM Fig. 6"),
+                Check(f"speak-v{v}", f"|s| of that peak at v = {v} m/s", float(ps), sp, S_TOL, "-", "figures.md FM Fig. 6")]
+    return out
+
+
+@register(
+    "fm-fig6-surface", paper="FM", label="Fig. 6 (model surface)", study="fm-fig6-surface", order=60,
+    title="Identified steady-state surface |mu|(|s|, v), Table 2",
+    caption="Steady state of the distributed model with uniform load (equivalently lumped with kappa0(Z)) for the "
+            "Table 2 parameters, alpha = 2, over |s| in [0, 0.3] and v = 5-25 m/s: rising in |s|, flattening, lower at "
+            "higher speed. The measured samples of the paper are replaced by synthetic ones in the identification study.",
+    paper_shows="3-D plot of the measured (mu, s, v) samples of braking #2 and the identified steady-state surface (alpha = 2).",
+    checks=_fig6_surface_checks,
+)
+def draw_fm_fig6_surface(result):
+    return _surface(result, "FM Fig. 6: steady-state surface, Table 2, alpha = 2")
+
+
+# --------------------------------------------------------------------------- FM Table 1
+
+
+def parameter_table(ps) -> Table:
+    """A :class:`Table` of a parameter set with units, sources and assumed values flagged."""
+    rows = []
+    for r in ps.rows():
+        flag = f"ASSUMED: {r['assumed']}" if r["assumed"] else (r["note"] or "")
+        rows.append([r["name"], f"{r['value']:g}", r["unit"], r["meaning"], r["equation"], flag])
+    return Table(columns=["parameter", "value", "unit", "meaning", "equation", "status"], rows=rows,
+                 notes=[f"Set {ps.name}: {ps.citation}"])
+
+
+@register(
+    "fm-table1", paper="FM", label="Table 1", study="fm-fig1-left", order=1,
+    title="Parameters used for Fig. 1",
+    caption="FM Table 1 as used by tirecli; sigma1 and the Stribeck exponent are not printed in the paper and are "
+            "flagged as assumed defaults (overridable with --set tire.NAME=VALUE).",
+    paper_shows="Table 1: sigma0 = 181.54 1/m, sigma2 = 0.0018 s/m, mu_c = 0.8, mu_s = 1.55, v_s = 6.57 m/s, L = 0.2 m.",
+)
+def draw_fm_table1(result):
+    return parameter_table(result.parameter_sets["tire"])

@@ -1,0 +1,149 @@
+"""Safe YAML reading and writing with the line of every value (the only YAML file access).
+
+:func:`load_yaml` returns the plain Python data and an :class:`Origins` map from key paths
+to ``(file, line)``, so validation errors can name the file, key and line.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import yaml
+
+from tirecli.errors import ConfigError, Problem
+
+KeyPath = tuple  # tuple of str (mapping keys) and int (sequence indices)
+
+
+def format_key(path: KeyPath) -> str:
+    """Dotted form of a key path: ``("sweep", "models", 1, "lambda") -> sweep.models[1].lambda``."""
+    out = ""
+    for part in path:
+        if isinstance(part, int):
+            out += f"[{part}]"
+        else:
+            out += ("." if out else "") + str(part)
+    return out
+
+
+@dataclass
+class Origins:
+    """Where each value came from: key path -> (file, 1-based line or None)."""
+
+    default_file: str = "<input>"
+    where: dict = field(default_factory=dict)
+
+    def of(self, path: KeyPath) -> tuple[str, int | None]:
+        """File and line of ``path``, falling back to its nearest known parent."""
+        path = tuple(path)
+        while True:
+            if path in self.where:
+                return self.where[path]
+            if not path:
+                return self.default_file, None
+            path = path[:-1]
+
+    def problem(self, path: KeyPath, message: str) -> Problem:
+        file, line = self.of(path)
+        return Problem(file, line, format_key(path), message)
+
+    def set(self, path: KeyPath, file: str, line: int | None) -> None:
+        self.where[tuple(path)] = (file, line)
+
+    def rebase(self, prefix: KeyPath, other: "Origins") -> None:
+        """Copy ``other``'s entries under ``prefix`` (for values merged from another file)."""
+        for p, v in other.where.items():
+            self.where[tuple(prefix) + tuple(p)] = v
+
+    def drop(self, prefix: KeyPath) -> None:
+        """Forget every entry at or below ``prefix``."""
+        n = len(prefix)
+        for p in [p for p in self.where if tuple(p[:n]) == tuple(prefix)]:
+            del self.where[p]
+
+
+class _Constructor(yaml.constructor.SafeConstructor):
+    pass
+
+
+def _build(node, path: KeyPath, origins: Origins, file: str, problems: list[Problem]) -> Any:
+    origins.set(path, file, node.start_mark.line + 1)
+    if isinstance(node, yaml.MappingNode):
+        out: dict = {}
+        for knode, vnode in node.value:
+            if not isinstance(knode, yaml.ScalarNode):
+                problems.append(Problem(file, knode.start_mark.line + 1, format_key(path),
+                                        "keys must be plain names"))
+                continue
+            key = knode.value
+            if key in out:
+                problems.append(Problem(file, knode.start_mark.line + 1, format_key(path + (key,)),
+                                        "duplicate key (given twice in one mapping)"))
+                continue
+            out[key] = _build(vnode, path + (key,), origins, file, problems)
+        return out
+    if isinstance(node, yaml.SequenceNode):
+        return [_build(n, path + (i,), origins, file, problems) for i, n in enumerate(node.value)]
+    try:
+        return _Constructor().construct_object(node, deep=True)
+    except yaml.YAMLError as exc:  # e.g. a bad timestamp
+        problems.append(Problem(file, node.start_mark.line + 1, format_key(path), f"cannot read value: {exc}"))
+        return None
+
+
+def parse_yaml(text: str, file: str = "<input>") -> tuple[Any, Origins]:
+    """Parse YAML ``text`` safely; return ``(data, origins)``.
+
+    Raises
+    ------
+    ConfigError
+        Malformed YAML (with the line of the error), an empty document, duplicate keys,
+        or several documents in one file.
+    """
+    origins = Origins(default_file=file)
+    try:
+        nodes = list(yaml.compose_all(text, Loader=yaml.SafeLoader))
+    except yaml.MarkedYAMLError as exc:
+        mark = exc.problem_mark or exc.context_mark
+        line = mark.line + 1 if mark is not None else None
+        what = " ".join(str(x) for x in (exc.context, exc.problem) if x)
+        raise ConfigError(Problem(file, line, "", f"malformed YAML: {what}")) from None
+    except yaml.YAMLError as exc:
+        raise ConfigError(Problem(file, None, "", f"malformed YAML: {exc}")) from None
+    nodes = [n for n in nodes if n is not None]
+    if not nodes:
+        raise ConfigError(Problem(file, None, "", "the file is empty (expected a YAML mapping)"))
+    if len(nodes) > 1:
+        raise ConfigError(Problem(file, nodes[1].start_mark.line + 1, "",
+                                  "several YAML documents in one file (expected one)"))
+    problems: list[Problem] = []
+    data = _build(nodes[0], (), origins, file, problems)
+    if problems:
+        raise ConfigError(problems)
+    return data, origins
+
+
+def load_yaml(path: str | Path) -> tuple[Any, Origins]:
+    """Read and parse a YAML file (see :func:`parse_yaml`); a missing file is a ConfigError."""
+    path = Path(path)
+    try:
+        raw = path.read_bytes()
+    except FileNotFoundError:
+        raise ConfigError(Problem(str(path), None, "", "file not found")) from None
+    except IsADirectoryError:
+        raise ConfigError(Problem(str(path), None, "", "is a directory, expected a YAML file")) from None
+    except OSError as exc:
+        raise ConfigError(Problem(str(path), None, "", f"cannot read: {exc.strerror}")) from None
+    try:
+        text = raw.decode("utf-8")
+    except UnicodeDecodeError as exc:
+        raise ConfigError(Problem(str(path), None, "", f"not a UTF-8 text file (byte {exc.start})")) from None
+    if "\x00" in text:
+        raise ConfigError(Problem(str(path), None, "", "binary file, expected YAML text"))
+    return parse_yaml(text, str(path))
+
+
+def dump_yaml(data: Any) -> str:
+    """YAML text for plain data (keys kept in insertion order)."""
+    return yaml.safe_dump(data, sort_keys=False, allow_unicode=True, default_flow_style=False)

@@ -1,0 +1,105 @@
+"""The kinds of parameter sets and the schema of each parameter: unit, meaning, source equation.
+
+This is the one place where parameter names, units and admissible ranges are defined; the
+model dataclasses (e.g. :class:`tirecli.models.lugre.LuGreParams`) are built from sets
+checked here, and ``tirecli params show`` prints these units.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Callable
+
+from tirecli.config.schema import Context, Map, Num
+
+
+@dataclass(frozen=True)
+class Kind:
+    """A kind of parameter set (``lugre``, ``quarter_car``, ...).
+
+    Attributes
+    ----------
+    name : str
+        Value of ``kind:`` in a parameter-set file.
+    title : str
+        What the set describes.
+    fields : dict
+        Parameter name -> :class:`~tirecli.config.schema.Num` (unit, range, doc, equation).
+    post : callable or None
+        Cross-field check ``post(values, path, ctx)``.
+    factory : callable or None
+        Builds the model's parameter object from the checked values.
+    """
+
+    name: str
+    title: str
+    fields: dict
+    post: Callable | None = None
+    factory: Callable | None = None
+
+    def spec(self, partial: bool = False) -> Map:
+        """Schema of the values; ``partial`` makes every key optional (overrides)."""
+        fields = self.fields
+        if partial:
+            fields = {k: Num(**{**f.__dict__, "default": None}) for k, f in fields.items()}
+        return Map(fields=fields, post=None if partial else self.post)
+
+
+KINDS: dict[str, Kind] = {}
+
+
+def register_kind(kind: Kind) -> Kind:
+    """Add a kind of parameter set (used by model packages that bring their own sets)."""
+    KINDS[kind.name] = kind
+    return kind
+
+
+def _lugre_post(values: dict, path, ctx: Context) -> None:
+    if values["mu_c"] > values["mu_s"]:
+        ctx.fail(path + ("mu_c",), f"out of range: must be <= mu_s ({values['mu_s']:g}), got {values['mu_c']:g}")
+
+
+def _lugre_factory(values: dict):
+    from tirecli.models.lugre import LuGreParams
+
+    return LuGreParams(**values)
+
+
+LUGRE = register_kind(Kind(
+    name="lugre",
+    title="LuGre tire/road friction (distributed and lumped)",
+    fields={
+        "sigma0": Num(unit="1/m", gt=0, doc="normalised rubber longitudinal stiffness", eq="FM eqs. (1)-(2)"),
+        "sigma1": Num(unit="s/m", ge=0, doc="normalised rubber longitudinal damping", eq="FM eq. (2)"),
+        "sigma2": Num(unit="s/m", ge=0, doc="normalised viscous relative damping", eq="FM eq. (2)"),
+        "mu_c": Num(unit="-", gt=0, doc="normalised Coulomb friction level", eq="FM after eq. (1)"),
+        "mu_s": Num(unit="-", gt=0, doc="normalised static friction level (>= mu_c)", eq="FM after eq. (1)"),
+        "v_s": Num(unit="m/s", gt=0, doc="Stribeck velocity", eq="FM after eq. (1)"),
+        "L": Num(unit="m", gt=0, doc="contact-patch length", eq="FM eq. (1)"),
+        "alpha": Num(unit="-", gt=0, doc="Stribeck exponent (shape of g)", eq="FM after eq. (1)"),
+        "kappa0": Num(unit="-", gt=0, default=2.0,
+                      doc="constant lumped distribution coefficient kappa*L", eq="FM eq. (8); OBS kappa = 10 1/m"),
+        "sigma_w": Num(unit="kg m^2/s", ge=0, default=1.0,
+                       doc="rotational viscous friction of the wheel", eq="OBS eq. (4)"),
+    },
+    post=_lugre_post,
+    factory=_lugre_factory,
+))
+
+
+def _quarter_car_factory(values: dict):
+    from tirecli.models.vehicle import QuarterCarParams
+
+    return QuarterCarParams(**values)
+
+
+QUARTER_CAR = register_kind(Kind(
+    name="quarter_car",
+    title="quarter-car vehicle (one wheel, a quarter of the mass)",
+    fields={
+        "r": Num(unit="m", gt=0, doc="effective rolling radius", eq="OBS §II"),
+        "m": Num(unit="kg", gt=0, doc="vehicle mass carried by the wheel (a quarter)", eq="OBS §II"),
+        "J": Num(unit="kg m^2", gt=0, doc="wheel rotational inertia", eq="OBS §II"),
+        "F_n": Num(unit="N", gt=0, doc="normal load on the wheel", eq="OBS §II"),
+    },
+    factory=_quarter_car_factory,
+))

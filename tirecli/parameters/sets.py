@@ -1,0 +1,293 @@
+"""Parameter sets: built-in (YAML package data, each with its citation), from files, inline.
+
+A parameter-set file::
+
+    name: canudas2003-table1
+    kind: lugre
+    title: FM Table 1 = OBS Fig. 1 tire
+    citation: C. Canudas-de-Wit et al. ... Table 1.
+    values:
+      sigma0: 181.54
+      sigma1: {value: 1.0, assumed: "missing in FM Table 1; OBS Fig. 1 gives 1.0 s/m"}
+
+A value is a number, or a mapping with ``value`` and either ``assumed`` (why the value is a
+documented default rather than the paper's) or ``note``. In a config, a parameter group names
+a set and may override values::
+
+    tire: {set: canudas2003-table1, sigma0: 170}
+
+``set`` is a built-in name or a path to a set file (relative to the config). An override
+replaces the value and clears its *assumed* flag.
+"""
+from __future__ import annotations
+
+import difflib
+from dataclasses import dataclass, field
+from importlib import resources
+from pathlib import Path
+from typing import Any
+
+from tirecli.config.schema import MISSING, Context, Map, Num, Str, check_document
+from tirecli.errors import ConfigError, Problem
+from tirecli.io.yamlio import Origins, load_yaml, parse_yaml
+from tirecli.parameters.kinds import KINDS, Kind
+
+_DATA = "data"
+
+
+@dataclass
+class ParameterSet:
+    """A resolved, checked parameter set.
+
+    Attributes
+    ----------
+    name : str
+        Set name (built-in name, file stem, or ``inline``).
+    kind : str
+        Kind of set (see :mod:`tirecli.parameters.kinds`).
+    values : dict
+        Parameter -> value (SI units).
+    source : dict
+        Parameter -> where the value came from (set name, config file, ``--set``).
+    assumed : dict
+        Parameter -> why it is an assumed default (only values still assumed).
+    notes : dict
+        Parameter -> remark from the set file.
+    title, citation : str
+        What the set is and where its values were published.
+    """
+
+    name: str
+    kind: str
+    values: dict
+    source: dict = field(default_factory=dict)
+    assumed: dict = field(default_factory=dict)
+    notes: dict = field(default_factory=dict)
+    title: str = ""
+    citation: str = ""
+
+    @property
+    def kind_def(self) -> Kind:
+        return KINDS[self.kind]
+
+    def model(self):
+        """The model's parameter object (e.g. ``LuGreParams``)."""
+        return self.kind_def.factory(dict(self.values))
+
+    def rows(self) -> list[dict]:
+        """One row per parameter: name, value, unit, meaning, equation, source, assumed."""
+        out = []
+        for key, spec in self.kind_def.fields.items():
+            if key not in self.values:
+                continue
+            out.append({
+                "name": key,
+                "value": self.values[key],
+                "unit": spec.unit,
+                "meaning": spec.doc,
+                "equation": spec.eq,
+                "source": self.source.get(key, ""),
+                "assumed": self.assumed.get(key, ""),
+                "note": self.notes.get(key, ""),
+            })
+        return out
+
+    def record(self) -> dict:
+        """JSON-ready description for ``run.json``: values with units, assumed ones flagged."""
+        return {
+            "name": self.name,
+            "kind": self.kind,
+            "title": self.title,
+            "citation": self.citation,
+            "parameters": {
+                r["name"]: {k: r[k] for k in ("value", "unit", "source")}
+                | ({"assumed": r["assumed"]} if r["assumed"] else {})
+                for r in self.rows()
+            },
+        }
+
+
+_VALUE_META = Map(fields={
+    "value": Num(unit="", doc="the value"),
+    "assumed": Str(default=None, doc="why this is an assumed default"),
+    "note": Str(default=None, doc="remark"),
+})
+
+_SET_FILE = Map(fields={
+    "name": Str(doc="set name"),
+    "kind": Str(doc="kind of set"),
+    "title": Str(default="", doc="what the set describes"),
+    "citation": Str(doc="where the values were published"),
+    "values": Map(open_keys=None, doc="parameter values"),  # checked per kind below
+    "notes": Str(default="", doc="free remarks"),
+})
+
+
+def builtin_names() -> list[str]:
+    """Names of the built-in parameter sets (package data)."""
+    root = resources.files(__package__).joinpath(_DATA)
+    return sorted(p.name[:-5] for p in root.iterdir() if p.name.endswith(".yaml"))
+
+
+def builtin_path(name: str):
+    """Package resource of a built-in set; ``ConfigError`` with a did-you-mean if unknown."""
+    names = builtin_names()
+    if name not in names:
+        hint = difflib.get_close_matches(name, names, n=1)
+        dym = f"; did you mean {hint[0]!r}?" if hint else ""
+        raise ConfigError(Problem("<built-in sets>", None, "", f"no built-in parameter set {name!r}{dym} "
+                                  f"(available: {', '.join(names)})"))
+    return resources.files(__package__).joinpath(_DATA).joinpath(name + ".yaml")
+
+
+def _unwrap_values(raw: dict, origins: Origins, path: tuple) -> tuple[dict, dict, dict]:
+    """Split ``{value, assumed, note}`` entries into values, assumed reasons and notes."""
+    values, assumed, notes = {}, {}, {}
+    ctx = Context(origins)
+    for key, v in raw.items():
+        if isinstance(v, dict):
+            meta = _VALUE_META.check(v, path + (key,), ctx)
+            if meta is MISSING or meta["value"] is MISSING:
+                continue
+            values[key] = meta["value"]
+            if meta["assumed"]:
+                assumed[key] = meta["assumed"]
+            if meta["note"]:
+                notes[key] = meta["note"]
+        else:
+            values[key] = v
+    ctx.raise_if_any()
+    return values, assumed, notes
+
+
+def _check_values(kind: Kind, values: dict, origins: Origins, path: tuple, partial: bool = False) -> dict:
+    checked = check_document(values, kind.spec(partial=partial), origins, path)
+    return {k: v for k, v in checked.items() if v is not None}
+
+
+def parse_set(data: Any, origins: Origins, label: str) -> ParameterSet:
+    """Check a parameter-set document (already parsed) and build the :class:`ParameterSet`."""
+    if not isinstance(data, dict):
+        raise ConfigError(origins.problem((), "expected a parameter set (a mapping with name, kind, citation, values)"))
+    head = {k: v for k, v in data.items() if k != "values"}
+    head["values"] = {}
+    meta = check_document(head, _SET_FILE, origins)
+    kind = KINDS.get(meta["kind"])
+    if kind is None:
+        hint = difflib.get_close_matches(meta["kind"], list(KINDS), n=1)
+        dym = f"; did you mean {hint[0]!r}?" if hint else ""
+        raise ConfigError(origins.problem(("kind",), f"unknown kind {meta['kind']!r}{dym} (expected one of: {', '.join(KINDS)})"))
+    raw = data.get("values")
+    if not isinstance(raw, dict):
+        raise ConfigError(origins.problem(("values",), "expected a mapping of parameter values"))
+    values, assumed, notes = _unwrap_values(raw, origins, ("values",))
+    values = _check_values(kind, values, origins, ("values",))
+    for key, spec in kind.fields.items():
+        if key not in raw and not spec.required:
+            assumed.setdefault(key, f"not in the set; tirecli default {spec.default:g} {spec.unit}")
+    return ParameterSet(
+        name=meta["name"], kind=kind.name, values=values,
+        source={k: label for k in values}, assumed=assumed, notes=notes,
+        title=meta["title"], citation=meta["citation"],
+    )
+
+
+def load_builtin(name: str) -> ParameterSet:
+    """A built-in parameter set by name."""
+    res = builtin_path(name)
+    data, origins = parse_yaml(res.read_text(encoding="utf-8"), file=f"<built-in {name}>")
+    return parse_set(data, origins, label=name)
+
+
+def load_set_file(path: str | Path) -> ParameterSet:
+    """A parameter set from a YAML file."""
+    data, origins = load_yaml(path)
+    return parse_set(data, origins, label=str(path))
+
+
+def load_set(ref: str, base_dir: Path | None = None) -> ParameterSet:
+    """A set by built-in name or by file path (relative to ``base_dir``)."""
+    if ref in builtin_names():
+        return load_builtin(ref)
+    looks_like_path = ref.endswith((".yaml", ".yml")) or "/" in ref or "\\" in ref
+    if looks_like_path:
+        p = Path(ref)
+        if not p.is_absolute() and base_dir is not None:
+            p = base_dir / p
+        return load_set_file(p)
+    builtin_path(ref)  # raises with a did-you-mean
+    raise AssertionError("unreachable")
+
+
+def resolve_group(raw: Any, origins: Origins, path: tuple, kind: str, base_dir: Path | None,
+                  default_set: str | None = None) -> ParameterSet:
+    """Resolve a parameter group of a config (``tire:``, ``vehicle:`` ...) into a checked set.
+
+    ``raw`` is a set name/path, or a mapping with an optional ``set`` key and parameter values
+    (overrides on top of the set, or a complete inline set). Problems name the config's file,
+    key path and line.
+    """
+    kdef = KINDS[kind]
+    if raw is None and default_set is not None:
+        raw = {"set": default_set}
+    if isinstance(raw, str):
+        raw = {"set": raw}
+    if not isinstance(raw, dict):
+        raise ConfigError(origins.problem(path, f"expected a parameter-set name or a mapping of {kind} parameters"))
+    over = {k: v for k, v in raw.items() if k != "set"}
+    for key in over:
+        if key not in kdef.fields:
+            hint = difflib.get_close_matches(key, list(kdef.fields), n=1, cutoff=0.6)
+            dym = f"; did you mean {hint[0]!r}?" if hint else ""
+            raise ConfigError(origins.problem(path + (key,), f"unknown key{dym} (expected 'set' or one of: {', '.join(kdef.fields)})"))
+    if "set" in raw:
+        if not isinstance(raw["set"], str):
+            raise ConfigError(origins.problem(path + ("set",), "expected a built-in set name or a file path"))
+        try:
+            base = load_set(raw["set"], base_dir)
+        except ConfigError as err:
+            raise ConfigError([Problem(*origins.of(path + ("set",)), _key(path + ("set",)), p.message)
+                               if p.file == "<built-in sets>" else p for p in err.problems]) from None
+        if base.kind != kind:
+            raise ConfigError(origins.problem(path + ("set",), f"set {raw['set']!r} is of kind {base.kind!r}, expected {kind!r}"))
+        over_vals, _, _ = _unwrap_values(over, origins, path)
+        over_vals = _check_values(kdef, over_vals, origins, path, partial=True)
+        values = {**base.values, **over_vals}
+        # check the merged set (e.g. mu_c <= mu_s across set and override)
+        merged = Origins(default_file=origins.default_file)
+        merged.where.update({(k,): origins.of(path + (k,)) for k in over_vals})
+        for k in base.values:
+            if k not in over_vals:
+                merged.set((k,), f"<set {base.name}>", None)
+        check_document(values, kdef.spec(), _prefixed(merged, origins, path), path)
+        source = {**base.source, **{k: _where(origins, path + (k,)) for k in over_vals}}
+        assumed = {k: v for k, v in base.assumed.items() if k not in over_vals}
+        return ParameterSet(name=base.name, kind=kind, values=values, source=source, assumed=assumed,
+                            notes=base.notes, title=base.title, citation=base.citation)
+    vals, assumed, notes = _unwrap_values(over, origins, path)
+    vals = _check_values(kdef, vals, origins, path)
+    for key, spec in kdef.fields.items():
+        if key not in over and not spec.required:
+            assumed.setdefault(key, f"not given; tirecli default {spec.default:g} {spec.unit}")
+    return ParameterSet(name="inline", kind=kind, values=vals,
+                        source={k: _where(origins, path + (k,)) for k in vals},
+                        assumed=assumed, notes=notes, title="inline parameters", citation="given in the config")
+
+
+def _key(path: tuple) -> str:
+    from tirecli.io.yamlio import format_key
+
+    return format_key(path)
+
+
+def _where(origins: Origins, path: tuple) -> str:
+    file, line = origins.of(path)
+    return file if line is None else f"{file}:{line}"
+
+
+def _prefixed(merged: Origins, origins: Origins, path: tuple) -> Origins:
+    out = Origins(default_file=origins.default_file)
+    out.where[tuple(path)] = origins.of(path)
+    for p, v in merged.where.items():
+        out.where[tuple(path) + tuple(p)] = v
+    return out

@@ -1,0 +1,176 @@
+"""What every study shares: its result, reference checks, the study registry, built-in configs.
+
+A *study* turns a checked config into a :class:`StudyResult` (data frames, parameter sets,
+metadata). Commands (``tirecli sweep``, ``simulate``, ...) run one study; ``tirecli report``
+runs the built-in study of every registered figure. Studies never write files and never plot.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from importlib import resources
+from typing import Any, Callable
+
+from tirecli.config.loader import Config, config_from_text
+from tirecli.config.schema import Context, Str
+from tirecli.errors import ConfigError
+
+from tirecli.parameters.sets import ParameterSet
+
+
+@dataclass
+class Check:
+    """A reference check: a computed value against the spec's reference within a tolerance.
+
+    Attributes
+    ----------
+    id : str
+        Short identifier (unique within a figure).
+    description : str
+        What is compared, in words.
+    value : float
+        Computed value.
+    reference : float
+        The spec's reference value.
+    tolerance : float
+        Allowed absolute deviation (in ``unit``).
+    unit : str
+        Unit of value/reference.
+    source : str
+        Where the reference comes from (spec section).
+    """
+
+    id: str
+    description: str
+    value: float
+    reference: float
+    tolerance: float
+    unit: str = "-"
+    source: str = ""
+
+    @property
+    def deviation(self) -> float:
+        return abs(self.value - self.reference)
+
+    @property
+    def passed(self) -> bool:
+        return bool(math.isfinite(self.value) and self.deviation <= self.tolerance)
+
+    def record(self) -> dict:
+        return {
+            "id": self.id, "description": self.description, "value": self.value,
+            "reference": self.reference, "tolerance": self.tolerance, "deviation": self.deviation,
+            "unit": self.unit, "source": self.source, "passed": self.passed,
+        }
+
+
+@dataclass
+class StudyResult:
+    """The outcome of a study.
+
+    Attributes
+    ----------
+    study : str
+        Study name (``sweep``, ``simulate``, ...).
+    config : Config
+        The config it ran from.
+    parameter_sets : dict
+        Group name (``tire``, ``vehicle`` ...) -> resolved :class:`ParameterSet`.
+    data : dict
+        Name -> pandas DataFrame, written as ``data/NAME.csv``.
+    meta : dict
+        Study-specific facts for ``run.json`` (events, metrics, profiles, variants).
+    figures : list
+        Registry ids of the figures drawn from this result by default.
+    payload : Any
+        Arrays or objects the figure functions need beyond the frames.
+    synthetic : bool
+        True when the result contains synthetic "measured" data (labelled everywhere).
+    """
+
+    study: str
+    config: Config
+    parameter_sets: dict
+    data: dict = field(default_factory=dict)
+    meta: dict = field(default_factory=dict)
+    figures: list = field(default_factory=list)
+    payload: Any = None
+    synthetic: bool = False
+
+    def citations(self) -> list[str]:
+        return [ps.citation for ps in self.parameter_sets.values() if ps.citation]
+
+    def parameter_records(self) -> dict:
+        return {k: ps.record() for k, ps in self.parameter_sets.items()}
+
+
+StudyFn = Callable[..., StudyResult]
+
+STUDIES: dict[str, StudyFn] = {}
+
+
+def register_study(name: str):
+    """Decorator: register ``fn(config, progress=None) -> StudyResult`` under ``name``."""
+
+    def deco(fn: StudyFn) -> StudyFn:
+        STUDIES[name] = fn
+        return fn
+
+    return deco
+
+
+def study_name(config: Config, expected: str | None = None) -> str:
+    """The ``study:`` of a config (checked against ``expected`` when the command implies one)."""
+    raw = config.data.get("study", expected)
+    if raw is None:
+        raise ConfigError(config.origins.problem((), f"missing required key 'study' (one of: {', '.join(sorted(STUDIES))})"))
+    ctx = Context(config.origins)
+    name = Str(choices=tuple(sorted(STUDIES))).check(raw, ("study",), ctx)
+    ctx.raise_if_any()
+    if expected is not None and name != expected:
+        raise ConfigError(config.origins.problem(("study",), f"this config is for 'tirecli {name}', not 'tirecli {expected}'"))
+    return name
+
+
+def run_study(config: Config, expected: str | None = None, progress=None) -> StudyResult:
+    """Run the study a config names (importing all study modules first)."""
+    import tirecli.studies  # noqa: F401  (registers the studies)
+
+    name = study_name(config, expected)
+    return STUDIES[name](config, progress=progress)
+
+
+def builtin_config_names() -> list[str]:
+    """Names of the built-in study configs (package data, used by the report)."""
+    root = resources.files("tirecli.studies").joinpath("configs")
+    return sorted(p.name[:-5] for p in root.iterdir() if p.name.endswith(".yaml"))
+
+
+def builtin_config(name: str, overrides=()) -> Config:
+    """A built-in study config by name."""
+    res = resources.files("tirecli.studies").joinpath("configs").joinpath(name + ".yaml")
+    if not res.is_file():
+        raise ConfigError(_problem(f"no built-in study config {name!r} (available: {', '.join(builtin_config_names())})"))
+    return config_from_text(res.read_text(encoding="utf-8"), label=f"<built-in {name}>", overrides=overrides)
+
+
+def _problem(msg: str):
+    from tirecli.errors import Problem
+
+    return Problem("<built-in configs>", None, "", msg)
+
+
+def common_fields() -> dict:
+    """Top-level keys every study config accepts."""
+    from tirecli.config.schema import ListOf
+
+    return {
+        "study": Str(doc="study to run"),
+        "title": Str(default="", doc="title of the run"),
+        "description": Str(default="", doc="free description"),
+        "figures": ListOf(item=Str(), default=None, doc="figure ids to draw (tirecli figures list)"),
+    }
+
+
+__all__ = ["Check", "StudyResult", "register_study", "run_study", "builtin_config", "builtin_config_names",
+           "ParameterSet", "STUDIES"]

@@ -1,0 +1,158 @@
+"""Steady-state sweeps of the LuGre tire: mu over slip x speed x theta x model variant.
+
+Config (``tirecli sweep CONFIG``)::
+
+    study: sweep
+    tire: canudas2003-table1          # built-in set, a set file, or {set: ..., sigma0: 170}
+    sweep:
+      slip: {start: -1, stop: 0, num: 1001}   # signed slip [-]: < 0 braking, > 0 driving
+      speeds: [5, 10, 20]                     # held speed [m/s]: v braking, r*omega driving
+      theta: [1.0]                            # road adhesion [-]
+      theta_convention: fm                    # fm (g -> theta g, 1 = dry) or obs (1/theta_fm)
+      models:                                 # default: distributed, uniform load
+        - distributed                         # = {model: distributed, load: uniform}
+        - {model: distributed, load: exponential, lambda: 2}
+        - {model: distributed, load: parabolic}
+        - {model: lumped, kappa0: 2}          # constant kappa0, or Z for FM eq. (10)
+    figures: [sweep-mu-slip]
+
+Output frame ``sweep`` (long format): ``model, direction, speed, v, romega, theta,
+theta_obs, slip, mu`` plus the variant's ``load, lambda, kappa0``.
+"""
+from __future__ import annotations
+
+import numpy as np
+import pandas as pd
+
+from tirecli.config.loader import Config
+from tirecli.config.schema import AnyOf, Context, Grid, ListOf, Map, Num, Raw, Str
+from tirecli.conventions import THETA_CONVENTIONS, speeds_from_slip, theta_obs_from_fm, to_theta_fm
+from tirecli.errors import ConfigError
+from tirecli.models.variants import LOADS, MODELS, FrictionVariant
+from tirecli.studies.base import StudyResult, common_fields, register_study
+
+
+def _variant_post(v: dict, path, ctx: Context) -> None:
+    if v["model"] == "distributed" and v["kappa0"] is not None:
+        ctx.fail(path + ("kappa0",), "kappa0 applies to lumped models only")
+    if v["load"] == "exponential" and v["lambda"] is None:
+        ctx.fail(path, "missing required key 'lambda' for an exponential load (decay [-], > 0)")
+    if v["load"] != "exponential" and v["lambda"] is not None:
+        ctx.fail(path + ("lambda",), "lambda applies to load: exponential only")
+    if v["load"] == "tabulated":
+        u, f = v["u"], v["f"]
+        if u is None or f is None:
+            ctx.fail(path, "a tabulated load needs 'u' (positions zeta/L) and 'f' (load density samples)")
+            return
+        if len(u) != len(f) or len(u) < 2:
+            ctx.fail(path + ("f",), f"expected as many samples as in 'u' ({len(u)}, at least 2), got {len(f)}")
+        elif any(b <= a for a, b in zip(u, u[1:])):
+            ctx.fail(path + ("u",), "positions must increase strictly")
+        elif sum(f) <= 0:
+            ctx.fail(path + ("f",), "the load samples must have a positive total")
+    elif v["u"] is not None or v["f"] is not None:
+        ctx.fail(path + ("u" if v["u"] is not None else "f",), "u and f apply to load: tabulated only")
+
+
+VARIANT = AnyOf(options=(
+    Str(choices=MODELS),
+    Map(fields={
+        "model": Str(choices=MODELS, doc="distributed (PDE steady state) or lumped (averaged ODE)"),
+        "load": Str(choices=LOADS, default="uniform", doc="normal-load density along the patch"),
+        "lambda": Num(unit="-", gt=0, default=None, doc="exponential load decay", eq="FM eq. (5)"),
+        "kappa0": AnyOf(options=(Num(unit="-", gt=0), Str(choices=("Z",))), default=None,
+                        what="a number > 0 or Z (FM eq. (10))"),
+        "u": ListOf(item=Num(unit="-", ge=0, le=1), min_len=2, default=None, doc="tabulated load positions zeta/L"),
+        "f": ListOf(item=Num(unit="N/m", ge=0), min_len=2, default=None, doc="tabulated load density samples"),
+        "label": Str(default="", doc="name in legends and CSV"),
+    }, post=_variant_post),
+), what="a model name (distributed, lumped) or a mapping {model, load, lambda, kappa0, label}")
+
+SWEEP = Map(fields={
+    "slip": Grid(unit="-", ge=-1, le=1, default={"start": -1.0, "stop": 0.0, "num": 1001},
+                 doc="signed slip: < 0 braking, > 0 driving"),
+    "speeds": Grid(unit="m/s", ge=0, default=[20.0], doc="held speed: v when braking, r*omega when driving"),
+    "theta": Grid(unit="-", gt=0, default=[1.0], doc="road adhesion"),
+    "theta_convention": Str(choices=THETA_CONVENTIONS, default="fm", doc="convention of the theta values"),
+    "models": ListOf(item=VARIANT, default=["distributed"], doc="model variants"),
+})
+
+SPEC = Map(fields=common_fields() | {"tire": Raw(doc="LuGre parameter set: a name, a file, or {set: ..., overrides}"), "sweep": SWEEP})
+
+
+def make_variant(raw) -> FrictionVariant:
+    """A :class:`FrictionVariant` from a checked config entry."""
+    if isinstance(raw, str):
+        return FrictionVariant(model=raw)
+    return FrictionVariant(
+        model=raw["model"], load=raw["load"], lam=raw["lambda"] or 0.0, kappa0=raw["kappa0"],
+        u=tuple(raw["u"]) if raw["u"] else None, f=tuple(raw["f"]) if raw["f"] else None, label=raw["label"],
+    )
+
+
+def sweep_frame(variants, p, slips, speeds, thetas_fm, progress=None) -> pd.DataFrame:
+    """Evaluate every variant over slip x speed x theta; long-format frame (see module doc)."""
+    slips = np.asarray(slips, dtype=float)
+    speeds = np.asarray(speeds, dtype=float)
+    S, V = np.meshgrid(slips, speeds, indexing="xy")  # rows: speed, cols: slip
+    v, romega = speeds_from_slip(S, V)
+    vr = romega - v
+    frames = []
+    if progress is not None:
+        progress.start(len(variants) * len(thetas_fm), "sweep")
+    for var in variants:
+        for th in thetas_fm:
+            mu = var.mu_ss(vr, romega, p, th)
+            n = mu.size
+            frames.append(pd.DataFrame({
+                "model": var.label,
+                "load": var.load,
+                "lambda": var.lam if var.load == "exponential" else np.nan,
+                "kappa0": (str(var.lumped_kappa0(p)) if var.model == "lumped" else ""),
+                "direction": np.where(S.ravel() <= 0.0, "braking", "driving"),
+                "speed": V.ravel(),
+                "v": v.ravel(),
+                "romega": romega.ravel(),
+                "theta": np.full(n, th),
+                "theta_obs": np.full(n, float(theta_obs_from_fm(th))),
+                "slip": S.ravel(),
+                "mu": mu.ravel(),
+            }))
+            if progress is not None:
+                progress.advance(1)
+    if progress is not None:
+        progress.close()
+    return pd.concat(frames, ignore_index=True)
+
+
+@register_study("sweep")
+def run_sweep(config: Config, progress=None) -> StudyResult:
+    """Run a steady-state sweep config (see module doc)."""
+    checked = config.checked(SPEC)
+    tire = config.group("tire", "lugre")
+    p = tire.model()
+    sw = checked["sweep"]
+    variants = [make_variant(m) for m in sw["models"]]
+    labels = [v.label for v in variants]
+    if len(set(labels)) != len(labels):
+        dup = next(l for l in labels if labels.count(l) > 1)
+        raise ConfigError(config.origins.problem(("sweep", "models"), f"two models share the label {dup!r}; give each a distinct 'label'"))
+    thetas_fm = [float(t) for t in to_theta_fm(sw["theta"], sw["theta_convention"])]
+    df = sweep_frame(variants, p, sw["slip"], sw["speeds"], thetas_fm, progress)
+    return StudyResult(
+        study="sweep",
+        config=config,
+        parameter_sets={"tire": tire},
+        data={"sweep": df},
+        meta={
+            "variants": [v.record() for v in variants],
+            "theta_convention_input": sw["theta_convention"],
+            "theta_stored": "fm (g -> theta*g; theta_obs = 1/theta)",
+            "held_speed": "v for braking (slip < 0), r*omega for driving (slip > 0)",
+            "points": int(len(df)),
+            "title": checked["title"],
+        },
+        figures=checked["figures"] or ["sweep-mu-slip"],
+        payload={"params": p, "variants": variants, "thetas_fm": thetas_fm,
+                 "theta_convention": sw["theta_convention"]},
+    )
