@@ -107,13 +107,19 @@ class StudyResult:
 StudyFn = Callable[..., StudyResult]
 
 STUDIES: dict[str, StudyFn] = {}
+CHECKERS: dict[str, Callable] = {}
 
 
-def register_study(name: str):
-    """Decorator: register ``fn(config, progress=None) -> StudyResult`` under ``name``."""
+def register_study(name: str, check: Callable | None = None):
+    """Decorator: register ``fn(config, progress=None) -> StudyResult`` under ``name``.
+
+    ``check(config)`` validates a config completely without running it (``params validate``).
+    """
 
     def deco(fn: StudyFn) -> StudyFn:
         STUDIES[name] = fn
+        if check is not None:
+            CHECKERS[name] = check
         return fn
 
     return deco
@@ -138,6 +144,15 @@ def run_study(config: Config, expected: str | None = None, progress=None) -> Stu
 
     name = study_name(config, expected)
     return STUDIES[name](config, progress=progress)
+
+
+def check_study(config: Config) -> str:
+    """Validate a config without running it; returns the study name."""
+    import tirecli.studies  # noqa: F401
+
+    name = study_name(config)
+    CHECKERS[name](config)
+    return name
 
 
 def builtin_config_names() -> list[str]:

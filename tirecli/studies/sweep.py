@@ -125,12 +125,11 @@ def sweep_frame(variants, p, slips, speeds, thetas_fm, progress=None) -> pd.Data
     return pd.concat(frames, ignore_index=True)
 
 
-@register_study("sweep")
-def run_sweep(config: Config, progress=None) -> StudyResult:
-    """Run a steady-state sweep config (see module doc)."""
+def plan(config: Config):
+    """Check a sweep config completely: ``(checked document, tire set, variants, theta_fm)``."""
     checked = config.checked(SPEC)
     tire = config.group("tire", "lugre")
-    p = tire.model()
+    tire.model()  # builds the parameter object (fails early on bad values)
     sw = checked["sweep"]
     variants = [make_variant(m) for m in sw["models"]]
     labels = [v.label for v in variants]
@@ -138,6 +137,15 @@ def run_sweep(config: Config, progress=None) -> StudyResult:
         dup = next(l for l in labels if labels.count(l) > 1)
         raise ConfigError(config.origins.problem(("sweep", "models"), f"two models share the label {dup!r}; give each a distinct 'label'"))
     thetas_fm = [float(t) for t in to_theta_fm(sw["theta"], sw["theta_convention"])]
+    return checked, tire, variants, thetas_fm
+
+
+@register_study("sweep", check=plan)
+def run_sweep(config: Config, progress=None) -> StudyResult:
+    """Run a steady-state sweep config (see module doc)."""
+    checked, tire, variants, thetas_fm = plan(config)
+    p = tire.model()
+    sw = checked["sweep"]
     df = sweep_frame(variants, p, sw["slip"], sw["speeds"], thetas_fm, progress)
     return StudyResult(
         study="sweep",

@@ -1,0 +1,126 @@
+"""Application layer: what one command does, independent of the CLI framework.
+
+``run_config`` loads a config, runs its study, draws the figures the result asks for,
+evaluates their reference checks and writes the output contract (:mod:`tirecli.io.output`).
+The Typer commands in :mod:`tirecli.cli` only parse arguments and call these functions.
+"""
+from __future__ import annotations
+
+import shlex
+import sys
+import time
+from dataclasses import dataclass
+from pathlib import Path
+
+from tirecli.config.loader import Config, load_config
+from tirecli.figures import registry
+from tirecli.io import output
+from tirecli.studies.base import Check, StudyResult, run_study
+
+DEFAULT_OUT = Path("tirecli-out")
+
+
+@dataclass
+class RunSummary:
+    """What a command produced."""
+
+    result: StudyResult
+    out: Path
+    paths: dict
+    checks: list
+    wall_time: float
+
+    @property
+    def failed_checks(self) -> list[Check]:
+        return [c for c in self.checks if not c.passed]
+
+
+def command_line() -> str:
+    """The command line as typed (for ``run.json``)."""
+    return "tirecli " + " ".join(shlex.quote(a) for a in sys.argv[1:])
+
+
+def draw(result: StudyResult, ids=None) -> tuple[dict, list]:
+    """Draw the figures ``ids`` (default: the result's) and evaluate their checks."""
+    figs, checks = {}, []
+    for fid in ids or result.figures:
+        fdef = registry.get(fid)
+        figs[fid] = fdef.draw(result)
+        if fdef.checks is not None:
+            for c in fdef.checks(result):
+                c.id = f"{fid}/{c.id}"
+                checks.append(c)
+    return figs, checks
+
+
+def close_figures(figs: dict) -> None:
+    for fig in figs.values():
+        if hasattr(fig, "clf"):
+            fig.clf()
+
+
+def default_out(config: Config, command: str) -> Path:
+    stem = Path(config.label).stem if not config.label.startswith("<") else command
+    return DEFAULT_OUT / f"{command}-{stem}"
+
+
+def run_config(command: str, config_path: str | Path, overrides=(), out: str | Path | None = None,
+               progress=None) -> RunSummary:
+    """Run the study of ``config_path`` as ``tirecli COMMAND`` and write its outputs.
+
+    Parameters
+    ----------
+    command : str
+        The command (``sweep``, ``simulate``, ...); the config's ``study`` must match it.
+    overrides : sequence of str
+        ``KEY=VALUE`` overrides (``--set``).
+    out : path or None
+        Output directory (default ``tirecli-out/COMMAND-CONFIGSTEM``).
+    progress : object or None
+        Progress reporter with ``start(total, label)``, ``advance(n)``, ``close()``.
+    """
+    t0 = time.perf_counter()
+    config = load_config(config_path, overrides)
+    result = run_study(config, expected=command, progress=progress)
+    figs, checks = draw(result)
+    out = Path(out) if out is not None else default_out(config, command)
+    wall = time.perf_counter() - t0
+    paths = output.write_result(out, result, figs, checks, command_line(), wall)
+    close_figures(figs)
+    return RunSummary(result=result, out=out, paths=paths, checks=checks, wall_time=time.perf_counter() - t0)
+
+
+def show_parameter_set(ref: str) -> str:
+    """Text table of a parameter set (built-in name or file): value, unit, meaning, source."""
+    from tirecli.parameters.sets import load_set
+
+    ps = load_set(ref, Path.cwd())
+    lines = [f"{ps.name} ({ps.kind}): {ps.title}", f"citation: {ps.citation}", ""]
+    rows = ps.rows()
+    w = max(len(r["name"]) for r in rows)
+    for r in rows:
+        flag = "  [ASSUMED]" if r["assumed"] else ""
+        lines.append(f"  {r['name']:<{w}}  {r['value']:>12.6g} {r['unit']:<9} {r['meaning']} ({r['equation']}){flag}")
+    assumed = [r for r in rows if r["assumed"]]
+    if assumed:
+        lines += ["", "assumed values (documented defaults, override with --set GROUP.NAME=VALUE):"]
+        lines += [f"  {r['name']}: {r['assumed']}" for r in assumed]
+    notes = [r for r in rows if r["note"]]
+    if notes:
+        lines += ["", "notes:"] + [f"  {r['name']}: {r['note']}" for r in notes]
+    return "\n".join(lines)
+
+
+def validate_file(path: str | Path) -> str:
+    """Check a parameter-set file or a study config without running it; ConfigError lists problems."""
+    from tirecli.io.yamlio import load_yaml
+    from tirecli.parameters.sets import parse_set
+    from tirecli.studies.base import check_study
+
+    data, origins = load_yaml(path)
+    if isinstance(data, dict) and "kind" in data and "study" not in data:
+        ps = parse_set(data, origins, label=str(path))
+        return f"{path}: valid {ps.kind} parameter set {ps.name!r} ({len(ps.values)} values)"
+    config = load_config(path)
+    name = check_study(config)
+    return f"{path}: valid {name} config"

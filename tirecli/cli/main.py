@@ -1,0 +1,88 @@
+"""The ``tirecli`` command: Typer app, global flags and the one place errors map to exit codes.
+
+Exit codes: 0 success; 1 run failure (numerical failure, failed checks under ``--strict``,
+internal error); 2 usage or input error (bad option, bad config, bad data file).
+Errors print one line each on stderr without a traceback; ``--debug`` shows the traceback.
+"""
+from __future__ import annotations
+
+import sys
+import traceback
+
+import typer
+
+from tirecli import __version__
+from tirecli.cli import common, figures, params, report, sweep
+
+app = typer.Typer(
+    name="tirecli",
+    help="Tire/road friction analysis: LuGre models, the adhesion observer, the Magic Formula, "
+         "paper figures and an HTML report. Run 'tirecli report' for everything on built-in defaults.",
+    no_args_is_help=True,
+    add_completion=False,
+    pretty_exceptions_enable=False,
+    rich_markup_mode=None,
+    context_settings={"help_option_names": ["-h", "--help"]},
+)
+
+
+def _version(value: bool) -> None:
+    if value:
+        typer.echo(f"tirecli {__version__}")
+        raise typer.Exit(0)
+
+
+@app.callback()
+def _root(
+    version: bool = typer.Option(False, "--version", callback=_version, is_eager=True, help="Print the version."),
+    debug: bool = typer.Option(False, "--debug", help="Show tracebacks on errors (also accepted after the command)."),
+    quiet: bool = typer.Option(False, "--quiet", "-q", help="Only print results; no progress bar (also after the command)."),
+) -> None:
+    """Global options."""
+
+
+app.command("sweep")(sweep.sweep)
+app.command("report")(report.report)
+app.add_typer(params.app, name="params")
+app.add_typer(figures.app, name="figures")
+
+
+def _error(msg: str) -> None:
+    for line in str(msg).splitlines() or [""]:
+        sys.stderr.write(f"error: {line}\n")
+
+
+def main(argv: list[str] | None = None) -> int:
+    """Entry point of the ``tirecli`` script; returns (and exits with) the exit code."""
+    from tirecli.errors import TirecliError
+
+    args = list(sys.argv[1:] if argv is None else argv)
+    common.STATE["debug"] = "--debug" in args
+    common.STATE["quiet"] = "--quiet" in args or "-q" in args
+    args = [a for a in args if a not in ("--debug", "--quiet", "-q")]
+    code = 0
+    try:
+        # standalone mode: Typer prints usage errors itself and exits 2 (SystemExit below)
+        app(args=args, prog_name="tirecli")
+    except SystemExit as exc:
+        code = exc.code if isinstance(exc.code, int) else (0 if exc.code is None else 1)
+    except TirecliError as exc:
+        _error(str(exc))
+        code = exc.exit_code
+        if common.STATE["debug"]:
+            traceback.print_exc()
+    except KeyboardInterrupt:
+        _error("interrupted")
+        code = 130
+    except Exception as exc:  # noqa: BLE001 - the one place internal errors become exit code 1
+        _error(f"internal error: {type(exc).__name__}: {exc} (run with --debug for the traceback)")
+        code = 1
+        if common.STATE["debug"]:
+            traceback.print_exc()
+    if argv is None:
+        sys.exit(code)
+    return code
+
+
+if __name__ == "__main__":  # pragma: no cover
+    main()

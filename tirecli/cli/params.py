@@ -1,0 +1,36 @@
+"""``tirecli params``: built-in parameter sets and validation of YAML files."""
+from __future__ import annotations
+
+from pathlib import Path
+
+import typer
+
+from tirecli.cli.common import echo, result_line
+
+app = typer.Typer(help="List, show and validate parameter sets.", no_args_is_help=True)
+
+
+@app.command("list")
+def list_() -> None:
+    """List the built-in parameter sets with their kind and title."""
+    from tirecli.parameters.sets import builtin_names, load_builtin
+
+    for name in builtin_names():
+        ps = load_builtin(name)
+        result_line(f"{name:32s} {ps.kind:12s} {ps.title}")
+
+
+@app.command("show")
+def show(name: str = typer.Argument(..., help="Built-in set name or a parameter-set YAML file.")) -> None:
+    """Show a parameter set: values, units, meaning, equation, source; assumed values flagged."""
+    from tirecli.app import show_parameter_set
+
+    result_line(show_parameter_set(name))
+
+
+@app.command("validate")
+def validate(file: Path = typer.Argument(..., help="A parameter-set file or a study config.")) -> None:
+    """Check a parameter-set file or a study config; one line per problem, exit 2 if any."""
+    from tirecli.app import validate_file
+
+    result_line(validate_file(file))

@@ -1,0 +1,146 @@
+"""``tirecli report``: run the built-in study of every registered figure, render one HTML file.
+
+Writes ``DIR/index.html`` (self-contained: figures embedded as PNG, no network resources),
+``DIR/summary.json`` (every reference check), ``DIR/figures/ID.png|svg`` (tables as CSV),
+``DIR/data/STUDY/NAME.csv`` and ``DIR/studies/STUDY.json`` (the run record of each study).
+"""
+from __future__ import annotations
+
+import base64
+import time
+import traceback
+from pathlib import Path
+
+import jinja2
+
+from tirecli import __version__
+from tirecli.figures.registry import PAPERS, Table, load_all
+from tirecli.io import output
+from tirecli.studies.base import Check, builtin_config, run_study
+
+PAPER_ORDER = ["FM", "OBS", "MF", "MCPS"]
+
+
+def _env() -> jinja2.Environment:
+    return jinja2.Environment(
+        loader=jinja2.PackageLoader("tirecli", "templates"),
+        autoescape=jinja2.select_autoescape(["html", "j2"]),
+        undefined=jinja2.StrictUndefined,
+    )
+
+
+def _select(reg: dict, only) -> list:
+    entries = [f for f in reg.values() if f.study]
+    if only:
+        wanted = set(only)
+        entries = [f for f in entries if f.paper in wanted or f.id in wanted]
+    return sorted(entries, key=lambda f: (PAPER_ORDER.index(f.paper) if f.paper in PAPER_ORDER else 99, f.order, f.id))
+
+
+def build_report(out: str | Path, only=None, progress=None) -> dict:
+    """Build the report into ``out``; returns the summary (also written as ``summary.json``).
+
+    A study that fails is shown as an error card and recorded as a failed check, so the report
+    is always written and ``--strict`` fails.
+    """
+    t_start = time.perf_counter()
+    reg = load_all()
+    entries = _select(reg, only)
+    out = output.prepare_dir(out)
+    studies = list(dict.fromkeys(f.study for f in entries))
+    results, errors, timings = {}, {}, {}
+    if progress is not None:
+        progress.start(len(studies), "report")
+    for name in studies:
+        t0 = time.perf_counter()
+        try:
+            results[name] = run_study(builtin_config(name))
+        except Exception as exc:  # noqa: BLE001 - reported in the page and as a failed check
+            errors[name] = f"{type(exc).__name__}: {exc}\n" + traceback.format_exc(limit=4)
+        timings[name] = time.perf_counter() - t0
+        if progress is not None:
+            progress.advance(1)
+    if progress is not None:
+        progress.close()
+
+    for name, res in results.items():
+        (out / "data" / name).mkdir(parents=True, exist_ok=True)
+        comments = [output.SYNTHETIC_NOTE] if res.synthetic else []
+        for dname, frame in res.data.items():
+            output.write_csv(out / "data" / name / f"{dname}.csv", frame, comments)
+
+    cards, all_checks = [], []
+    for f in entries:
+        card = {"id": f.id, "paper": f.paper, "label": f.label, "title": f.title, "caption": f.caption,
+                "paper_shows": f.paper_shows, "study": f.study, "image": None, "table": None, "error": None,
+                "checks": [], "parameters": [], "files": [], "synthetic": False}
+        res = results.get(f.study)
+        if res is None:
+            card["error"] = errors.get(f.study, "study did not run")
+            chk = Check("study-ran", f"built-in study {f.study} ran", float("nan"), 0.0, 0.0, "-", "report")
+            chk.id = f"{f.id}/study-ran"
+            card["checks"].append(chk.record())
+            all_checks.append(chk.record())
+            cards.append(card)
+            continue
+        card["synthetic"] = res.synthetic
+        card["parameters"] = [{"group": g, "set": ps.name, "citation": ps.citation, "rows": ps.rows()}
+                              for g, ps in res.parameter_sets.items()]
+        try:
+            fig = f.draw(res)
+            checks = f.checks(res) if f.checks else []
+        except Exception as exc:  # noqa: BLE001
+            card["error"] = f"{type(exc).__name__}: {exc}\n" + traceback.format_exc(limit=4)
+            chk = Check("figure-drawn", f"figure {f.id} drawn", float("nan"), 0.0, 0.0, "-", "report")
+            checks, fig = [chk], None
+        for c in checks:
+            c.id = f"{f.id}/{c.id}"
+            card["checks"].append(c.record())
+            all_checks.append(c.record())
+        if isinstance(fig, Table):
+            import pandas as pd
+
+            card["table"] = {"columns": fig.columns, "rows": fig.rows, "notes": fig.notes}
+            card["files"] = [str(output.write_csv(out / "figures" / f"{f.id}.csv",
+                                                  pd.DataFrame(fig.rows, columns=fig.columns)).relative_to(out))]
+        elif fig is not None:
+            paths = output.save_figure(fig, out / "figures", f.id)
+            card["files"] = [str(p.relative_to(out)) for p in paths]
+            card["image"] = base64.b64encode(output.png_bytes(fig)).decode("ascii")
+            fig.clf()
+        cards.append(card)
+
+    (out / "studies").mkdir(exist_ok=True)
+    for name, res in results.items():
+        output.write_json(out / "studies" / f"{name}.json", {
+            "study": res.study, "config": res.config.label, "sha256": res.config.digest(),
+            "parameters": res.parameter_records(), "assumed": output.assumed_list(res),
+            "citations": res.citations(), "meta": res.meta, "synthetic": res.synthetic,
+            "wall_time_s": round(timings[name], 4),
+        })
+
+    sections = []
+    for paper in PAPER_ORDER + sorted({c["paper"] for c in cards} - set(PAPER_ORDER)):
+        pc = [c for c in cards if c["paper"] == paper]
+        if pc:
+            npass = sum(ch["passed"] for c in pc for ch in c["checks"])
+            ntot = sum(len(c["checks"]) for c in pc)
+            sections.append({"paper": paper, "title": PAPERS.get(paper, paper), "cards": pc,
+                             "passed": npass, "total": ntot})
+    failed = [c for c in all_checks if not c["passed"]]
+    wall = time.perf_counter() - t_start
+    summary = {
+        "tool": "tirecli", "version": __version__, "n_figures": len(cards), "n_studies": len(studies),
+        "checks": all_checks, "n_checks": len(all_checks), "n_failed": len(failed),
+        "study_errors": {k: v.splitlines()[0] for k, v in errors.items()},
+        "study_wall_time_s": {k: round(v, 3) for k, v in timings.items()},
+        "wall_time_s": wall, "environment": output.environment(),
+    }
+    html = _env().get_template("report.html.j2").render(
+        version=__version__, sections=sections, n_checks=len(all_checks), n_failed=len(failed),
+        n_figures=len(cards), wall=wall, environment=summary["environment"],
+    )
+    output.write_text(out / "index.html", html)
+    output.write_json(out / "summary.json", summary)
+    return summary
+
