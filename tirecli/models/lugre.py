@@ -328,3 +328,50 @@ def small_slip_slope(v, p: LuGreParams):
     Independent of ``g`` and of ``theta``.
     """
     return p.sigma0 * p.L / 2.0 + p.sigma2 * np.asarray(v, dtype=float)
+
+
+def lumped_kappa(vr, romega, p: LuGreParams, kappa0=None, theta=1.0):
+    """Lumped distribution coefficient ``kappa`` [1/m] = ``kappa0/L`` (FM eq. (8)).
+
+    ``kappa0`` is a number, ``None`` (``p.kappa0``) or ``"Z"`` for ``kappa0(Z)`` of FM eq. (10)
+    evaluated at the current ``(vr, romega)``.
+    """
+    if isinstance(kappa0, str):
+        if kappa0 != "Z":
+            raise ValueError(f"kappa0 must be a number or 'Z', got {kappa0!r}")
+        return kappa0_of_x(patch_ratio(vr, romega, p, theta)) / p.L
+    return (p.kappa0 if kappa0 is None else kappa0) / p.L
+
+
+def lumped_decay_rate(vr, romega, p: LuGreParams, kappa0=None, theta=1.0):
+    """Decay rate ``a = sigma0 |vr| / (theta g) + kappa |r omega|`` [1/s] of the lumped state.
+
+    FM eq. (8) reads ``dz/dt = vr - a z``; ``a`` reaches 1e3-1e4 1/s at large slip velocity
+    (stiff). With ``vr`` and ``romega`` frozen over a step ``h`` the exact update is
+    ``z(t + h) = z_ss + (z - z_ss) exp(-a h)`` with ``z_ss = vr / a`` [m].
+    """
+    vr = np.asarray(vr, dtype=float)
+    return (p.sigma0 * np.abs(vr) / stribeck(vr, p, theta)
+            + lumped_kappa(vr, romega, p, kappa0, theta) * np.abs(np.asarray(romega, dtype=float)))
+
+
+def lumped_zdot(z, vr, romega, p: LuGreParams, kappa0=None, theta=1.0):
+    """Lumped bristle dynamics ``dz/dt = vr - sigma0 |vr|/(theta g) z - kappa |r omega| z`` [m/s] (FM eq. (8)).
+
+    Parameters
+    ----------
+    z : array_like
+        Mean bristle deflection [m] (FM eq. (7)).
+    vr, romega : array_like
+        Relative velocity and wheel circumferential speed [m/s].
+    kappa0 : float, None or "Z"
+        Lumped coefficient (see :func:`lumped_kappa`).
+    theta : array_like
+        Adhesion, FM convention [-].
+    """
+    return np.asarray(vr, dtype=float) - lumped_decay_rate(vr, romega, p, kappa0, theta) * z
+
+
+def lumped_mu(z, zdot, vr, p: LuGreParams):
+    """Normalised friction ``mu = sigma0 z + sigma1 dz/dt + sigma2 vr`` [-] (FM eq. (9))."""
+    return p.sigma0 * z + p.sigma1 * zdot + p.sigma2 * np.asarray(vr, dtype=float)

@@ -1,0 +1,105 @@
+"""Reading tabular input data (CSV): columns by name, checked, with clear errors.
+
+Lines starting with ``#`` are comments (tirecli's own CSVs use them to label synthetic data).
+Every problem is a :class:`~tirecli.errors.DataError` (exit code 2) naming the file, the
+column and the row (1-based data row, i.e. not counting the header).
+"""
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+
+from tirecli.errors import DataError
+
+
+def read_table(path: str | Path):
+    """Read a CSV into a DataFrame of strings/numbers; DataError if missing, empty or unreadable."""
+    import pandas as pd
+
+    path = Path(path)
+    if not path.is_file():
+        raise DataError(f"{path}: file not found")
+    try:
+        raw = path.read_bytes()
+    except OSError as exc:
+        raise DataError(f"{path}: cannot read ({exc.strerror})") from None
+    if b"\x00" in raw[:4096]:
+        raise DataError(f"{path}: binary file, expected CSV text")
+    try:
+        frame = pd.read_csv(path, comment="#", skipinitialspace=True)
+    except pd.errors.EmptyDataError:
+        raise DataError(f"{path}: empty file (expected a header line and data rows)") from None
+    except (pd.errors.ParserError, UnicodeDecodeError) as exc:
+        raise DataError(f"{path}: cannot read as CSV ({str(exc).splitlines()[0]})") from None
+    frame.columns = [str(c).strip() for c in frame.columns]
+    return frame
+
+
+def numeric_column(frame, name: str, path, finite: bool = True) -> np.ndarray:
+    """Column ``name`` as floats; DataError naming the first non-numeric or NaN/inf cell."""
+    import pandas as pd
+
+    col = frame[name]
+    vals = pd.to_numeric(col, errors="coerce").to_numpy(dtype=float)
+    bad = np.flatnonzero(np.isnan(vals) & col.notna().to_numpy())
+    if bad.size:
+        i = int(bad[0])
+        raise DataError(f"{path}: column {name!r} row {i + 1}: not a number ({col.iloc[i]!r})")
+    if finite:
+        bad = np.flatnonzero(~np.isfinite(vals))
+        if bad.size:
+            i = int(bad[0])
+            what = "empty or NaN" if np.isnan(vals[i]) else "infinite"
+            raise DataError(f"{path}: column {name!r} row {i + 1}: {what} value")
+    return vals
+
+
+def read_columns(path: str | Path, columns, increasing: str | None = None, min_rows: int = 2,
+                 optional=(), rename: dict | None = None) -> dict:
+    """Read named numeric columns of a CSV.
+
+    Parameters
+    ----------
+    columns : sequence of str
+        Required columns (after ``rename``).
+    increasing : str or None
+        A column (time) that must increase strictly.
+    min_rows : int
+        Fewest data rows accepted.
+    optional : sequence of str
+        Columns read when present.
+    rename : dict or None
+        Column mapping ``{name in file: expected name}`` (``--map`` options).
+
+    Returns
+    -------
+    dict
+        Column name -> float array.
+    """
+    path = Path(path)
+    frame = read_table(path)
+    if rename:
+        missing_src = [src for src in rename if src not in frame.columns]
+        if missing_src:
+            raise DataError(f"{path}: mapped column(s) {', '.join(map(repr, missing_src))} not in the file "
+                            f"(columns: {', '.join(frame.columns)})")
+        frame = frame.rename(columns=rename)
+    missing = [c for c in columns if c not in frame.columns]
+    if missing:
+        raise DataError(f"{path}: missing column(s) {', '.join(map(repr, missing))} "
+                        f"(file has: {', '.join(frame.columns) or 'none'}; map names with --map FILE_COLUMN=NAME)")
+    if len(frame) < min_rows:
+        raise DataError(f"{path}: too few data rows ({len(frame)}, need at least {min_rows})")
+    out = {c: numeric_column(frame, c, path) for c in columns}
+    for c in optional:
+        if c in frame.columns:
+            out[c] = numeric_column(frame, c, path)
+    if increasing is not None:
+        t = out[increasing]
+        bad = np.flatnonzero(np.diff(t) <= 0)
+        if bad.size:
+            i = int(bad[0]) + 1
+            raise DataError(f"{path}: column {increasing!r} row {i + 1}: time does not increase "
+                            f"({t[i - 1]:g} then {t[i]:g})")
+    return out

@@ -1,0 +1,163 @@
+"""Input profiles over time: torque, brake pressure, adhesion theta, prescribed slip or speed.
+
+A profile is a vectorized function of time ``t`` [s] with a JSON ``record()`` written into every
+run's outputs (the shape of a brake release changes the results: lugre.md §7). Kinds:
+
+- :class:`Constant` — one value;
+- :class:`Table` — piecewise-linear through ``(t_i, y_i)``, held constant outside (steps are two
+  points at the same time; ramps are two points);
+- :class:`Transitions` — a level that changes at given times to new levels, each change a
+  ``step``, a ``linear`` ramp or a ``half-cosine`` (smooth) transition over its duration:
+  ``y = y_a + (y_b - y_a) S((t - t0)/d)`` with ``S(x) = (1 - cos(pi clip(x, 0, 1)))/2``
+  (observer.md §7).
+
+Config forms (see :data:`PROFILE_SPEC` and :func:`profile_from_config`)::
+
+    torque: 350
+    torque: {table: {t: [0, 0.5, 2.0, 2.6], value: [0, 0, 1000, 0]}}
+    torque: {initial: 350, changes: [{at: 7, duration: 1, to: -250, shape: half-cosine}]}
+    torque: {csv: measured.csv, t: t, value: torque}      # read by tirecli.io.data
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+SHAPES = ("step", "linear", "half-cosine")
+
+
+def smoothstep_cos(x):
+    """Half-cosine transition ``S(x) = (1 - cos(pi clip(x, 0, 1)))/2`` [-] (observer.md §7)."""
+    return 0.5 * (1.0 - np.cos(np.pi * np.clip(x, 0.0, 1.0)))
+
+
+@dataclass(frozen=True)
+class Constant:
+    """A constant profile ``y(t) = value``."""
+
+    value: float
+
+    def __call__(self, t):
+        return np.full(np.shape(t), self.value, dtype=float) if np.ndim(t) else float(self.value)
+
+    def record(self) -> dict:
+        return {"kind": "constant", "value": self.value}
+
+
+@dataclass(frozen=True)
+class Table:
+    """Piecewise-linear profile through ``(t_i, y_i)``; constant before the first and after the last point.
+
+    Two points at the same time make a step (the later value holds from that time on).
+    """
+
+    t: tuple
+    y: tuple
+    source: str = ""
+
+    def __call__(self, t):
+        tt = np.asarray(self.t, dtype=float)
+        yy = np.asarray(self.y, dtype=float)
+        # np.interp takes the right-most value at repeated abscissae (a step at t_i)
+        out = np.interp(t, tt, yy)
+        return out if np.ndim(t) else float(out)
+
+    def record(self) -> dict:
+        rec = {"kind": "table", "t": list(self.t), "value": list(self.y)}
+        if self.source:
+            rec["source"] = self.source
+        return rec
+
+
+@dataclass(frozen=True)
+class Change:
+    """One level change of :class:`Transitions`: from time ``at`` over ``duration`` to ``to``."""
+
+    at: float
+    to: float
+    duration: float = 0.0
+    shape: str = "half-cosine"
+
+
+@dataclass(frozen=True)
+class Transitions:
+    """A level with changes (steps, linear ramps or half-cosine transitions), see module doc."""
+
+    initial: float
+    changes: tuple = ()
+
+    def __call__(self, t):
+        tarr = np.asarray(t, dtype=float)
+        y = np.full(tarr.shape, self.initial, dtype=float)
+        level = self.initial
+        for c in self.changes:
+            if c.shape == "step" or c.duration <= 0.0:
+                frac = (tarr >= c.at).astype(float)
+            elif c.shape == "linear":
+                frac = np.clip((tarr - c.at) / c.duration, 0.0, 1.0)
+            else:
+                frac = smoothstep_cos((tarr - c.at) / c.duration)
+            y = y + (c.to - level) * frac
+            level = c.to
+        return y if np.ndim(t) else float(y)
+
+    def record(self) -> dict:
+        return {"kind": "transitions", "initial": self.initial,
+                "changes": [{"at": c.at, "duration": c.duration, "to": c.to, "shape": c.shape} for c in self.changes]}
+
+
+def _post_table(v, path, ctx):
+    t, y = v["t"], v["value"]
+    if len(t) != len(y):
+        ctx.fail(path + ("value",), f"expected as many values as times ({len(t)}), got {len(y)}")
+    elif any(b < a for a, b in zip(t, t[1:])):
+        ctx.fail(path + ("t",), "times must not decrease")
+
+
+def _post_transitions(v, path, ctx):
+    last = -np.inf
+    for i, c in enumerate(v["changes"] or []):
+        if c["at"] < last:
+            ctx.fail(path + ("changes", i, "at"), f"changes must be in time order (this one starts before {last:g} s)")
+        last = c["at"] + (c["duration"] or 0.0)
+
+
+def profile_spec(unit: str, lo: float | None = None, hi: float | None = None, gt: float | None = None):
+    """Schema of a profile whose values are in ``unit`` and within the given bounds."""
+    from tirecli.config.schema import AnyOf, ListOf, Map, Num, Str
+
+    val = Num(unit=unit, ge=lo, le=hi, gt=gt)
+    time = Num(unit="s", ge=0)
+    return AnyOf(options=(
+        val,
+        Map(fields={"table": Map(fields={"t": ListOf(item=time, min_len=1), "value": ListOf(item=val, min_len=1)},
+                                 post=_post_table)}),
+        Map(fields={"initial": val, "changes": ListOf(item=Map(fields={
+            "at": time, "to": val,
+            "duration": Num(unit="s", ge=0, default=0.0, doc="transition length"),
+            "shape": Str(choices=SHAPES, default="half-cosine", doc="transition shape"),
+        }), min_len=0, default=[])}, post=_post_transitions),
+        Map(fields={"csv": Str(doc="CSV file (relative to the config)"),
+                    "t": Str(default="t", doc="time column"), "value": Str(doc="value column")}),
+    ), what=f"a number [{unit}], {{table: {{t, value}}}}, {{initial, changes}} or {{csv, t, value}}")
+
+
+def profile_from_checked(v, base_dir=None, origin=("", None)):
+    """Build a profile from a value checked by :func:`profile_spec`."""
+    if isinstance(v, (int, float)):
+        return Constant(float(v))
+    if "table" in v:
+        return Table(tuple(v["table"]["t"]), tuple(v["table"]["value"]))
+    if "initial" in v:
+        return Transitions(v["initial"], tuple(Change(c["at"], c["to"], c["duration"], c["shape"])
+                                               for c in v["changes"] or []))
+    from pathlib import Path
+
+    from tirecli.io.data import read_columns
+
+    path = Path(v["csv"])
+    if base_dir is not None and not path.is_absolute():
+        path = Path(base_dir) / path
+    cols = read_columns(path, [v["t"], v["value"]], increasing=v["t"])
+    return Table(tuple(cols[v["t"]]), tuple(cols[v["value"]]), source=str(path))
