@@ -130,7 +130,8 @@ def kappa_from_slip(s):
 def slip_from_kappa(kappa):
     """LuGre slip ``s = vr / max(v, r omega)`` [-] from the ISO-W practical slip ``kappa``."""
     kappa = np.asarray(kappa, dtype=float)
-    return np.where(kappa <= 0.0, kappa, kappa / (1.0 + kappa))
+    with np.errstate(divide="ignore", invalid="ignore"):
+        return np.where(kappa <= 0.0, kappa, kappa / (1.0 + kappa))
 
 
 def theta_obs_from_fm(theta_fm):

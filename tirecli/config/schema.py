@@ -63,6 +63,10 @@ class Spec:
     def check(self, value: Any, path: KeyPath, ctx: Context) -> Any:  # pragma: no cover
         raise NotImplementedError
 
+    def accepts(self, value: Any) -> bool:
+        """Whether ``value`` has the right type for this spec (ranges aside); used by AnyOf."""
+        return True
+
     def describe(self) -> str:
         return self.doc
 
@@ -113,6 +117,9 @@ class Num(Spec):
             return MISSING
         return v
 
+    def accepts(self, value) -> bool:
+        return isinstance(value, (int, float)) and not isinstance(value, bool)
+
     def describe(self) -> str:
         b = self.bounds_text()
         return f"{self.doc} [{self.unit}]" + (f" ({b})" if b else "")
@@ -123,6 +130,9 @@ class Str(Spec):
     """A text value, optionally restricted to ``choices`` (case-sensitive)."""
 
     choices: tuple | None = None
+
+    def accepts(self, value) -> bool:
+        return isinstance(value, str)
 
     def check(self, value, path, ctx):
         if not isinstance(value, str):
@@ -153,6 +163,9 @@ class ListOf(Spec):
     min_len: int = 1
     max_len: int | None = None
 
+    def accepts(self, value) -> bool:
+        return isinstance(value, list)
+
     def check(self, value, path, ctx):
         if not isinstance(value, list):
             if isinstance(value, (int, float, str)) and not isinstance(value, bool):
@@ -177,7 +190,13 @@ class AnyOf(Spec):
     options: tuple = ()
     what: str = ""
 
+    def accepts(self, value) -> bool:
+        return any(o.accepts(value) for o in self.options)
+
     def check(self, value, path, ctx):
+        typed = [o for o in self.options if o.accepts(value)]
+        if len(typed) == 1:  # the value's type picks the option: report its own problems
+            return typed[0].check(value, path, ctx)
         best = None
         for opt in self.options:
             sub = Context(ctx.origins)
@@ -203,6 +222,9 @@ class Map(Spec):
     fields: dict = field(default_factory=dict)
     post: Callable | None = None
     open_keys: Spec | None = None  # spec for arbitrary extra keys, if allowed
+
+    def accepts(self, value) -> bool:
+        return isinstance(value, dict)
 
     def check(self, value, path, ctx):
         if not isinstance(value, dict):
@@ -234,6 +256,23 @@ class Map(Spec):
         return out
 
 
+def collect(*steps: Callable) -> list:
+    """Run each step; gather the problems of every step that raises ConfigError into one error.
+
+    Lets a command report a bad schema key and a bad parameter value of one file together.
+    """
+    results, problems = [], []
+    for step in steps:
+        try:
+            results.append(step())
+        except ConfigError as err:
+            problems.extend(err.problems)
+            results.append(None)
+    if problems:
+        raise ConfigError(problems)
+    return results
+
+
 def check_document(data: Any, spec: Spec, origins: Origins, path: KeyPath = ()) -> Any:
     """Check ``data`` against ``spec``; raise one :class:`ConfigError` listing every problem."""
     ctx = Context(origins)
@@ -259,6 +298,9 @@ class Grid(Spec):
     le: float | None = None
     gt: float | None = None
     max_num: int = 10_000_000
+
+    def accepts(self, value) -> bool:
+        return isinstance(value, (dict, list, int, float)) and not isinstance(value, bool)
 
     def check(self, value, path, ctx):
         num = Num(unit=self.unit, ge=self.ge, le=self.le, gt=self.gt)

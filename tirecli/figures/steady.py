@@ -4,6 +4,8 @@ from __future__ import annotations
 import numpy as np
 
 from tirecli.figures.registry import Table, register
+from matplotlib.figure import Figure
+
 from tirecli.figures.style import COLORS, LINESTYLES, finish, new_figure
 from tirecli.studies.base import Check
 
@@ -86,20 +88,18 @@ def _surface(result, title):
     model = _first_model(df)
     theta = df["theta"].iloc[0]
     d = df[(df["model"] == model) & np.isclose(df["theta"], theta) & (df["direction"] == "braking")]
-    speeds = np.unique(d["speed"])
-    slips = np.unique(np.abs(d["slip"]))
     piv = d.assign(s=np.abs(d["slip"]), m=np.abs(d["mu"])).pivot_table(index="speed", columns="s", values="m")
     S, V = np.meshgrid(piv.columns.to_numpy(), piv.index.to_numpy())
-    fig = new_figure(width=6.6, height=5.0)[0]
-    fig.clf()
+    fig = Figure(figsize=(6.6, 5.0))
     ax = fig.add_subplot(projection="3d")
     ax.plot_surface(S, V, piv.to_numpy(), cmap="viridis", linewidth=0, antialiased=True, alpha=0.9)
     ax.set_xlabel("slip |s| [-]")
     ax.set_ylabel("speed v [m/s]")
-    ax.set_zlabel("|mu| [-]")
+    ax.zaxis.set_rotate_label(False)
+    ax.set_zlabel("|mu| [-]", rotation=90)
     ax.set_title(title, fontsize=10)
-    ax.view_init(elev=25, azim=-130)
-    del speeds, slips
+    ax.view_init(elev=22, azim=-50)
+    fig.subplots_adjust(left=0.02, right=0.95, bottom=0.05, top=0.93)
     return fig
 
 

@@ -17,7 +17,7 @@ Config (``tirecli sweep CONFIG``)::
     figures: [sweep-mu-slip]
 
 Output frame ``sweep`` (long format): ``model, direction, speed, v, romega, theta,
-theta_obs, slip, mu`` plus the variant's ``load, lambda, kappa0``.
+theta_obs, slip, mu``; the variants (load, lambda, kappa0) are described in ``run.json``.
 """
 from __future__ import annotations
 
@@ -25,7 +25,7 @@ import numpy as np
 import pandas as pd
 
 from tirecli.config.loader import Config
-from tirecli.config.schema import AnyOf, Context, Grid, ListOf, Map, Num, Raw, Str
+from tirecli.config.schema import AnyOf, Context, Grid, ListOf, Map, Num, Raw, Str, collect
 from tirecli.conventions import THETA_CONVENTIONS, speeds_from_slip, theta_obs_from_fm, to_theta_fm
 from tirecli.errors import ConfigError
 from tirecli.models.variants import LOADS, MODELS, FrictionVariant
@@ -106,9 +106,6 @@ def sweep_frame(variants, p, slips, speeds, thetas_fm, progress=None) -> pd.Data
             n = mu.size
             frames.append(pd.DataFrame({
                 "model": var.label,
-                "load": var.load,
-                "lambda": var.lam if var.load == "exponential" else np.nan,
-                "kappa0": (str(var.lumped_kappa0(p)) if var.model == "lumped" else ""),
                 "direction": np.where(S.ravel() <= 0.0, "braking", "driving"),
                 "speed": V.ravel(),
                 "v": v.ravel(),
@@ -127,9 +124,7 @@ def sweep_frame(variants, p, slips, speeds, thetas_fm, progress=None) -> pd.Data
 
 def plan(config: Config):
     """Check a sweep config completely: ``(checked document, tire set, variants, theta_fm)``."""
-    checked = config.checked(SPEC)
-    tire = config.group("tire", "lugre")
-    tire.model()  # builds the parameter object (fails early on bad values)
+    checked, tire = collect(lambda: config.checked(SPEC), lambda: config.group("tire", "lugre"))
     sw = checked["sweep"]
     variants = [make_variant(m) for m in sw["models"]]
     labels = [v.label for v in variants]

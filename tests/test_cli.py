@@ -1,0 +1,113 @@
+"""The CLI: help everywhere, sweep outputs (output contract), params and figures listings."""
+import json
+import subprocess
+import sys
+
+import pandas as pd
+import pytest
+
+from conftest import EXAMPLES
+
+
+def all_commands():
+    from tirecli.cli.main import app
+    import typer.main
+
+    group = typer.main.get_command(app)
+    paths = [[]]
+    for name, cmd in group.commands.items():
+        paths.append([name])
+        for sub in getattr(cmd, "commands", {}) or {}:
+            paths.append([name, sub])
+    return paths
+
+
+@pytest.mark.parametrize("path", all_commands(), ids=lambda p: " ".join(p) or "tirecli")
+def test_help_on_every_command(cli, path):
+    code, out, err = cli(*path, "--help")
+    assert code == 0
+    assert "Usage:" in out
+
+
+def test_installed_entry_point_runs():
+    # the console script's target, in a fresh interpreter
+    res = subprocess.run([sys.executable, "-c", "from tirecli.cli.main import main; main(['--version'])"],
+                         capture_output=True, text=True)
+    assert res.returncode == 0 and res.stdout.startswith("tirecli ")
+
+
+def test_sweep_output_contract(cli, tmp_path):
+    out = tmp_path / "o"
+    code, stdout, err = cli("--quiet", "sweep", EXAMPLES / "fm-fig1-right.yaml", "--out", out)
+    assert code == 0, err
+    assert f"wrote {out / 'run.json'}" in stdout
+    run = json.loads((out / "run.json").read_text())
+    for key in ("command", "config", "parameters", "assumed", "citations", "wall_time_s", "environment", "checks"):
+        assert key in run
+    assert len(run["config"]["sha256"]) == 64
+    assert run["environment"]["tirecli"]
+    assert any(a.startswith("tire.alpha") for a in run["assumed"])  # assumed values flagged
+    assert run["parameters"]["tire"]["parameters"]["sigma0"] == {"value": 181.54, "unit": "1/m",
+                                                                  "source": "canudas2003-table1"}
+    assert all(c["passed"] for c in run["checks"]) and run["checks"]
+    df = pd.read_csv(out / "data" / "sweep.csv", comment="#")
+    for col in ("model", "v", "theta", "theta_obs", "slip", "mu"):
+        assert col in df.columns
+    assert sorted(df["theta"].unique()) == [0.4, 0.6, 0.8, 1.0]
+    assert ((df["slip"] <= 0) == (df["mu"] <= 0)).all()  # braking: mu has the sign of slip
+    assert (out / "figures" / "fm-fig1-right.png").stat().st_size > 10_000
+    assert (out / "figures" / "fm-fig1-right.svg").read_text().lstrip().startswith("<?xml")
+
+
+def test_sweep_is_deterministic(cli, tmp_path):
+    for name in ("a", "b"):
+        assert cli("sweep", EXAMPLES / "obs-fig1.yaml", "--out", tmp_path / name)[0] == 0
+    a = (tmp_path / "a" / "data" / "sweep.csv").read_bytes()
+    assert a == (tmp_path / "b" / "data" / "sweep.csv").read_bytes()
+
+
+def test_sweep_driving_and_variants(cli, tmp_path):
+    cfg = tmp_path / "s.yaml"
+    cfg.write_text("""\
+study: sweep
+tire: canudas2003-table1
+sweep:
+  slip: {start: -1, stop: 1, num: 201}
+  speeds: [20]
+  models:
+    - distributed
+    - {model: distributed, load: exponential, lambda: 2}
+    - {model: distributed, load: parabolic}
+    - {model: distributed, load: tabulated, u: [0, 0.5, 1], f: [1, 2, 1]}
+    - {model: lumped, kappa0: Z}
+    - {model: lumped, kappa0: 1.5}
+""")
+    code, out, err = cli("sweep", cfg, "--out", tmp_path / "o")
+    assert code == 0, err
+    df = pd.read_csv(tmp_path / "o" / "data" / "sweep.csv")
+    assert df["model"].nunique() == 6 and set(df["direction"]) == {"braking", "driving"}
+    z = df[df["model"] == "lumped kappa0(Z)"]["mu"].to_numpy()
+    u = df[df["model"] == "distributed uniform"]["mu"].to_numpy()
+    assert abs(z - u).max() < 1e-12
+
+
+def test_params_list_and_show(cli):
+    code, out, err = cli("params", "list")
+    assert code == 0 and "canudas2003-table1" in out and "canudas2003-table2" in out
+    code, out, err = cli("params", "show", "canudas2003-table1")
+    assert code == 0
+    assert "181.54 1/m" in out and "[ASSUMED]" in out and "s/m" in out
+    code, out, err = cli("params", "show", "canudas2003-tabel1")
+    assert code == 2 and "did you mean 'canudas2003-table1'" in err
+
+
+def test_params_validate_config(cli):
+    code, out, err = cli("params", "validate", EXAMPLES / "fm-fig1-left.yaml")
+    assert code == 0 and "valid sweep config" in out
+
+
+def test_figures_list(cli):
+    code, out, err = cli("figures", "list")
+    assert code == 0
+    for fid in ("fm-fig1-left", "fm-fig1-right", "obs-fig1", "fm-fig6-surface", "fm-table1"):
+        assert fid in out

@@ -1,0 +1,159 @@
+"""Every class of config error through the real CLI: one line per problem, file:line, exit code 2."""
+import textwrap
+
+import pytest
+
+GOOD = """\
+study: sweep
+tire: canudas2003-table1
+sweep:
+  slip: {start: -1, stop: 0, num: 11}
+  speeds: [20]
+"""
+
+
+def write(tmp_path, text, name="c.yaml"):
+    p = tmp_path / name
+    p.write_text(textwrap.dedent(text))
+    return p
+
+
+def run_sweep(cli, tmp_path, text, *extra):
+    path = write(tmp_path, text)
+    code, out, err = cli("sweep", path, "--out", tmp_path / "out", *extra)
+    return code, err, path
+
+
+def test_good_config_runs(cli, tmp_path):
+    code, err, _ = run_sweep(cli, tmp_path, GOOD)
+    assert code == 0, err
+    assert (tmp_path / "out" / "run.json").is_file()
+
+
+@pytest.mark.parametrize("text, line, key, words", [
+    # unknown key, with a did-you-mean
+    (GOOD.replace("  speeds: [20]", "  speds: [20]"), 5, "sweep.speds", "did you mean 'speeds'"),
+    (GOOD.replace("tire: canudas2003-table1", "tire: {set: canudas2003-table1, sigm0: 170}"), 2, "tire.sigm0",
+     "did you mean 'sigma0'"),
+    # missing key
+    ("study: sweep\ntire: canudas2003-table1\n", 1, "", "missing required key 'sweep'"),
+    # wrong type
+    (GOOD.replace("speeds: [20]", "speeds: [fast]"), 5, "sweep.speeds[0]", "expected a number [m/s]"),
+    (GOOD.replace("num: 11", "num: 2.5"), 4, "sweep.slip.num", "whole number"),
+    # out of range
+    (GOOD.replace("tire: canudas2003-table1", "tire: {set: canudas2003-table1, sigma0: 0}"), 2, "tire.sigma0",
+     "must be > 0"),
+    (GOOD.replace("tire: canudas2003-table1", "tire: {set: canudas2003-table1, L: -0.2}"), 2, "tire.L", "must be > 0"),
+    (GOOD.replace("tire: canudas2003-table1", "tire: {set: canudas2003-table1, mu_c: 1.6}"), 2, "tire.mu_c",
+     "must be <= mu_s"),
+    (GOOD.replace("start: -1", "start: -1.2"), 4, "sweep.slip.start", "must be >= -1 and <= 1"),
+    # NaN / inf
+    (GOOD.replace("speeds: [20]", "speeds: [.nan]"), 5, "sweep.speeds[0]", "finite"),
+    (GOOD.replace("tire: canudas2003-table1", "tire: {set: canudas2003-table1, v_s: .inf}"), 2, "tire.v_s", "finite"),
+    # unknown choice
+    (GOOD + "  models: [{model: distributed, load: exponentail, lambda: 2}]\n", 6, "sweep.models[0].load",
+     "did you mean 'exponential'"),
+    # unknown built-in set
+    (GOOD.replace("canudas2003-table1", "canudas2003-table3"), 2, "tire.set", "did you mean 'canudas2003-table2'"),
+])
+def test_config_error_classes(cli, tmp_path, text, line, key, words):
+    code, err, path = run_sweep(cli, tmp_path, text)
+    assert code == 2
+    lines = [l for l in err.splitlines() if l.startswith("error:")]
+    expect_prefix = f"error: {path}:{line}: " + (f"{key}: " if key else "")
+    assert any(l.startswith(expect_prefix) and words in l for l in lines), err
+    assert "Traceback" not in err
+
+
+def test_several_problems_reported_at_once(cli, tmp_path):
+    text = GOOD.replace("speeds: [20]", "speeds: [x]").replace("canudas2003-table1", "{set: canudas2003-table1, sigma0: -1}")
+    code, err, _ = run_sweep(cli, tmp_path, text)
+    assert code == 2
+    assert "sweep.speeds[0]" in err and "tire.sigma0" in err
+
+
+def test_malformed_yaml_names_the_line(cli, tmp_path):
+    code, err, path = run_sweep(cli, tmp_path, "study: sweep\ntire: [1, 2\nsweep: {}\n")
+    assert code == 2 and f"{path}:" in err and "malformed YAML" in err
+
+
+def test_empty_file(cli, tmp_path):
+    code, err, path = run_sweep(cli, tmp_path, "")
+    assert code == 2 and "empty" in err
+
+
+def test_duplicate_key(cli, tmp_path):
+    code, err, path = run_sweep(cli, tmp_path, GOOD + "sweep: {}\n")
+    assert code == 2 and f"{path}:6: sweep: duplicate key" in err
+
+
+def test_yaml_is_loaded_safely(cli, tmp_path):
+    code, err, _ = run_sweep(cli, tmp_path, GOOD + "title: !!python/object/apply:os.system ['echo pwned']\n")
+    assert code == 2 and "pwned" not in err
+
+
+def test_missing_file_is_usage_error(cli, tmp_path):
+    code, out, err = cli("sweep", tmp_path / "nope.yaml")
+    assert code == 2 and "file not found" in err
+
+
+def test_wrong_study_for_command(cli, tmp_path):
+    code, err, _ = run_sweep(cli, tmp_path, GOOD.replace("study: sweep", "study: swep"))
+    assert code == 2 and "did you mean 'sweep'" in err
+
+
+def test_set_override_errors(cli, tmp_path):
+    code, err, _ = run_sweep(cli, tmp_path, GOOD, "--set", "tire.sigma0=-1")
+    assert code == 2 and "<command line --set>: tire.sigma0: out of range" in err
+    code, err, _ = run_sweep(cli, tmp_path, GOOD, "--set", "tire.sigma0")
+    assert code == 2 and "expected KEY=VALUE" in err
+
+
+def test_set_override_applies_and_clears_assumed(cli, tmp_path):
+    import json
+
+    code, err, _ = run_sweep(cli, tmp_path, GOOD, "--set", "tire.sigma0=170", "--set", "tire.alpha=2")
+    assert code == 0, err
+    run = json.loads((tmp_path / "out" / "run.json").read_text())
+    params = run["parameters"]["tire"]["parameters"]
+    assert params["sigma0"]["value"] == 170 and params["sigma0"]["source"].startswith("<command line")
+    assert "assumed" not in params["alpha"] and "assumed" in params["sigma1"]
+
+
+def test_usage_errors_exit_2(cli):
+    code, out, err = cli("sweep", "--bogus")
+    assert code == 2
+    code, out, err = cli("no-such-command")
+    assert code == 2
+
+
+def test_debug_shows_traceback(cli, tmp_path):
+    code, err, _ = run_sweep(cli, tmp_path, "", "--debug")
+    assert code == 2 and "Traceback" in err
+
+
+def test_parameter_set_file_errors(cli, tmp_path):
+    p = write(tmp_path, """\
+        name: mine
+        kind: lugre
+        citation: me
+        values:
+          sigma0: 100
+          sigma1: 1
+          sigma2: 0
+          mu_c: 0.9
+          mu_s: 0.8
+          v_s: 5
+          L: 0.2
+          alpha: 1
+          sigma3: 2
+        """, "set.yaml")
+    code, out, err = cli("params", "validate", p)
+    assert code == 2
+    assert f"{p}:13: values.sigma3: unknown key" in err
+    p.write_text(p.read_text().replace("  sigma3: 2\n", ""))
+    code, out, err = cli("params", "validate", p)
+    assert code == 2 and "values.mu_c: out of range: must be <= mu_s" in err
+    p.write_text(p.read_text().replace("mu_c: 0.9", "mu_c: 0.7"))
+    code, out, err = cli("params", "validate", p)
+    assert code == 0 and "valid lugre parameter set 'mine'" in out

@@ -1,0 +1,47 @@
+"""The report: self-contained HTML, summary.json with every check, --strict."""
+import json
+
+import pytest
+
+
+@pytest.fixture(scope="module")
+def report_dir(tmp_path_factory):
+    from tirecli.cli.main import main
+
+    out = tmp_path_factory.mktemp("report")
+    assert main(["--quiet", "report", "--out", str(out), "--only", "FM", "--only", "OBS"]) == 0
+    return out
+
+
+def test_report_files(report_dir):
+    html = (report_dir / "index.html").read_text()
+    summary = json.loads((report_dir / "summary.json").read_text())
+    assert summary["n_checks"] == len(summary["checks"]) > 50
+    assert summary["n_failed"] == 0
+    for fid in ("fm-fig1-left", "fm-fig1-right", "obs-fig1", "fm-fig6-surface", "fm-table1"):
+        assert f'id="{fid}"' in html
+        assert (report_dir / "figures" / (fid + (".csv" if "table" in fid else ".png"))).exists()
+    assert "data:image/png;base64," in html
+
+
+def test_report_is_self_contained(report_dir):
+    import re
+
+    html = (report_dir / "index.html").read_text()
+    assert not re.search(r"""(src|href)=["']https?://""", html)
+    assert "<script" not in html
+
+
+def test_report_flags_assumed_values(report_dir):
+    html = (report_dir / "index.html").read_text()
+    assert "ASSUMED" in html and "Stribeck exponent not printed" in html
+
+
+def test_strict_fails_when_a_check_drifts(cli, tmp_path, monkeypatch):
+    from tirecli.figures import steady
+
+    monkeypatch.setitem(steady._REF_SPEEDS, 20, (1.20, 0.212, 0.6451, 0.8717))  # a drifted reference
+    code, out, err = cli("report", "--out", tmp_path, "--only", "fm-fig1-left", "--strict")
+    assert code == 1 and "fm-fig1-left/peak-v20" in out + err
+    summary = json.loads((tmp_path / "summary.json").read_text())
+    assert summary["n_failed"] == 1
