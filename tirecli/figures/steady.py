@@ -47,6 +47,13 @@ def value_at(s, mu, s0):
     return float(np.interp(s0, s, mu))
 
 
+def peak_checks(s, mu, ref_peak, ref_slip, tag, what, source):
+    """Two checks of a curve's peak: its height ``|mu|`` and its slip ``|s|``."""
+    ps, pm = peak(s, mu)
+    return [Check(f"peak-{tag}", f"peak |mu| {what}", float(pm), ref_peak, MU_TOL, "-", source),
+            Check(f"speak-{tag}", f"|s| of the peak {what}", float(ps), ref_slip, S_TOL, "-", source)]
+
+
 def _first_model(df):
     return df["model"].iloc[0]
 
@@ -133,10 +140,7 @@ def _speed_checks(df, model, theta=1.0, source="lugre.md §9"):
         s, mu = curve(df, model, v, theta)
         if len(s) == 0:
             continue
-        ps, pm = peak(s, mu)
-        out += [
-            Check(f"peak-v{v}", f"peak |mu| at v = {v} m/s", float(pm), pk, MU_TOL, "-", source),
-            Check(f"speak-v{v}", f"|s| of the peak at v = {v} m/s", float(ps), sp, S_TOL, "-", source),
+        out += peak_checks(s, mu, pk, sp, f"v{v}", f"at v = {v} m/s", source) + [
             Check(f"mu005-v{v}", f"|mu(0.05)| at v = {v} m/s", value_at(s, mu, 0.05), m05, MU_TOL, "-", source),
             Check(f"mu1-v{v}", f"|mu(1)| (locked wheel) at v = {v} m/s", value_at(s, mu, 1.0), m1, MU_TOL, "-", source),
         ]
@@ -209,10 +213,7 @@ def _fig1_right_checks(result):
         s, mu = curve(df, model, 20.0, th)
         if len(s) == 0:
             continue
-        ps, pm = peak(s, mu)
-        out += [
-            Check(f"peak-th{th:g}", f"peak |mu| for theta_fm = {th:g}, v = 20 m/s", float(pm), pk, MU_TOL, "-", "lugre.md §5"),
-            Check(f"speak-th{th:g}", f"|s| of the peak for theta_fm = {th:g}", float(ps), sp, S_TOL, "-", "lugre.md §5"),
+        out += peak_checks(s, mu, pk, sp, f"th{th:g}", f"for theta_fm = {th:g}, v = 20 m/s", "lugre.md §5") + [
             Check(f"mu1-th{th:g}", f"|mu(1)| for theta_fm = {th:g}", value_at(s, mu, 1.0), m1, MU_TOL, "-", "lugre.md §5"),
         ]
     return out + [_slope_check(result)]
@@ -246,14 +247,12 @@ def _obs_fig1_checks(result):
     out = _speed_checks(df, dist, 1.0)
     s, mu = curve(df, dist, 20.0, 0.4)
     if len(s):
-        ps, pm = peak(s, mu)
-        out += [Check("peak-thobs2.5", "peak |mu| for theta_obs = 2.5 at v = 20 m/s", float(pm), 0.4764, MU_TOL, "-", "figures.md OBS Fig. 1"),
-                Check("speak-thobs2.5", "|s| of that peak", float(ps), 0.128, S_TOL, "-", "figures.md OBS Fig. 1")]
+        out += peak_checks(s, mu, 0.4764, 0.128, "thobs2.5", "for theta_obs = 2.5 at v = 20 m/s",
+                           "figures.md OBS Fig. 1")
     if len(models) > 1:
         s, mu = curve(df, models[1], 20.0, 1.0)
-        ps, pm = peak(s, mu)
-        out += [Check("peak-lumped-k2", "lumped kappa0 = 2 (kappa = 10 1/m) peak |mu| at v = 20 m/s", float(pm), 0.9767, MU_TOL, "-", "lugre.md §4.2 check (c)"),
-                Check("speak-lumped-k2", "|s| of that peak", float(ps), 0.272, S_TOL, "-", "lugre.md §4.2 check (c)")]
+        out += peak_checks(s, mu, 0.9767, 0.272, "lumped-k2", "of the lumped model, kappa0 = 2 (kappa = 10 1/m), "
+                           "v = 20 m/s", "lugre.md §4.2 check (c)")
     return out
 
 
@@ -292,9 +291,7 @@ def _fig6_surface_checks(result):
         s, mu = curve(df, model, v, 1.0)
         if len(s) == 0:
             continue
-        ps, pm = peak(s, mu)
-        out += [Check(f"peak-v{v}", f"Table 2 surface peak |mu| at v = {v} m/s", float(pm), pk, MU_TOL, "-", "figures.md FM Fig. 6"),
-                Check(f"speak-v{v}", f"|s| of that peak at v = {v} m/s", float(ps), sp, S_TOL, "-", "figures.md FM Fig. 6")]
+        out += peak_checks(s, mu, pk, sp, f"v{v}", f"of the Table 2 surface at v = {v} m/s", "figures.md FM Fig. 6")
     return out
 
 

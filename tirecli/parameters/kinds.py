@@ -26,15 +26,23 @@ class Kind:
         Parameter name -> :class:`~tirecli.config.schema.Num` (unit, range, doc, equation).
     post : callable or None
         Cross-field check ``post(values, path, ctx)``.
-    factory : callable or None
-        Builds the model's parameter object from the checked values.
+    model : str
+        ``"module:Class"`` of the model's parameter object, built from the checked values
+        (imported lazily).
     """
 
     name: str
     title: str
     fields: dict
     post: Callable | None = None
-    factory: Callable | None = None
+    model: str = ""
+
+    def build(self, values: dict):
+        """The model's parameter object for checked ``values``."""
+        import importlib
+
+        module, _, name = self.model.partition(":")
+        return getattr(importlib.import_module(module), name)(**values)
 
     def spec(self, partial: bool = False) -> Map:
         """Schema of the values; ``partial`` makes every key optional (overrides)."""
@@ -58,12 +66,6 @@ def _lugre_post(values: dict, path, ctx: Context) -> None:
         ctx.fail(path + ("mu_c",), f"out of range: must be <= mu_s ({values['mu_s']:g}), got {values['mu_c']:g}")
 
 
-def _lugre_factory(values: dict):
-    from tirecli.models.lugre import LuGreParams
-
-    return LuGreParams(**values)
-
-
 LUGRE = register_kind(Kind(
     name="lugre",
     title="LuGre tire/road friction (distributed and lumped)",
@@ -82,14 +84,8 @@ LUGRE = register_kind(Kind(
                        doc="rotational viscous friction of the wheel", eq="OBS eq. (4)"),
     },
     post=_lugre_post,
-    factory=_lugre_factory,
+    model="tirecli.models.lugre:LuGreParams",
 ))
-
-
-def _quarter_car_factory(values: dict):
-    from tirecli.models.vehicle import QuarterCarParams
-
-    return QuarterCarParams(**values)
 
 
 QUARTER_CAR = register_kind(Kind(
@@ -101,5 +97,5 @@ QUARTER_CAR = register_kind(Kind(
         "J": Num(unit="kg m^2", gt=0, doc="wheel rotational inertia", eq="OBS §II"),
         "F_n": Num(unit="N", gt=0, doc="normal load on the wheel", eq="OBS §II"),
     },
-    factory=_quarter_car_factory,
+    model="tirecli.models.vehicle:QuarterCarParams",
 ))

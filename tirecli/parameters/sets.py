@@ -72,7 +72,7 @@ class ParameterSet:
 
     def model(self):
         """The model's parameter object (e.g. ``LuGreParams``)."""
-        return self.kind_def.factory(dict(self.values))
+        return self.kind_def.build(dict(self.values))
 
     def rows(self) -> list[dict]:
         """One row per parameter: name, value, unit, meaning, equation, source, assumed."""
