@@ -35,3 +35,9 @@ def test_theta_conventions_convert_exactly():
     assert np.array_equal(c.theta_fm_from_obs(c.theta_obs_from_fm(th)), th)
     assert np.allclose(c.theta_obs_from_fm([1.0, 0.8, 0.4]), [1.0, 1.25, 2.5])
     assert np.allclose(c.to_theta_fm([2.5], "obs"), [0.4])
+
+
+def test_omega_from_slip_inverts_slip_at_fixed_vehicle_speed():
+    s = np.linspace(-1, 0.9, 39)
+    w = c.omega_from_slip(s, 20.0, 0.25)
+    assert np.allclose(c.slip_from_speeds(20.0, w, 0.25), s, atol=1e-14)

@@ -116,6 +116,18 @@ def speeds_from_slip(s, speed):
     return v, romega
 
 
+def omega_from_slip(s, v, r):
+    """Wheel angular speed ``omega`` [rad/s] giving slip ``s`` at vehicle speed ``v`` [m/s].
+
+    Braking (``s <= 0``): ``r omega = v (1 + s)``; driving (``0 < s < 1``): ``r omega = v/(1 - s)``
+    (``s = 1`` at ``v > 0`` has no finite wheel speed: ``inf``). Inverse of
+    :func:`slip_from_speeds` at fixed ``v``.
+    """
+    s, v = np.broadcast_arrays(np.asarray(s, dtype=float), np.asarray(v, dtype=float))
+    with np.errstate(divide="ignore", invalid="ignore"):
+        return np.where(s <= 0.0, v * (1.0 + s), v / (1.0 - s)) / r
+
+
 def kappa_from_slip(s):
     """ISO-W practical slip ``kappa = (r*omega - v)/|v|`` [-] from the LuGre slip ``s``.
 
