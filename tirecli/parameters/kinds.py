@@ -99,3 +99,21 @@ QUARTER_CAR = register_kind(Kind(
     },
     model="tirecli.models.vehicle:QuarterCarParams",
 ))
+
+
+def _mf_fields() -> dict:
+    """One optional number per numeric key of the ``.tir`` catalogue (units from the file's
+    dimension; an absent key stays absent, the Magic Formula layer applies the spec's defaults)."""
+    from tirecli.parameters.mf_catalogue import CATALOGUE
+
+    positive = {"FNOMIN", "UNLOADED_RADIUS", "LONGVL", "NOMPRES", "INFLPRES"}
+    return {k: Num(unit=i.unit, doc=i.meaning, eq=f"[{i.section}]", default=None, gt=0 if k in positive else None)
+            for k, i in CATALOGUE.items() if not i.is_text}
+
+
+MAGIC_FORMULA = register_kind(Kind(
+    name="magic_formula",
+    title="Magic Formula tyre (MF 6.1 / 6.2 / 5.2 / PAC89 coefficients, .tir keys, SI)",
+    fields=_mf_fields(),
+    model="tirecli.parameters.mf:tire_from_values",
+))

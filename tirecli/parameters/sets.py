@@ -65,6 +65,7 @@ class ParameterSet:
     notes: dict = field(default_factory=dict)
     title: str = ""
     citation: str = ""
+    extra: dict = field(default_factory=dict)
 
     @property
     def kind_def(self) -> Kind:
@@ -104,7 +105,7 @@ class ParameterSet:
                 | ({"assumed": r["assumed"]} if r["assumed"] else {})
                 for r in self.rows()
             },
-        }
+        } | ({"details": self.extra} if self.extra else {})
 
 
 _VALUE_META = Map(fields={
@@ -124,9 +125,9 @@ _SET_FILE = Map(fields={
 
 
 def builtin_names() -> list[str]:
-    """Names of the built-in parameter sets (package data)."""
+    """Names of the built-in parameter sets (package data: YAML sets and ``.tir`` tyres)."""
     root = resources.files(__package__).joinpath(_DATA)
-    return sorted(p.name[:-5] for p in root.iterdir() if p.name.endswith(".yaml"))
+    return sorted(p.name.rsplit(".", 1)[0] for p in root.iterdir() if p.name.endswith((".yaml", ".tir")))
 
 
 def builtin_path(name: str):
@@ -137,7 +138,9 @@ def builtin_path(name: str):
         dym = f"; did you mean {hint[0]!r}?" if hint else ""
         raise ConfigError(Problem("<built-in sets>", None, "", f"no built-in parameter set {name!r}{dym} "
                                   f"(available: {', '.join(names)})"))
-    return resources.files(__package__).joinpath(_DATA).joinpath(name + ".yaml")
+    root = resources.files(__package__).joinpath(_DATA)
+    yaml_res = root.joinpath(name + ".yaml")
+    return yaml_res if yaml_res.is_file() else root.joinpath(name + ".tir")
 
 
 def _unwrap_values(raw: dict, origins: Origins, path: tuple) -> tuple[dict, dict, dict]:
@@ -183,7 +186,7 @@ def parse_set(data: Any, origins: Origins, label: str) -> ParameterSet:
     values, assumed, notes = _unwrap_values(raw, origins, ("values",))
     values = _check_values(kind, values, origins, ("values",))
     for key, spec in kind.fields.items():
-        if key not in raw and not spec.required:
+        if key not in raw and not spec.required and spec.default is not None:
             assumed.setdefault(key, f"not in the set; tirecli default {spec.default:g} {spec.unit}")
     return ParameterSet(
         name=meta["name"], kind=kind.name, values=values,
@@ -195,13 +198,27 @@ def parse_set(data: Any, origins: Origins, label: str) -> ParameterSet:
 def load_builtin(name: str) -> ParameterSet:
     """A built-in parameter set by name."""
     res = builtin_path(name)
+    if res.name.endswith(".tir"):
+        from tirecli.parameters.mf import builtin_tire_set
+
+        return builtin_tire_set(name)
     data, origins = parse_yaml(res.read_text(encoding="utf-8"), file=f"<built-in {name}>")
     return parse_set(data, origins, label=name)
 
 
 def load_set_file(path: str | Path) -> ParameterSet:
-    """A parameter set from a YAML file."""
+    """A parameter set from a YAML file, or a Magic Formula tyre (``.tir`` or its YAML form)."""
+    from tirecli.io.tir import from_yaml_data, is_yaml_form
+
+    if str(path).lower().endswith(".tir"):
+        from tirecli.parameters.mf import tire_set_from_file
+
+        return tire_set_from_file(path)
     data, origins = load_yaml(path)
+    if is_yaml_form(data):
+        from tirecli.parameters.mf import tire_data, tire_set
+
+        return tire_set(tire_data(from_yaml_data(data, origins, str(path))), name=Path(path).stem)
     return parse_set(data, origins, label=str(path))
 
 
@@ -209,7 +226,7 @@ def load_set(ref: str, base_dir: Path | None = None) -> ParameterSet:
     """A set by built-in name or by file path (relative to ``base_dir``)."""
     if ref in builtin_names():
         return load_builtin(ref)
-    looks_like_path = ref.endswith((".yaml", ".yml")) or "/" in ref or "\\" in ref
+    looks_like_path = ref.lower().endswith((".yaml", ".yml", ".tir")) or "/" in ref or "\\" in ref
     if looks_like_path:
         p = Path(ref)
         if not p.is_absolute() and base_dir is not None:
@@ -239,7 +256,9 @@ def resolve_group(raw: Any, origins: Origins, path: tuple, kind: str, base_dir: 
         if key not in kdef.fields:
             hint = difflib.get_close_matches(key, list(kdef.fields), n=1, cutoff=0.6)
             dym = f"; did you mean {hint[0]!r}?" if hint else ""
-            raise ConfigError(origins.problem(path + (key,), f"unknown key{dym} (expected 'set' or one of: {', '.join(kdef.fields)})"))
+            names = list(kdef.fields)
+            listing = ", ".join(names) if len(names) <= 24 else f"a {kind} parameter name ({len(names)} known)"
+            raise ConfigError(origins.problem(path + (key,), f"unknown key{dym} (expected 'set' or {'one of: ' if len(names) <= 24 else ''}{listing})"))
     if "set" in raw:
         if not isinstance(raw["set"], str):
             raise ConfigError(origins.problem(path + ("set",), "expected a built-in set name or a file path"))
@@ -263,11 +282,11 @@ def resolve_group(raw: Any, origins: Origins, path: tuple, kind: str, base_dir: 
         source = {**base.source, **{k: _where(origins, path + (k,)) for k in over_vals}}
         assumed = {k: v for k, v in base.assumed.items() if k not in over_vals}
         return ParameterSet(name=base.name, kind=kind, values=values, source=source, assumed=assumed,
-                            notes=base.notes, title=base.title, citation=base.citation)
+                            notes=base.notes, title=base.title, citation=base.citation, extra=dict(base.extra))
     vals, assumed, notes = _unwrap_values(over, origins, path)
     vals = _check_values(kdef, vals, origins, path)
     for key, spec in kdef.fields.items():
-        if key not in over and not spec.required:
+        if key not in over and not spec.required and spec.default is not None:
             assumed.setdefault(key, f"not given; tirecli default {spec.default:g} {spec.unit}")
     return ParameterSet(name="inline", kind=kind, values=vals,
                         source={k: _where(origins, path + (k,)) for k in vals},

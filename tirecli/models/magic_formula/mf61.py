@@ -564,3 +564,47 @@ def _mz(t, cv, b, kappa, alpha, fz, fz_mz, fxf, fyf, fy0, gyk, svyk, fx, fy, red
     if cv.mz_pure_at_kappa0:
         s = s * (kappa != 0)
     return mzr - trail * fyp + s * fx
+
+
+def pure_slip_factors(t: MFTire, fz, gamma=0.0, p=None, convention="mfeval") -> dict:
+    """Per-load B, C, D, E, S_H, S_V of the pure-slip forces (§13.4), with K and mu.
+
+    At a fixed load (and camber, pressure), with no turn slip, ``Fx0(kappa)`` and ``Fy0(alpha)``
+    are exactly the basic curve of §13.1 with these factors. ``E+``/``E-`` are the curvatures for
+    a positive / negative shifted slip (they differ when ``PEX4`` or ``PEY3`` is non-zero).
+
+    Parameters
+    ----------
+    t : MFTire
+        An MF 6.x or 5.2 tyre.
+    fz : array_like
+        Vertical load [N].
+    gamma : array_like
+        Inclination [rad].
+    p : array_like or None
+        Pressure [Pa] (default ``INFLPRES``).
+
+    Returns
+    -------
+    dict
+        ``{"fx": {...}, "fy": {...}}`` with keys ``B`` [1/-] or [1/rad], ``C`` [-], ``D`` [N],
+        ``E+``, ``E-`` [-], ``SH`` [-] or [rad], ``SV`` [N], ``K`` [N] or [N/rad], ``mu`` [-].
+    """
+    from tirecli.models.magic_formula.tire import get_convention
+
+    cv = get_convention(convention)
+    if p is None and t.nominal_pressure:
+        p = t.default_pressure
+    fz = np.asarray(fz, dtype=float)
+    gamma = np.asarray(gamma, dtype=float)
+    b = basic(t, cv, 0.0, 0.0, gamma, fz, 1.0, p)
+    fx = fx0_factors(t, cv, b, fz, gamma)
+    fy = fy0_factors(t, cv, b, fz, b.g_star)
+    pex4 = t.coef["PEX4"]
+    out = {
+        "fx": {"B": fx.B, "C": fx.C, "D": fx.D, "E+": _clip_e(fx.E0 * (1.0 - pex4), cv),
+               "E-": _clip_e(fx.E0 * (1.0 + pex4), cv), "SH": fx.SH, "SV": fx.SV, "K": fx.K, "mu": fx.mu},
+        "fy": {"B": fy.B, "C": fy.C, "D": fy.D, "E+": _clip_e(fy.E0 * (fy.Ec - fy.Ea), cv),
+               "E-": _clip_e(fy.E0 * (fy.Ec + fy.Ea), cv), "SH": fy.SH, "SV": fy.SV, "K": fy.K, "mu": fy.mu},
+    }
+    return out

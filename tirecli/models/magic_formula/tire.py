@@ -113,7 +113,8 @@ def complete_coefficients(values: dict, version: str, turn_slip: bool = True) ->
         if k in coef or k in OPTIONAL_NO_DEFAULT or k in REQUIRED[fam]:
             continue
         coef[k] = default_value(k)
-        if turn_slip or k not in TURNSLIP_DEFAULTS:
+        quiet = k == "LMUV" or (k == "PKY4" and version == "5.2")  # the spec's fixed values (§3, §9)
+        if not quiet and (turn_slip or k not in TURNSLIP_DEFAULTS):
             defaulted.append(k)
     if fam == "mf" and "INFLPRES" not in coef and "NOMPRES" in coef:
         coef["INFLPRES"] = coef["NOMPRES"]

@@ -1,0 +1,436 @@
+"""Reading and writing ``.tir`` tyre property files and their YAML form (magic_formula.md §12).
+
+A ``.tir`` file is a TeimOrbit property file: ``[SECTION]`` headers, ``KEY = value`` lines,
+``$`` / ``!`` comments, optional tables. :func:`parse_tir` copes with every quirk of §12.5:
+
+1. CRLF, LF or CR line ends (``\\r`` stripped explicitly); Latin-1 decoding (item 12);
+2. the same key in two sections (``[UNITS] MASS`` and ``[INERTIA] MASS``): keys are stored per
+   section, the section-qualified map is the primary structure (items 2, 3);
+3. inline comments cut at the first ``$`` (or ``!``) outside single quotes (item 4); ``KEY=value``
+   without blanks, leading blanks, tabs, trailing blanks, blank lines (item 5);
+4. keys and section names upper-cased; string values kept as written (item 6);
+5. lines without ``=`` (``{radial width}`` table headers, numeric table rows, ``(COMMENTS)``
+   blocks and quoted comment rows) are collected as tables or skipped, never errors (item 7);
+6. Fortran ``D`` exponents (``1.0D+03``); an empty value or a bare ``.`` is an error (item 11).
+
+It knows nothing of the Magic Formula: units, versions, required keys and defaults are applied
+by :mod:`tirecli.parameters.mf`. Every problem is a :class:`~tirecli.errors.Problem` naming the
+file and line; all syntax errors of a file are reported together in one
+:class:`~tirecli.errors.ConfigError` (exit code 2). Duplicate keys in one section and lines
+that cannot be read are warnings (the first value is kept).
+
+The YAML form (``tirecli tir convert --to yaml``) keeps the sections, keys, values (numbers as
+numbers, strings as strings), tables, inline descriptions and the leading comment block, so
+``tir -> yaml -> tir`` is lossless for the coefficients and the units.
+"""
+from __future__ import annotations
+
+import re
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from tirecli.errors import ConfigError, Problem
+
+#: Sections holding tables (rows of numbers) rather than keys (§12.1, §12.6 step 3).
+TABLE_SECTIONS = ("SHAPE", "DEFLECTION_LOAD_CURVE", "BOTTOMING_CURVE")
+
+#: Marker of the YAML form.
+YAML_FORMAT = "tirecli-tir/1"
+
+_SECTION = re.compile(r"^\[\s*([A-Za-z0-9_\- ]+?)\s*\]\s*(?:[$!].*)?$")
+_KEY = re.compile(r"^[A-Za-z_][A-Za-z0-9_]*$")
+_NUMBER = re.compile(r"^[+-]?(?:\d+\.?\d*|\.\d+)(?:[eEdD][+-]?\d+)?$")
+_INTEGER = re.compile(r"^[+-]?\d+$")
+_WORD = re.compile(r"^[A-Za-z_][A-Za-z0-9_.\-/:]*$")
+_LINE_SPLIT = re.compile(r"\r\n|\r|\n")
+
+
+@dataclass
+class TirEntry:
+    """One ``KEY = value`` line.
+
+    Attributes
+    ----------
+    value : float, int or str
+        The value as written: ``int`` for integer literals, ``float`` for other numbers, ``str``
+        for quoted text (or a bare word).
+    line : int
+        1-based line number.
+    comment : str
+        Inline description after ``$`` (without the ``$``).
+    quoted : bool
+        Whether a string value was in quotes.
+    """
+
+    value: float | int | str
+    line: int
+    comment: str = ""
+    quoted: bool = True
+
+    @property
+    def is_number(self) -> bool:
+        return isinstance(self.value, (int, float)) and not isinstance(self.value, bool)
+
+
+@dataclass
+class TirTable:
+    """A table of a section (rows of numbers) with its ``{...}`` header text."""
+
+    header: str
+    rows: list
+    line: int
+
+
+@dataclass
+class TirSection:
+    """A ``[NAME]`` section: its entries (in file order) and its table, if any."""
+
+    name: str
+    line: int
+    entries: dict = field(default_factory=dict)
+    table: TirTable | None = None
+
+
+@dataclass
+class TirDocument:
+    """A parsed ``.tir`` file (or its YAML form).
+
+    Attributes
+    ----------
+    file : str
+        Name used in messages (the path as given).
+    sections : dict
+        Section name (upper case) -> :class:`TirSection`, in file order.
+    preamble : list of str
+        Comment lines before the first section (kept by the converters).
+    warnings : list of Problem
+        Non-fatal findings (duplicate keys, unreadable lines).
+    ends_mid_line : bool
+        The file does not end with a line break (a truncation hint for later errors).
+    last_line : int
+        Number of the last line.
+    """
+
+    file: str
+    sections: dict = field(default_factory=dict)
+    preamble: list = field(default_factory=list)
+    warnings: list = field(default_factory=list)
+    ends_mid_line: bool = False
+    last_line: int = 0
+
+    def entry(self, section: str, key: str) -> TirEntry | None:
+        sec = self.sections.get(section.upper())
+        return None if sec is None else sec.entries.get(key.upper())
+
+    def value(self, section: str, key: str, default=None):
+        e = self.entry(section, key)
+        return default if e is None else e.value
+
+    def find(self, key: str) -> list[tuple[str, TirEntry]]:
+        """Every ``(section, entry)`` holding ``key``, in file order."""
+        key = key.upper()
+        return [(name, s.entries[key]) for name, s in self.sections.items() if key in s.entries]
+
+    def problem(self, line: int | None, key: str, message: str) -> Problem:
+        return Problem(self.file, line, key, message)
+
+
+def _cut_comment(text: str) -> tuple[str, str]:
+    """Split ``value $comment`` at the first ``$`` or ``!`` outside single quotes."""
+    quote = None
+    for i, ch in enumerate(text):
+        if quote:
+            if ch == quote:
+                quote = None
+        elif ch in "'\"":
+            quote = ch
+        elif ch in "$!":
+            return text[:i].strip(), text[i + 1:].strip()
+    return text.strip(), ""
+
+
+def parse_value(text: str) -> tuple[object, bool]:
+    """A value's text -> ``(value, quoted)``; ``ValueError`` with a reason if it cannot be read."""
+    if not text:
+        raise ValueError("missing value after '='")
+    if text[0] in "'\"":
+        q = text[0]
+        if len(text) < 2 or text[-1] != q:
+            raise ValueError(f"unterminated quoted text {text!r}")
+        return text[1:-1], True
+    if _NUMBER.match(text):
+        if _INTEGER.match(text):
+            return int(text), False
+        return float(text.replace("D", "E").replace("d", "e")), False
+    if _WORD.match(text) and not text.lower() in ("nan", "inf", "infinity"):
+        return text, False
+    raise ValueError(f"cannot read the value {text!r} as a number (text must be in single quotes)")
+
+
+def _is_number(tok: str) -> bool:
+    return bool(_NUMBER.match(tok))
+
+
+def _check_binary(data: bytes, file: str) -> None:
+    if not data.strip():
+        raise ConfigError(Problem(file, None, "", "empty file (expected a .tir property file with [SECTION] headers)"))
+    head = data[:65536]
+    if b"\x00" in head:
+        raise ConfigError(Problem(file, None, "", "binary file (NUL bytes), expected a .tir text file"))
+    ctrl = sum(1 for b in head if b < 32 and b not in (9, 10, 12, 13)) + head.count(0x7F)
+    if ctrl > max(8, len(head) // 50):
+        raise ConfigError(Problem(file, None, "", f"binary file ({ctrl} control bytes in the first "
+                                                  f"{len(head)}), expected a .tir text file"))
+
+
+def parse_tir(data: bytes | str, file: str = "<input>") -> TirDocument:
+    """Parse the bytes (or text) of a ``.tir`` file into a :class:`TirDocument`.
+
+    Raises
+    ------
+    ConfigError
+        Empty or binary data, no section header, unreadable keys or values (every problem of
+        the file at once, each as ``file:line: key: what is wrong``).
+    """
+    if isinstance(data, str):
+        data = data.encode("latin-1", errors="replace")
+    _check_binary(data, file)
+    text = data.decode("latin-1")
+    lines = _LINE_SPLIT.split(text)
+    doc = TirDocument(file=file)
+    doc.ends_mid_line = not data.endswith((b"\n", b"\r"))
+    if lines and lines[-1] == "":
+        lines.pop()
+    doc.last_line = len(lines)
+    problems: list[Problem] = []
+    sec: TirSection | None = None
+    in_comment_block = False
+    for no, raw in enumerate(lines, start=1):
+        line = raw.strip()
+        if not line or line[0] in "$!":
+            if sec is None and line.startswith("!"):
+                doc.preamble.append(line)
+            continue
+        m = _SECTION.match(line)
+        if m:
+            name = m.group(1).strip().upper().replace(" ", "_")
+            in_comment_block = False
+            if name in doc.sections:
+                doc.warnings.append(doc.problem(no, "", f"section [{name}] appears again (first at line "
+                                                        f"{doc.sections[name].line}); its keys are merged"))
+                sec = doc.sections[name]
+            else:
+                sec = doc.sections[name] = TirSection(name=name, line=no)
+            continue
+        if line.startswith("["):
+            problems.append(doc.problem(no, "", f"cannot read the section header {line!r} (expected [NAME])"))
+            continue
+        if "=" in line and not line.startswith(("{", "(", "'")):
+            key_text, _, rest = line.partition("=")
+            key = key_text.strip().upper()
+            if not _KEY.match(key):
+                problems.append(doc.problem(no, "", f"cannot read the key {key_text.strip()!r} "
+                                                    "(expected a name of letters, digits and _)"))
+                continue
+            value_text, comment = _cut_comment(rest)
+            try:
+                value, quoted = parse_value(value_text)
+            except ValueError as exc:
+                problems.append(doc.problem(no, key, str(exc)))
+                continue
+            if sec is None:
+                doc.warnings.append(doc.problem(no, key, "key before any [SECTION] header; kept in section ''"))
+                sec = doc.sections.setdefault("", TirSection(name="", line=no))
+            if key in sec.entries:
+                first = sec.entries[key]
+                same = "same value" if first.value == value else f"first value {first.value!r} kept, {value!r} ignored"
+                doc.warnings.append(doc.problem(no, key, f"given twice in [{sec.name}] (first at line {first.line}; {same})"))
+                continue
+            sec.entries[key] = TirEntry(value=value, line=no, comment=comment, quoted=quoted)
+            continue
+        # lines without '=': table headers, table rows, comment blocks
+        if sec is None:
+            doc.warnings.append(doc.problem(no, "", f"ignored line before any [SECTION] header: {line[:40]!r}"))
+            continue
+        if line.startswith("{"):
+            in_comment_block = False
+            header = line[1:line.index("}")] if "}" in line else line[1:]
+            sec.table = TirTable(header=header.strip(), rows=[], line=no)
+            continue
+        if line.startswith("("):
+            in_comment_block = True
+            continue
+        if line.startswith("'"):
+            continue  # a quoted comment row, e.g. inside (COMMENTS)
+        toks = _cut_comment(line)[0].split()
+        if toks and all(_is_number(t) for t in toks) and not in_comment_block:
+            if sec.table is None:
+                sec.table = TirTable(header="", rows=[], line=no)
+            sec.table.rows.append([float(t.replace("D", "E").replace("d", "e")) for t in toks])
+            continue
+        doc.warnings.append(doc.problem(no, "", f"ignored line in [{sec.name}] (not KEY = value, a table row "
+                                                f"or a comment): {line[:40]!r}"))
+    if not doc.sections:
+        problems.append(Problem(file, None, "", "not a .tir property file: no [SECTION] header found"))
+    if problems:
+        raise ConfigError(problems)
+    return doc
+
+
+def read_tir(path: str | Path) -> TirDocument:
+    """Read and parse a ``.tir`` file (see :func:`parse_tir`); missing or unreadable files are ConfigErrors."""
+    path = Path(path)
+    try:
+        data = path.read_bytes()
+    except FileNotFoundError:
+        raise ConfigError(Problem(str(path), None, "", "file not found")) from None
+    except IsADirectoryError:
+        raise ConfigError(Problem(str(path), None, "", "is a directory, expected a .tir file")) from None
+    except OSError as exc:
+        raise ConfigError(Problem(str(path), None, "", f"cannot read: {exc.strerror}")) from None
+    return parse_tir(data, str(path))
+
+
+# --------------------------------------------------------------------------- writing
+
+
+def format_number(v) -> str:
+    """A number as ``.tir`` text: integers as written, floats by their shortest exact repr."""
+    if isinstance(v, bool):
+        raise TypeError("booleans are not .tir values")
+    if isinstance(v, int):
+        return str(v)
+    return repr(float(v))
+
+
+def format_value(v) -> str:
+    if isinstance(v, str):
+        if "'" in v:
+            raise ValueError(f"cannot write text containing a single quote: {v!r}")
+        return f"'{v}'"
+    return format_number(v)
+
+
+def format_tir(doc: TirDocument, descriptions: dict | None = None) -> str:
+    """``.tir`` text of a document (LF line ends). ``descriptions`` (section -> key -> text)
+    supplies an inline ``$`` comment where the document has none."""
+    out = list(doc.preamble)
+    for name, sec in doc.sections.items():
+        rule = "$" + "-" * max(4, 68 - len(name)) + name.lower()
+        out += [rule, f"[{name}]"]
+        for key, e in sec.entries.items():
+            val = format_value(e.value)
+            note = e.comment or (descriptions or {}).get(name, {}).get(key, "")
+            line = f"{key:<25s}= {val:<20s}"
+            out.append((line + f" ${note}") if note else line.rstrip())
+        if sec.table is not None:
+            if sec.table.header:
+                out.append("{" + sec.table.header + "}")
+            for row in sec.table.rows:
+                out.append(" " + "  ".join(format_number(x) for x in row))
+    return "\n".join(out) + "\n"
+
+
+def write_tir(path: str | Path, doc: TirDocument, descriptions: dict | None = None) -> Path:
+    """Write a document as a ``.tir`` file."""
+    path = Path(path)
+    path.write_text(format_tir(doc, descriptions), encoding="latin-1", errors="replace")
+    return path
+
+
+# --------------------------------------------------------------------------- YAML form
+
+
+def to_yaml_data(doc: TirDocument) -> dict:
+    """The YAML form of a document: ``format``, ``source``, ``preamble``, ``sections``, ``tables``,
+    ``descriptions`` (plain data for :func:`tirecli.io.yamlio.dump_yaml`)."""
+    data = {"format": YAML_FORMAT, "source": Path(doc.file).name}
+    if doc.preamble:
+        data["preamble"] = list(doc.preamble)
+    data["sections"] = {name: {k: e.value for k, e in sec.entries.items()} for name, sec in doc.sections.items()}
+    tables = {name: {"header": sec.table.header, "rows": [list(r) for r in sec.table.rows]}
+              for name, sec in doc.sections.items() if sec.table is not None}
+    if tables:
+        data["tables"] = tables
+    desc = {name: {k: e.comment for k, e in sec.entries.items() if e.comment} for name, sec in doc.sections.items()}
+    desc = {k: v for k, v in desc.items() if v}
+    if desc:
+        data["descriptions"] = desc
+    return data
+
+
+def is_yaml_form(data) -> bool:
+    """Whether parsed YAML data is the YAML form of a ``.tir`` file."""
+    return isinstance(data, dict) and data.get("format") == YAML_FORMAT
+
+
+def from_yaml_data(data, origins, file: str) -> TirDocument:
+    """A :class:`TirDocument` from the YAML form (lines taken from ``origins``); ConfigError on
+    anything that is not a mapping of sections of ``KEY: number-or-text``."""
+    problems = []
+    doc = TirDocument(file=file)
+
+    def line_of(path):
+        return origins.of(path)[1]
+
+    if not is_yaml_form(data):
+        raise ConfigError(Problem(file, line_of(()), "format", f"expected 'format: {YAML_FORMAT}' (the YAML form of a .tir file)"))
+    pre = data.get("preamble", [])
+    if not isinstance(pre, list) or not all(isinstance(x, str) for x in pre):
+        problems.append(Problem(file, line_of(("preamble",)), "preamble", "expected a list of comment lines"))
+    else:
+        doc.preamble = [x if x.startswith(("!", "$")) else "! " + x for x in pre]
+    sections = data.get("sections")
+    if not isinstance(sections, dict) or not sections:
+        raise ConfigError(Problem(file, line_of(("sections",)), "sections", "expected a mapping of sections"))
+    desc = data.get("descriptions") or {}
+    for name, entries in sections.items():
+        sname = str(name).upper()
+        sec = doc.sections[sname] = TirSection(name=sname, line=line_of(("sections", name)) or 0)
+        if entries is None:
+            continue
+        if not isinstance(entries, dict):
+            problems.append(Problem(file, line_of(("sections", name)), f"sections.{name}", "expected a mapping of KEY: value"))
+            continue
+        for key, v in entries.items():
+            path = ("sections", name, key)
+            if not _KEY.match(str(key)):
+                problems.append(Problem(file, line_of(path), f"sections.{name}.{key}", "not a .tir key name"))
+                continue
+            if isinstance(v, bool) or not isinstance(v, (int, float, str)):
+                problems.append(Problem(file, line_of(path), f"sections.{name}.{key}", "expected a number or a text"))
+                continue
+            if isinstance(v, float) and v != v:
+                problems.append(Problem(file, line_of(path), f"sections.{name}.{key}", "NaN is not a valid value"))
+                continue
+            comment = str((desc.get(name) or {}).get(key, "") or "")
+            sec.entries[str(key).upper()] = TirEntry(value=v, line=line_of(path) or 0, comment=comment)
+    for name, tab in (data.get("tables") or {}).items():
+        sname = str(name).upper()
+        path = ("tables", name)
+        rows = tab.get("rows") if isinstance(tab, dict) else None
+        if not isinstance(rows, list) or not all(isinstance(r, list) and all(
+                isinstance(x, (int, float)) and not isinstance(x, bool) for x in r) for r in rows):
+            problems.append(Problem(file, line_of(path), f"tables.{name}", "expected {header, rows: [[numbers]]}"))
+            continue
+        sec = doc.sections.setdefault(sname, TirSection(name=sname, line=line_of(path) or 0))
+        sec.table = TirTable(header=str(tab.get("header", "")), rows=[[float(x) for x in r] for r in rows],
+                             line=line_of(path) or 0)
+    if problems:
+        raise ConfigError(problems)
+    return doc
+
+
+def read_tir_yaml(path: str | Path) -> TirDocument:
+    """Read the YAML form of a ``.tir`` file."""
+    from tirecli.io.yamlio import load_yaml
+
+    data, origins = load_yaml(path)
+    return from_yaml_data(data, origins, str(path))
+
+
+def read_any(path: str | Path) -> TirDocument:
+    """A ``.tir`` file, or its YAML form when the name ends in ``.yaml``/``.yml``."""
+    if str(path).lower().endswith((".yaml", ".yml")):
+        return read_tir_yaml(path)
+    return read_tir(path)
