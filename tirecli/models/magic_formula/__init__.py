@@ -4,13 +4,13 @@ Specification: ``magic_formula.md`` (sections cited as §N in every docstring). 
 signs: :mod:`.axes` (ISO-W, stated once; the LuGre slip relation is in :mod:`tirecli.conventions`).
 
 - :class:`MFTire` -- coefficients (SI), version, measured side (:mod:`.tire`);
-- :func:`evaluate` -- forces and moments over broadcast arrays (:mod:`.evaluate`);
+- :func:`evaluate` -- forces and moments over broadcast arrays (:mod:`.engine`);
 - :class:`Convention`, :data:`CONVENTIONS` -- the ``mfeval`` (default) and ``teasit`` variants of §10;
 - :mod:`.mf61` (equations), :mod:`.pac89`, :mod:`.turnslip`, :mod:`.radius`, :mod:`.inputs` (§11),
   :mod:`.check` (coefficient sanity).
 """
 from tirecli.models.magic_formula.axes import iso_to_sae, sae_to_iso
-from tirecli.models.magic_formula.evaluate import OUTPUTS, MFResult, evaluate
+from tirecli.models.magic_formula.engine import OUTPUTS, MFResult, evaluate
 from tirecli.models.magic_formula.tire import CONVENTIONS, Convention, MFTire, complete_coefficients
 
 __all__ = ["MFTire", "MFResult", "Convention", "CONVENTIONS", "OUTPUTS", "evaluate", "complete_coefficients",

@@ -41,6 +41,21 @@ def _sgn(x, zero: float):
     return np.sign(x)
 
 
+def _guard(x, eps: float):
+    """``x + eps sgn(x)`` (book 4.E6a): a denominator kept away from zero with its own sign."""
+    return x + np.copysign(eps, x)
+
+
+def _scale(x, s: float):
+    """``x * s``, skipping the work when the factor is exactly 1 (scaling factors, zeta)."""
+    return x if s == 1.0 else x * s
+
+
+def _lin(a0: float, a1: float, x):
+    """``a0 + a1 x`` (a load polynomial), a plain number when ``a1 = 0``."""
+    return a0 if a1 == 0.0 else a0 + a1 * x
+
+
 def _inplace_ok(base, *others) -> bool:
     return np.ndim(base) > 0 and all(np.size(o) <= np.size(base) for o in others)
 
@@ -85,27 +100,53 @@ def _clip_e(E, cv: Convention):
     return np.minimum(E, 1.0) if cv.e_clip else E
 
 
+def _is_zero(x) -> bool:
+    return np.ndim(x) == 0 and x == 0
+
+
+def _own(a, b) -> bool:
+    return isinstance(a, np.ndarray) and a.ndim > 0 and np.size(b) <= a.size
+
+
+def _imul(a, b):
+    """``a * b``, in place when ``a`` is a full-size array owned by the caller."""
+    return np.multiply(a, b, out=a) if _own(a, b) else a * b
+
+
+def _iadd(a, b):
+    return np.add(a, b, out=a) if _own(a, b) else a + b
+
+
+def _isub(a, b):
+    return np.subtract(a, b, out=a) if _own(a, b) else a - b
+
+
 # --------------------------------------------------------------------------- shared state
 
 
 def basic(t: MFTire, cv: Convention, kappa, alpha, gamma, fz, vx, p):
     """Normalised quantities shared by every output (§3): ``dfz``, ``dpi``, alpha*, gamma*, lambdas.
 
-    Returns a namespace with ``dfz`` (4.E2a), ``dpi`` (4.E2b), ``a_fy`` (alpha used in Fy0),
-    ``a_star`` (alpha* used in combined slip and Mz), ``g_star`` (gamma*), ``lmux_s``/``lmuy_s``
-    (lambda*, 4.E7) and ``lmux_p``/``lmuy_p`` (lambda', 4.E8), ``sgn_vx``.
+    Returns a namespace with ``dfz`` (4.E2a), ``dpi`` (4.E2b; a plain 0 without pressure
+    effect), ``a_fy`` (alpha used in Fy0), ``a_star`` (alpha* used in combined slip and Mz),
+    ``g_star`` (gamma*), ``lmux_s``/``lmuy_s`` (lambda*, 4.E7), ``lmux_p``/``lmuy_p`` (lambda',
+    4.E8) and ``sgn_vx``.
     """
     c = t.coef
     fz0p = c["FNOMIN"] * c["LFZO"]
     b = SimpleNamespace()
     b.fz0p = fz0p
     b.dfz = fz * (1.0 / fz0p) - 1.0
+    b.dfz2 = None
     pi0 = t.nominal_pressure
-    b.dpi = 0.0 if (pi0 is None or p is None) else (p - pi0) * (1.0 / pi0)
+    dpi = 0.0 if (pi0 is None or p is None) else (p - pi0) * (1.0 / pi0)
+    b.dpi = 0.0 if not np.any(dpi) else dpi
+    b.has_dpi = not _is_zero(b.dpi)
     backward = bool(np.any(vx < 0))
     b.backward = backward
     b.sgn_vx = _sgn(vx, 1.0) if backward else 1.0
     tan_a = None
+    a_tan = None
     if cv.alpha_star in ("tan", "mixed"):
         tan_a = np.tan(alpha)
         a_tan = tan_a * b.sgn_vx if backward else tan_a
@@ -132,6 +173,18 @@ def basic(t: MFTire, cv: Convention, kappa, alpha, gamma, fz, vx, p):
     return b
 
 
+def _dfz2(b):
+    if b.dfz2 is None:
+        b.dfz2 = np.square(b.dfz)
+    return b.dfz2
+
+
+def _quad(a0, a1, a2, b):
+    """``a0 + a1 dfz + a2 dfz^2``."""
+    y = _lin(a0, a1, b.dfz)
+    return y if a2 == 0.0 else y + a2 * _dfz2(b)
+
+
 # --------------------------------------------------------------------------- Fx0
 
 
@@ -144,25 +197,33 @@ def fx0_factors(t: MFTire, cv: Convention, b, fz, gamma, zeta1=1.0, red=None):
     """
     c = t.coef
     dfz, dpi = b.dfz, b.dpi
-    gx = gamma * c["LGAX"] if t.is_52 else gamma
     f = SimpleNamespace()
     f.C = c["PCX1"] * c["LCX"]
-    mu = (c["PDX1"] + c["PDX2"] * dfz) * (1.0 - c["PDX3"] * np.square(gx)) * b.lmux_s
-    if not t.is_52 and np.any(dpi):
+    mu = _lin(c["PDX1"], c["PDX2"], dfz)
+    if c["PDX3"] and b.has_camber:
+        gx = _scale(gamma, c["LGAX"]) if t.is_52 else gamma
+        mu = mu * (1.0 - c["PDX3"] * np.square(gx))
+    if b.has_dpi and not t.is_52:
         mu = mu * (1.0 + c["PPX3"] * dpi + c["PPX4"] * np.square(dpi))
-    f.mu = mu
-    f.D = mu * fz * zeta1
-    K = fz * (c["PKX1"] + c["PKX2"] * dfz) * np.exp(c["PKX3"] * dfz) * c["LKX"]
-    if not t.is_52 and np.any(dpi):
+    f.mu = _scale(mu, b.lmux_s) if np.ndim(b.lmux_s) == 0 else mu * b.lmux_s
+    f.D = _scale(f.mu * fz, zeta1) if np.ndim(zeta1) == 0 else f.mu * fz * zeta1
+    K = fz * _lin(c["PKX1"], c["PKX2"], dfz)
+    if c["PKX3"]:
+        K = K * np.exp(c["PKX3"] * dfz)
+    if b.has_dpi and not t.is_52:
         K = K * (1.0 + c["PPX1"] * dpi + c["PPX2"] * np.square(dpi))
-    f.K = K
-    f.B = K / (f.C * f.D + cv.eps * _sgn(f.D, 1.0))
-    f.SH = (c["PHX1"] + c["PHX2"] * dfz) * c["LHX"]
-    f.SV = fz * (c["PVX1"] + c["PVX2"] * dfz) * c["LVX"] * b.lmux_p * zeta1
+    f.K = _scale(K, c["LKX"])
+    f.B = f.K / _guard(f.C * f.D, cv.eps)
+    f.SH = _scale(_lin(c["PHX1"], c["PHX2"], dfz), c["LHX"])
+    if c["PVX1"] or c["PVX2"]:
+        sv = fz * _lin(c["PVX1"], c["PVX2"], dfz) * (c["LVX"] * b.lmux_p)
+        f.SV = sv * zeta1 if np.ndim(zeta1) else _scale(sv, zeta1)
+    else:
+        f.SV = 0.0
     if red is not None:
         f.SH = f.SH * red
         f.SV = f.SV * red
-    f.E0 = (c["PEX1"] + c["PEX2"] * dfz + c["PEX3"] * np.square(dfz)) * c["LEX"]
+    f.E0 = _scale(_quad(c["PEX1"], c["PEX2"], c["PEX3"], b), c["LEX"])
     return f
 
 
@@ -170,88 +231,139 @@ def fx0_curve(t: MFTire, cv: Convention, f, kappa):
     """``Fx0`` [N] from its factors (4.E9-4.E10, 4.E14): ``D sin(C atan(B kx - E(...))) + SV``."""
     kx = kappa + f.SH
     pex4 = t.coef["PEX4"]
-    E = f.E0 * (1.0 - pex4 * _sgn(kx, cv.sgn_zero)) if pex4 else f.E0
-    E = _clip_e(E, cv)
-    y = sin_curve(f.B, f.C, f.D, E, kx)
-    return y + f.SV
+    if pex4:
+        asym = np.copysign(pex4, kx + 0.0) if cv.sgn_zero == 1.0 else pex4 * np.sign(kx)
+        E = f.E0 * (1.0 - asym)
+    else:
+        E = f.E0
+    y = sin_curve(f.B, f.C, f.D, _clip_e(E, cv), kx)
+    return y if _is_zero(f.SV) else y + f.SV
 
 
 # --------------------------------------------------------------------------- Fy0
 
 
-def fy0_factors(t: MFTire, cv: Convention, b, fz, g_star, ts=None, red=None):
+def fy0_load(t: MFTire, cv: Convention, b, fz):
+    """The camber-independent parts of the Fy0 factors (shared by the actual-camber and the
+    zero-camber evaluations of §5.3): ``C``, ``mu0``, ``sh0``, ``sv0``, ``E0``, ``kz = Fz/F'z0``,
+    the cornering-stiffness scale and the peak-load denominator factor."""
+    c = t.coef
+    dfz, dpi = b.dfz, b.dpi
+    L = SimpleNamespace()
+    L.C = c["PCY1"] * c["LCY"]
+    mu = _lin(c["PDY1"], c["PDY2"], dfz)
+    if b.has_dpi and not t.is_52:
+        mu = mu * (1.0 + c["PPY3"] * dpi + c["PPY4"] * np.square(dpi))
+    L.mu0 = _scale(mu, b.lmuy_s) if np.ndim(b.lmuy_s) == 0 else mu * b.lmuy_s
+    L.sh0 = _scale(_lin(c["PHY1"], c["PHY2"], dfz), c["LHY"])
+    if c["PVY1"] or c["PVY2"]:
+        L.sv0 = fz * _lin(c["PVY1"], c["PVY2"], dfz) * (c["LVY"] * b.lmuy_p)
+    else:
+        L.sv0 = 0.0
+    L.E0 = _scale(_lin(c["PEY1"], c["PEY2"], dfz), c["LEY"])
+    L.kz = fz * (1.0 / b.fz0p)
+    kscale = c["PKY1"] * b.fz0p * c["LKY"]
+    L.kscale = kscale * (1.0 + c["PPY1"] * dpi) if (b.has_dpi and not t.is_52) else kscale
+    L.kden = (1.0 + c["PPY2"] * dpi) if (b.has_dpi and not t.is_52) else 1.0
+    L.ksin0 = None
+    return L
+
+
+def _ksin0(t, L):
+    """``sin(PKY4 arctan(Fz/F'z0 / (PKY2 (1 + PPY2 dpi))))`` (4.E25 at zero camber), computed once."""
+    if L.ksin0 is None:
+        c = t.coef
+        L.ksin0 = np.sin(c["PKY4"] * np.arctan(L.kz / (c["PKY2"] * L.kden)))
+    return L.ksin0
+
+
+def fy0_factors(t: MFTire, cv: Convention, b, fz, g_star, ts=None, red=None, L=None):
     """Factors of the pure lateral force (§5.2, 4.E20-4.E30; §9 for MF 5.2) at camber ``g_star``.
 
     Returns ``C`` (4.E21), ``mu`` (4.E23), ``D`` [N] (4.E22), ``K`` = K_ya [N/rad] (4.E25),
     ``Kp`` = K'_ya (4.E39), ``B`` (4.E26), ``SH`` [rad] (4.E27), ``SV`` [N] (4.E29), ``SVg`` [N]
     (4.E28), ``Kg0`` = K_yg0 [N/rad] (4.E30), and the curvature parts ``E0`` (load part) and
     ``Ec`` (camber part ``1 + PEY5 g*^2``) with the asymmetry ``Ea = PEY3 + PEY4 g*``. ``ts`` holds
-    the turn-slip zeta factors (§8), None without turn slip.
+    the turn-slip zeta factors (§8), None without turn slip; ``L`` the shared load part
+    (:func:`fy0_load`).
     """
     c = t.coef
-    dfz, dpi, fz0p, eps = b.dfz, b.dpi, b.fz0p, cv.eps
-    f = SimpleNamespace()
+    if L is None:
+        L = fy0_load(t, cv, b, fz)
+    dfz, eps = b.dfz, cv.eps
+    f = SimpleNamespace(C=L.C, E0=L.E0)
     z0, z2, z3 = (1.0, 1.0, 1.0) if ts is None else (0.0, ts.zeta2, ts.zeta3)
-    f.C = c["PCY1"] * c["LCY"]
+    flat = _is_zero(g_star)
     if t.is_52:
-        g = g_star * c["LGAY"]
-        g2 = np.square(g)
-        f.K = (c["PKY1"] * fz0p * np.sin(c["PKY4"] * np.arctan(fz / (c["PKY2"] * fz0p)))
-               * (1.0 - c["PKY3"] * np.abs(g)) * c["LKY"])
-        f.Kp = f.K + eps * _sgn(f.K, 1.0)
+        g = 0.0 if flat else _scale(g_star, c["LGAY"])
+        if flat or not c["PKY3"]:
+            f.K = L.kscale * _ksin0(t, L)
+        else:
+            f.K = L.kscale * _ksin0(t, L) * (1.0 - c["PKY3"] * np.abs(g))
         f.Kg0 = None
-        f.SVg = fz * (c["PVY3"] + c["PVY4"] * dfz) * g * b.lmuy_p
-        f.SH = (c["PHY1"] + c["PHY2"] * dfz) * c["LHY"] + c["PHY3"] * g
-        f.SV = fz * (c["PVY1"] + c["PVY2"] * dfz) * c["LVY"] * b.lmuy_p + f.SVg
-        f.mu = (c["PDY1"] + c["PDY2"] * dfz) * (1.0 - c["PDY3"] * g2) * b.lmuy_s
+        f.SVg = 0.0 if flat or not (c["PVY3"] or c["PVY4"]) else fz * _lin(c["PVY3"], c["PVY4"], dfz) * g * b.lmuy_p
+        f.SH = L.sh0 if flat or not c["PHY3"] else L.sh0 + c["PHY3"] * g
+        f.SV = L.sv0 if _is_zero(f.SVg) else L.sv0 + f.SVg
+        f.mu = L.mu0 if flat or not c["PDY3"] else L.mu0 * (1.0 - c["PDY3"] * np.square(g))
         f.Ec = 1.0
     else:
         g = g_star
-        g2 = np.square(g)
-        pp = np.any(dpi)
-        den = c["PKY2"] + c["PKY5"] * g2
-        if pp:
-            den = den * (1.0 + c["PPY2"] * dpi)
-        kya = c["PKY1"] * fz0p * np.sin(c["PKY4"] * np.arctan(fz * (1.0 / fz0p) / den)) * c["LKY"]
-        if pp:
-            kya = kya * (1.0 + c["PPY1"] * dpi)
-        if c["PKY3"]:
-            kya = kya * (1.0 - c["PKY3"] * np.abs(g))
-        f.K = kya * z3
-        f.Kp = f.K + eps * _sgn(f.K, 1.0)
-        kg0 = fz * (c["PKY6"] + c["PKY7"] * dfz) * c["LKYC"]
-        if pp:
-            kg0 = kg0 * (1.0 + c["PPY5"] * dpi)
-        f.Kg0 = kg0
-        f.SVg = fz * (c["PVY3"] + c["PVY4"] * dfz) * g * c["LKYC"] * b.lmuy_p * z2
-        sh = (c["PHY1"] + c["PHY2"] * dfz) * c["LHY"]
-        if ts is None:
-            sh = sh + (kg0 * g - f.SVg) / f.Kp
+        if flat:
+            kya = L.kscale * _ksin0(t, L)
         else:
-            sh = sh + turnslip.zeta4(t, cv, b, fz, f, ts) - 1.0
-        f.SH = sh
-        f.SV = fz * (c["PVY1"] + c["PVY2"] * dfz) * c["LVY"] * b.lmuy_p * z2 + f.SVg
-        mu = (c["PDY1"] + c["PDY2"] * dfz) * (1.0 - c["PDY3"] * g2) * b.lmuy_s
-        if pp:
-            mu = mu * (1.0 + c["PPY3"] * dpi + c["PPY4"] * np.square(dpi))
-        f.mu = mu
-        f.Ec = 1.0 + c["PEY5"] * g2
+            g2 = np.square(g)
+            if c["PKY5"]:
+                kya = L.kscale * np.sin(c["PKY4"] * np.arctan(L.kz / ((c["PKY2"] + c["PKY5"] * g2) * L.kden)))
+            else:
+                kya = L.kscale * _ksin0(t, L)
+            if c["PKY3"]:
+                kya = kya * (1.0 - c["PKY3"] * np.abs(g))
+        f.K = _scale(kya, z3) if np.ndim(z3) == 0 else kya * z3
+        kg0 = None
+        if not flat or ts is not None:  # camber stiffness K_yg0 (4.E30)
+            kg0 = fz * _lin(c["PKY6"], c["PKY7"], dfz) * c["LKYC"]
+            if b.has_dpi:
+                kg0 = kg0 * (1.0 + c["PPY5"] * b.dpi)
+        f.Kg0 = kg0
+        if flat or not (c["PVY3"] or c["PVY4"]):
+            f.SVg = 0.0
+        else:
+            f.SVg = fz * _lin(c["PVY3"], c["PVY4"], dfz) * g * (c["LKYC"] * b.lmuy_p)
+            if ts is not None:
+                f.SVg = f.SVg * z2
+        f.Kp = _guard(f.K, eps)
+        if ts is not None:
+            f.SH = L.sh0 + (turnslip.zeta4(t, cv, b, fz, f, ts) - 1.0)
+        elif flat:
+            f.SH = L.sh0
+        else:
+            f.SH = L.sh0 + (kg0 * g - f.SVg) / f.Kp
+        sv0 = L.sv0 if ts is None else L.sv0 * z2
+        f.SV = sv0 if _is_zero(f.SVg) else sv0 + f.SVg
+        f.mu = L.mu0 if flat or not c["PDY3"] else L.mu0 * (1.0 - c["PDY3"] * g2)
+        f.Ec = 1.0 if flat or not c["PEY5"] else 1.0 + c["PEY5"] * g2
+    if not hasattr(f, "Kp"):
+        f.Kp = _guard(f.K, eps)
     if red is not None:
         f.SH = f.SH * red
         f.SV = f.SV * red
-    f.D = f.mu * fz * z2
-    f.B = f.K / (f.C * f.D + eps * _sgn(f.D, 1.0))
-    f.E0 = (c["PEY1"] + c["PEY2"] * dfz) * c["LEY"]
-    f.Ea = c["PEY3"] + c["PEY4"] * g
+    f.D = f.mu * fz if ts is None else f.mu * fz * z2
+    f.B = f.K / _guard(f.C * f.D, eps)
+    f.Ea = c["PEY3"] if (flat or not c["PEY4"]) else c["PEY3"] + c["PEY4"] * (
+        _scale(g_star, c["LGAY"]) if t.is_52 else g_star)
     return f
 
 
 def fy0_curve(t: MFTire, cv: Convention, b, f, alpha_raw):
     """``Fy0`` [N] from its factors (4.E19-4.E20, 4.E24) at ``alpha* = b.a_fy``."""
     ay = b.a_fy + f.SH
-    s = _sgn(alpha_raw if cv.ey_sign_of_alpha else ay, cv.sgn_zero)
-    E = _clip_e(f.E0 * (f.Ec - f.Ea * s), cv)
-    return sin_curve(f.B, f.C, f.D, E, ay) + f.SV
+    if _is_zero(f.Ea):
+        E = f.E0 if _is_zero(f.Ec - 1.0) else f.E0 * f.Ec
+    else:
+        s = _sgn(alpha_raw if cv.ey_sign_of_alpha else ay, cv.sgn_zero)
+        E = f.E0 * (f.Ec - f.Ea * s)
+    y = sin_curve(f.B, f.C, f.D, _clip_e(E, cv), ay)
+    return y if _is_zero(f.SV) else y + f.SV
 
 
 # --------------------------------------------------------------------------- combined slip
@@ -261,13 +373,17 @@ def g_xa(t: MFTire, cv: Convention, b, kappa, g_star):
     """Weighting function ``G_xa`` [-] of ``Fx`` under side slip (§6.1, 4.E51-4.E57)."""
     c = t.coef
     bxa = c["RBX1"]
-    if not t.is_52 and c["RBX3"]:
+    if not t.is_52 and c["RBX3"] and not _is_zero(g_star):
         bxa = bxa + c["RBX3"] * np.square(g_star)
-    bxa = bxa * _cos_atan(c["RBX2"] * kappa) * c["LXAL"] if c["RBX2"] else bxa * c["LXAL"]
+    if c["RBX2"]:
+        bxa = bxa * _cos_atan(c["RBX2"] * kappa)
+    bxa = _scale(bxa, c["LXAL"])
     cxa = c["RCX1"]
-    exa = _clip_e(c["REX1"] + c["REX2"] * b.dfz, cv)
+    exa = _clip_e(_lin(c["REX1"], c["REX2"], b.dfz), cv)
     shxa = c["RHX1"]
-    num = cos_curve(bxa, cxa, exa, b.a_star + shxa)
+    num = cos_curve(bxa, cxa, exa, b.a_star + shxa if shxa else b.a_star)
+    if shxa == 0.0:
+        return num
     return num / cos_curve(bxa, cxa, exa, shxa)
 
 
@@ -275,24 +391,34 @@ def g_yk(t: MFTire, cv: Convention, b, kappa, g_star):
     """Weighting function ``G_yk`` [-] of ``Fy`` under longitudinal slip (§6.2, 4.E59-4.E65)."""
     c = t.coef
     byk = c["RBY1"]
-    if not t.is_52 and c["RBY4"]:
+    if not t.is_52 and c["RBY4"] and not _is_zero(g_star):
         byk = byk + c["RBY4"] * np.square(g_star)
-    byk = byk * _cos_atan(c["RBY2"] * (b.a_star - c["RBY3"])) * c["LYKA"]
+    if c["RBY2"]:
+        byk = byk * _cos_atan(c["RBY2"] * (b.a_star - c["RBY3"]))
+    byk = _scale(byk, c["LYKA"])
     cyk = c["RCY1"]
-    eyk = _clip_e(c["REY1"] + c["REY2"] * b.dfz, cv)
-    shyk = c["RHY1"] + c["RHY2"] * b.dfz
+    eyk = _clip_e(_lin(c["REY1"], c["REY2"], b.dfz), cv)
+    shyk = _lin(c["RHY1"], c["RHY2"], b.dfz)
     num = cos_curve(byk, cyk, eyk, kappa + shyk)
+    if _is_zero(shyk):
+        return num
     return num / cos_curve(byk, cyk, eyk, shyk)
 
 
 def sv_yk(t: MFTire, b, kappa, fz, mu_y, g_star, zeta2=1.0, red=None):
     """The kappa-induced side force ``S_Vyk`` [N] (§6.2, 4.E66-4.E67)."""
     c = t.coef
-    if not (c["RVY1"] or c["RVY2"] or c["RVY3"]):
+    if not (c["RVY1"] or c["RVY2"] or c["RVY3"]) or not c["RVY5"] or not c["RVY6"]:
         return 0.0
-    g = g_star * c["LGAY"] if t.is_52 else g_star
-    d = mu_y * fz * (c["RVY1"] + c["RVY2"] * b.dfz + c["RVY3"] * g) * _cos_atan(c["RVY4"] * b.a_star) * zeta2
-    s = d * np.sin(c["RVY5"] * np.arctan(c["RVY6"] * kappa)) * c["LVYKA"]
+    d = _lin(c["RVY1"], c["RVY2"], b.dfz)
+    if c["RVY3"] and not _is_zero(g_star):
+        d = d + c["RVY3"] * (_scale(g_star, c["LGAY"]) if t.is_52 else g_star)
+    d = mu_y * fz * d
+    if c["RVY4"]:
+        d = d * _cos_atan(c["RVY4"] * b.a_star)
+    if np.ndim(zeta2) or zeta2 != 1.0:
+        d = d * zeta2
+    s = d * (np.sin(c["RVY5"] * np.arctan(c["RVY6"] * kappa)) * c["LVYKA"])
     return s * red if red is not None else s
 
 
@@ -309,53 +435,61 @@ def mz_factors(t: MFTire, cv: Convention, b, fz_mz, fy_f, fy_f0, ts=None):
     c = t.coef
     dfz, dpi, fz0p = b.dfz, b.dpi, b.fz0p
     g = b.g_star
+    cam = b.has_camber
     m = SimpleNamespace()
-    gz = g * c["LGAZ"] if t.is_52 else g
+    gz = _scale(g, c["LGAZ"]) if t.is_52 else g
     gt = gz if (t.is_52 or cv.camber_trail_book) else b.gamma  # camber in Bt, Dt
     src = fy_f0 if (cv.mzr_zero_camber and fy_f0 is not None) else fy_f
     m.Kp = src.Kp
-    shf = src.SH + src.SV / src.Kp
+    shf = src.SH + src.SV / src.Kp if not _is_zero(src.SV) else src.SH
     m.alpha_r = b.a_star + shf
-    m.alpha_t = b.a_star + (c["QHZ1"] + c["QHZ2"] * dfz + (c["QHZ3"] + c["QHZ4"] * dfz) * gz)
-    m.Bt = ((c["QBZ1"] + c["QBZ2"] * dfz + c["QBZ3"] * np.square(dfz))
-            * (1.0 + c["QBZ4"] * gt + c["QBZ5"] * np.abs(gt)) * c["LKY"] / b.lmuy_s)
+    sht = _lin(c["QHZ1"], c["QHZ2"], dfz)
+    if cam and (c["QHZ3"] or c["QHZ4"]):
+        sht = sht + _lin(c["QHZ3"], c["QHZ4"], dfz) * gz
+    m.alpha_t = b.a_star + sht
+    bt = _quad(c["QBZ1"], c["QBZ2"], c["QBZ3"], b)
+    if cam and (c["QBZ4"] or c["QBZ5"]):
+        bt = bt * (1.0 + c["QBZ4"] * gt + c["QBZ5"] * np.abs(gt))
+    m.Bt = bt * (c["LKY"] / b.lmuy_s)
     m.Ct = c["QCZ1"]
-    dt = fz_mz * (t.coef["UNLOADED_RADIUS"] / fz0p) * (c["QDZ1"] + c["QDZ2"] * dfz) * c["LTR"]
-    if not t.is_52 and np.any(dpi):
+    dt = fz_mz * ((t.coef["UNLOADED_RADIUS"] / fz0p) * c["LTR"]) * _lin(c["QDZ1"], c["QDZ2"], dfz)
+    if b.has_dpi and not t.is_52:
         dt = dt * (1.0 - c["PPZ1"] * dpi)
-    q3 = np.abs(gt) if (cv.camber_trail_book and not t.is_52) else gt
-    dt = dt * (1.0 + c["QDZ3"] * q3 + c["QDZ4"] * np.square(gt))
+    if cam and (c["QDZ3"] or c["QDZ4"]):
+        q3 = np.abs(gt) if (cv.camber_trail_book and not t.is_52) else gt
+        dt = dt * (1.0 + c["QDZ3"] * q3 + c["QDZ4"] * np.square(gt))
     if ts is not None:
         dt = dt * ts.zeta5
     m.Dt = dt * b.sgn_vx if b.backward else dt
-    et = (c["QEZ1"] + c["QEZ2"] * dfz + c["QEZ3"] * np.square(dfz))
-    if c["QEZ4"] or c["QEZ5"]:
-        et = et * (1.0 + (c["QEZ4"] + c["QEZ5"] * gz) * _2_PI * np.arctan(m.Bt * m.Ct * m.alpha_t))
+    et = _quad(c["QEZ1"], c["QEZ2"], c["QEZ3"], b)
+    q45 = c["QEZ4"] if not (cam and c["QEZ5"]) else c["QEZ4"] + c["QEZ5"] * gz
+    if not _is_zero(q45):
+        et = et * (1.0 + q45 * _2_PI * np.arctan((m.Ct * m.Bt) * m.alpha_t))
     m.Et = _clip_e(et, cv)
-    m.Br = c["QBZ9"] * c["LKY"] / b.lmuy_s + c["QBZ10"] * src.B * src.C
+    br = c["QBZ9"] * c["LKY"] / b.lmuy_s
+    m.Br = br + c["QBZ10"] * src.B * src.C if c["QBZ10"] else br
     m.Cr = 1.0
     r0 = t.coef["UNLOADED_RADIUS"]
     z0, z2 = (1.0, 1.0) if ts is None else (0.0, ts.zeta2)
     if ts is not None:
         m.Br = m.Br * ts.zeta6
-    if t.is_52:
-        inner = (c["QDZ6"] + c["QDZ7"] * dfz) * c["LRES"] + (c["QDZ8"] + c["QDZ9"] * dfz) * gz
-    else:
-        cam = c["QDZ8"] + c["QDZ9"] * dfz
-        if np.any(dpi):
-            cam = cam * (1.0 + c["PPZ2"] * dpi)
-        if c["QDZ10"] or c["QDZ11"]:
-            cam = cam + (c["QDZ10"] + c["QDZ11"] * dfz) * np.abs(g)
-        inner = (c["QDZ6"] + c["QDZ7"] * dfz) * c["LRES"] * z2 + cam * g * c["LKZC"] * z0
-    dr = fz_mz * r0 * inner * b.lmuy_s * b.cos_a
-    if b.backward:
-        dr = dr * b.sgn_vx
-    m.Dr = dr
+    inner = _scale(_lin(c["QDZ6"], c["QDZ7"], dfz), c["LRES"])
+    if ts is not None:
+        inner = inner * z2
+    if cam and ts is None:
+        if t.is_52:
+            inner = inner + _lin(c["QDZ8"], c["QDZ9"], dfz) * gz
+        else:
+            gam = _lin(c["QDZ8"], c["QDZ9"], dfz)
+            if b.has_dpi:
+                gam = gam * (1.0 + c["PPZ2"] * dpi)
+            if c["QDZ10"] or c["QDZ11"]:
+                gam = gam + _lin(c["QDZ10"], c["QDZ11"], dfz) * np.abs(g)
+            inner = inner + gam * g * c["LKZC"]
+    dr = (fz_mz * r0) * inner * (b.cos_a * b.lmuy_s)
+    m.Dr = dr * b.sgn_vx if b.backward else dr
+    del z0
     return m
-
-
-def _tan_or(x, paper: bool):
-    return np.tan(x) if paper else x
 
 
 def equivalent_slip(angle, ratio2, cv: Convention):
@@ -368,7 +502,9 @@ def equivalent_slip(angle, ratio2, cv: Convention):
         r = np.arctan(np.sqrt(np.square(np.tan(angle)) + ratio2))
     else:
         r = np.sqrt(np.square(angle) + ratio2)
-    return r * _sgn(angle, cv.sgn_zero)
+    if cv.sgn_zero == 1.0:
+        return np.copysign(r, angle + 0.0)
+    return r * np.sign(angle)
 
 
 # --------------------------------------------------------------------------- Mx, My
@@ -440,8 +576,7 @@ def rolling(t: MFTire, cv: Convention, b, fz, gamma, vx, p, fx, fz_scale=None):
 
 
 def evaluate_kernel(t: MFTire, cv: Convention, kappa, alpha, gamma, fz, vx, p, need=("fx", "fy", "mz", "mx", "my"),
-                    red=None, fz_mz=None, fz_scale_mx=None, fz_scale_my=None, my_window=None, phit=None,
-                    kappa_my=None):
+                    red=None, fz_mz=None, fz_scale_mx=None, fz_scale_my=None, my_window=None, phit=None):
     """Every requested output of one block of points (MF 6.1 / 5.2, combined slip).
 
     Parameters
@@ -461,8 +596,6 @@ def evaluate_kernel(t: MFTire, cv: Convention, kappa, alpha, gamma, fz, vx, p, n
         Factor of My near standstill (mfeval's sine ramp in kappa, §11).
     phit : ndarray or None
         Turn slip phi_t [1/m] (§8); None: no turn slip (all zeta = 1).
-    kappa_my : ndarray or None
-        Unreduced slip for the standstill window of My (unused here, kept for symmetry).
 
     Returns
     -------
@@ -476,20 +609,12 @@ def evaluate_kernel(t: MFTire, cv: Convention, kappa, alpha, gamma, fz, vx, p, n
         need.add("fy")
     if "my" in need and t.coef.get("QSY2"):
         need.add("fx")
-    c = t.coef
     b = basic(t, cv, kappa, alpha, gamma, fz, vx, p)
     ts = None
     if phit is not None:
         ts = turnslip.spin(t, cv, b, kappa, alpha, gamma, fz, vx, phit)
     out = {}
-    if "mz" in need:
-        ca = np.cos(alpha)
-        b.cos_a = ca
-        eps_v = cv.eps
-        # cos(alpha') = Vcx / (Vc + eps), Vc = |Vcx| sqrt(1 + tan^2 alpha) (4.E6, 4.E6a)
-        aca = np.abs(ca)
-        b.cos_ap = aca * (vx / (np.abs(vx) + eps_v * aca))
-    fx = None
+    fx = fxf = fyf = fy0 = gyk = svyk = L = None
     if "fx" in need:
         fxf = fx0_factors(t, cv, b, fz, gamma, 1.0 if ts is None else ts.zeta1, red)
         fx0 = fx0_curve(t, cv, fxf, kappa)
@@ -498,16 +623,19 @@ def evaluate_kernel(t: MFTire, cv: Convention, kappa, alpha, gamma, fz, vx, p, n
         fx = fx0 * g_xa(t, cv, b, kappa, b.g_star)
         out["fx"] = fx
     if "fy" in need:
-        fyf = fy0_factors(t, cv, b, fz, b.g_star, ts, red)
+        L = fy0_load(t, cv, b, fz)
+        fyf = fy0_factors(t, cv, b, fz, b.g_star, ts, red, L)
         fy0 = fy0_curve(t, cv, b, fyf, alpha)
         if b.backward and cv.alpha_star == "tan":
             fy0 = fy0 * b.sgn_vx
         gyk = g_yk(t, cv, b, kappa, b.g_star)
         svyk = sv_yk(t, b, kappa, fz, fyf.mu, b.g_star, 1.0 if ts is None else ts.zeta2, red)
-        fy = gyk * fy0 + svyk
+        fy = gyk * fy0
+        if not _is_zero(svyk):
+            fy = fy + svyk
         out["fy"] = fy
     if "mz" in need:
-        out["mz"] = _mz(t, cv, b, kappa, alpha, fz, fz_mz, fxf, fyf, fy0, gyk, svyk, fx, fy, red, ts)
+        out["mz"] = _mz(t, cv, b, kappa, alpha, vx, fz, fz_mz, fxf, fyf, L, fy0, gyk, svyk, fx, out["fy"], red, ts)
     if "mx" in need:
         out["mx"] = overturning(t, cv, b, fz, gamma, out["fy"], fz_scale_mx)
     if "my" in need:
@@ -520,14 +648,22 @@ def evaluate_kernel(t: MFTire, cv: Convention, kappa, alpha, gamma, fz, vx, p, n
     return out
 
 
-def _mz(t, cv, b, kappa, alpha, fz, fz_mz, fxf, fyf, fy0, gyk, svyk, fx, fy, red, ts):
+def _mz(t, cv, b, kappa, alpha, vx, fz, fz_mz, fxf, fyf, L, fy0, gyk, svyk, fx, fy, red, ts):
     """Combined-slip aligning moment ``Mz`` [N m] (§6.3, 4.E71-4.E78, A54-A56; §9 for MF 5.2)."""
     c = t.coef
+    ca = np.cos(alpha)
+    b.cos_a = ca
+    # cos(alpha') = Vcx / (Vc + eps), Vc = |Vcx| sqrt(1 + tan^2 alpha) = |Vcx| / |cos alpha| (4.E6, 4.E6a)
+    aca = np.abs(ca)
+    if np.ndim(vx) == 0:
+        cos_ap = aca * (vx / (abs(vx) + cv.eps * aca)) if cv.eps >= 1e-12 else (aca if vx > 0 else aca * np.sign(vx))
+    else:
+        cos_ap = aca * (vx / (np.abs(vx) + cv.eps * aca))
     fz_m = fz if fz_mz is None else fz_mz
     need_g0 = b.has_camber and not t.is_52
     fyf0 = fy00 = None
-    if need_g0:
-        fyf0 = fy0_factors(t, cv, b, fz, 0.0, None, red)
+    if need_g0:  # Fy0 at zero camber (and no turn slip): M'z = -t Fy' (4.E32, 4.E74)
+        fyf0 = fy0_factors(t, cv, b, fz, 0.0, None, red, L)
         fy00 = fy0_curve(t, cv, b, fyf0, alpha)
         if b.backward and cv.alpha_star == "tan":
             fy00 = fy00 * b.sgn_vx
@@ -535,35 +671,43 @@ def _mz(t, cv, b, kappa, alpha, fz, fz_mz, fxf, fyf, fy0, gyk, svyk, fx, fy, red
     if ts is not None:
         turnslip.mz_zetas(t, cv, b, fz, fyf, gyk, m, ts)
     # equivalent slips (A54/A55 or 4.E77/4.E78) with the stiffness ratio K_xk / K'_ya (with camber)
-    ratio2 = np.square(fxf.K / fyf.Kp * kappa)
+    ratio2 = np.square((fxf.K / fyf.Kp) * kappa)
     at_eq = equivalent_slip(m.alpha_t, ratio2, cv)
     ar_eq = equivalent_slip(m.alpha_r, ratio2, cv)
-    trail = cos_curve(m.Bt, m.Ct, m.Et, at_eq) * m.Dt * b.cos_ap
-    if cv.s_mfeval:
-        trail = trail * c["LFZO"]
-    mzr = m.Dr * np.cos(m.Cr * np.arctan(m.Br * ar_eq))
+    trail = _imul(_imul(cos_curve(m.Bt, m.Ct, m.Et, at_eq), m.Dt), cos_ap)
+    if cv.s_mfeval and c["LFZO"] != 1.0:
+        trail = _imul(trail, c["LFZO"])
+    mzr = np.arctan(m.Br * ar_eq)
+    if np.ndim(m.Cr) or m.Cr != 1.0:
+        mzr = mzr * m.Cr
+    mzr = _imul(np.cos(mzr), m.Dr)
     if cv.mzr_cos_combined:
-        mzr = mzr * b.cos_ap
+        mzr = _imul(mzr, cos_ap)
     if red is not None:
         trail = trail * red
         mzr = mzr * red
     if t.is_52:
-        fyp = fy - svyk
+        fyp = fy - svyk if not _is_zero(svyk) else fy
     else:
         f0 = fy00 if need_g0 else fy0
         if need_g0 and cv.fyp_gyk_zero_camber and c["RBY4"]:
             fyp = g_yk(t, cv, b, kappa, 0.0) * f0
         else:
             fyp = gyk * f0
+    mzr = _isub(mzr, _imul(trail, fyp))  # M_zr + M'z with M'z = -t F'y
     r0 = c["UNLOADED_RADIUS"]
-    gz = b.g_star * c["LGAZ"] if t.is_52 else b.g_star
     if cv.s_mfeval:
-        s = r0 * (c["SSZ1"] + c["SSZ2"] * fy / c["FNOMIN"] + (c["SSZ3"] + c["SSZ4"] * b.dfz) * (gz if t.is_52 else b.gamma)) * c["LS"]
+        s = c["SSZ1"] + c["SSZ2"] / c["FNOMIN"] * fy
+        if b.has_camber and (c["SSZ3"] or c["SSZ4"]):
+            gs = _scale(b.g_star, c["LGAZ"]) if t.is_52 else b.gamma
+            s = s + _lin(c["SSZ3"], c["SSZ4"], b.dfz) * gs
     else:
-        s = r0 * (c["SSZ1"] + c["SSZ2"] * fy / b.fz0p) * c["LS"]
+        s = c["SSZ1"] + c["SSZ2"] / b.fz0p * fy
+    s = s * (r0 * c["LS"])
     if cv.mz_pure_at_kappa0:
         s = s * (kappa != 0)
-    return mzr - trail * fyp + s * fx
+    mzr = _iadd(mzr, _imul(s, fx))
+    return mzr
 
 
 def pure_slip_factors(t: MFTire, fz, gamma=0.0, p=None, convention="mfeval") -> dict:
