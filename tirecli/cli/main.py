@@ -12,7 +12,7 @@ import traceback
 import typer
 
 from tirecli import __version__
-from tirecli.cli import common, figures, params, report, sweep
+from tirecli.cli import common, figures, mf, params, report, sweep, tir
 
 app = typer.Typer(
     name="tirecli",
@@ -45,6 +45,8 @@ app.command("sweep")(sweep.sweep)
 app.command("report")(report.report)
 app.add_typer(params.app, name="params")
 app.add_typer(figures.app, name="figures")
+app.add_typer(tir.app, name="tir")
+app.add_typer(mf.app, name="mf")
 
 
 def _error(msg: str) -> None:

@@ -117,6 +117,8 @@ class TirDocument:
     warnings: list = field(default_factory=list)
     ends_mid_line: bool = False
     last_line: int = 0
+    n_bytes: int = 0
+    line_ends: str = ""
 
     def entry(self, section: str, key: str) -> TirEntry | None:
         sec = self.sections.get(section.upper())
@@ -199,6 +201,8 @@ def parse_tir(data: bytes | str, file: str = "<input>") -> TirDocument:
     lines = _LINE_SPLIT.split(text)
     doc = TirDocument(file=file)
     doc.ends_mid_line = not data.endswith((b"\n", b"\r"))
+    doc.n_bytes = len(data)
+    doc.line_ends = "CRLF" if b"\r\n" in data else ("CR" if b"\r" in data else "LF")
     if lines and lines[-1] == "":
         lines.pop()
     doc.last_line = len(lines)

@@ -1,0 +1,260 @@
+"""Application layer of the Magic Formula commands (``tirecli tir ...``, ``tirecli mf eval``).
+
+What each command does, independent of the CLI framework: the Typer commands in
+:mod:`tirecli.cli.tir` and :mod:`tirecli.cli.mf` only parse arguments and call these functions.
+Errors are :class:`~tirecli.errors.TirecliError` subclasses (exit codes in ``cli/main.py``).
+"""
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+
+from tirecli.errors import DataError, RunError, UsageError
+from tirecli.io import tir as tirio
+from tirecli.parameters import mf as mfp
+
+#: Columns of ``tirecli mf eval``: inputs (``p``, ``vx`` optional) and outputs, ISO-W, SI.
+INPUT_COLUMNS = ("kappa", "alpha", "gamma", "fz", "p", "vx")
+OUTPUT_COLUMNS = ("fx", "fy", "mz", "mx", "my")
+
+
+def read_document(ref: str) -> tuple[tirio.TirDocument, str]:
+    """A ``.tir`` file, its YAML form, or a built-in tyre by name: ``(document, label)``."""
+    if ref in mfp.builtin_tire_names() and not Path(ref).exists():
+        res = mfp.builtin_tire_resource(ref)
+        return tirio.parse_tir(res.read_bytes(), f"<built-in {ref}>"), ref
+    if not Path(ref).exists() and "/" not in ref and not ref.lower().endswith((".tir", ".yaml", ".yml")):
+        import difflib
+
+        names = mfp.builtin_tire_names()
+        hint = difflib.get_close_matches(ref, names, n=1)
+        dym = f"; did you mean {hint[0]!r}?" if hint else ""
+        raise UsageError(f"{ref}: no such file and no built-in tyre of that name{dym} (built-in: {', '.join(names)})")
+    return tirio.read_any(ref), ref
+
+
+def tyre_size(v: dict) -> str:
+    """``205/60 R15`` from WIDTH [m], ASPECT_RATIO [-] and RIM_RADIUS [m], when all are given."""
+    try:
+        w, ar, rr = v["WIDTH"], v["ASPECT_RATIO"], v["RIM_RADIUS"]
+    except KeyError:
+        return ""
+    rim = 2 * rr / 0.0254
+    rim_txt = f"{rim:.0f}" if abs(rim - round(rim)) < 0.05 else f"{rim:.1f}"
+    return f"{w * 1000:.0f}/{ar * 100:.0f} R{rim_txt}"
+
+
+def _fmt_range(t, var: str, unit: str) -> str:
+    lo, hi = t.range(var)
+    if var == "fz" and hi == float("inf") and lo == 0.0:
+        return "none"
+    if lo == -float("inf") and hi == float("inf"):
+        return "none"
+    return f"{lo:g} .. {hi:g}{(' ' + unit) if unit else ''}"
+
+
+VERSION_NAMES = {"6.1": "MF 6.1", "6.2": "MF 6.2 (MF 6.1 steady-state equations)", "5.2": "MF 5.2 / PAC2002",
+                 "pac89": "PAC89 (Bakker-Pacejka-Lidner 1989)"}
+
+
+def tir_show(ref: str) -> str:
+    """Summary of a tyre file: sizes, model version, nominal load and pressure, ranges, sections."""
+    doc, label = read_document(ref)
+    td = mfp.tire_data(doc)
+    t = td.tire()
+    v = td.values
+    lines = []
+    if label in mfp.BUILTIN_TIRES:
+        meta = mfp.BUILTIN_TIRES[label]
+        lines += [f"built-in tyre {label}: {meta['title']}", f"citation: {meta['citation']}", f"licence: {meta['licence']}"]
+    lines.append(f"file: {doc.file} ({doc.n_bytes} bytes, {doc.last_line} lines, {doc.line_ends} line ends)")
+    size = tyre_size(v)
+    dims = ", ".join(f"{k} {v[k]:g} m" for k in ("UNLOADED_RADIUS", "WIDTH", "RIM_RADIUS", "RIM_WIDTH") if k in v)
+    if "ASPECT_RATIO" in v:
+        dims += f", ASPECT_RATIO {v['ASPECT_RATIO']:g}"
+    lines.append(f"tyre size: {size or 'not given'} ({dims})")
+    lines.append(f"model: {VERSION_NAMES[td.version]} (from {td.version_source}); "
+                 f"TYRESIDE {td.text.get('TYRESIDE', 'not given')!r} -> {td.side}")
+    if t.family == "mf":
+        nom = [f"FNOMIN {v['FNOMIN']:g} N"]
+        nom.append(f"LONGVL {v['LONGVL']:g} m/s" if "LONGVL" in v else "LONGVL not given")
+        if td.version == "5.2":
+            nom.append("pressure: no effect (MF 5.2)")
+        else:
+            nom.append(f"NOMPRES {v['NOMPRES']:g} Pa" if "NOMPRES" in v else "NOMPRES not given (no pressure effect)")
+            if "INFLPRES" in v:
+                nom.append(f"INFLPRES {v['INFLPRES']:g} Pa")
+        nom.append(f"VXLOW {v['VXLOW']:g} m/s" if "VXLOW" in v else "VXLOW not given")
+        lines.append("nominal: " + ", ".join(nom))
+    lines.append("ranges: " + "; ".join(f"{name} {_fmt_range(t, var, unit)}" for name, var, unit in (
+        ("Fz", "fz", "N"), ("kappa", "kappa", ""), ("alpha", "alpha", "rad"), ("gamma", "gamma", "rad"),
+        ("p", "p", "Pa"))))
+    if td.units:
+        lines.append("units: " + ", ".join(f"{k} {u!r}" for k, u in td.units.items()))
+    secs = []
+    for name, sec in doc.sections.items():
+        part = f"[{name}] {len(sec.entries)} key(s)"
+        if sec.table is not None:
+            part += f" + table {{{sec.table.header}}} {len(sec.table.rows)} row(s)"
+        secs.append(part)
+    lines.append(f"sections ({len(secs)}):")
+    lines += [f"  {x}" for x in secs]
+    missing = [s for s in ("TURNSLIP_COEFFICIENTS", "OPERATING_CONDITIONS", "VERTICAL_FORCE_RANGE")
+               if s not in doc.sections and t.family == "mf" and not (td.version == "5.2" and s != "VERTICAL_FORCE_RANGE")]
+    if missing:
+        lines.append("not present: " + ", ".join(f"[{s}]" for s in missing))
+    if td.warnings:
+        lines.append(f"warnings ({len(td.warnings)}):")
+        lines += [f"  {w}" for w in td.warnings]
+    return "\n".join(lines)
+
+
+def tir_check(ref: str) -> tuple[str, int]:
+    """Coefficient sanity of a tyre file: ``(report, number of errors)``; RunError if any error."""
+    from tirecli.models.magic_formula.check import check_coefficients
+
+    doc, label = read_document(ref)
+    td = mfp.tire_data(doc)
+    findings = check_coefficients(td.tire(label))
+    lines = [f"{label}: {VERSION_NAMES[td.version]}"]
+    lines += [f"warning: {w}" for w in td.warnings]
+    lines += [str(f) for f in findings]
+    n_err = sum(f.level == "error" for f in findings)
+    n_warn = len(td.warnings) + sum(f.level == "warning" for f in findings)
+    lines.append(f"{n_err} error(s), {n_warn} warning(s)")
+    return "\n".join(lines), n_err
+
+
+def tir_convert(ref: str, to: str, out: str | None) -> str:
+    """Convert a tyre file to its YAML form (``to='yaml'``) or to ``.tir`` (``to='tir'``).
+
+    Returns the converted text when ``out`` is None, else writes ``out`` and returns a message.
+    The document is checked first (a file the reader refuses is not converted).
+    """
+    from tirecli.io.yamlio import dump_yaml
+
+    if to not in ("yaml", "tir"):
+        raise UsageError(f"--to {to!r}: expected 'yaml' or 'tir'")
+    doc, label = read_document(ref)
+    mfp.tire_data(doc)  # refuse what cannot be evaluated
+    if to == "yaml":
+        head = (f"# {label} as YAML (tirecli tir convert --to yaml): sections, keys, values, units and tables "
+                f"as in the .tir file;\n# convert back with: tirecli tir convert FILE.yaml --to tir\n")
+        text = head + dump_yaml(tirio.to_yaml_data(doc))
+    else:
+        text = tirio.format_tir(doc)
+    if out is None:
+        return text.rstrip("\n")
+    path = Path(out)
+    if path.exists() and path.is_dir():
+        raise UsageError(f"--out {out}: is a directory")
+    from tirecli.io.output import write_text
+
+    write_text(path, text)
+    return f"wrote {path}"
+
+
+# --------------------------------------------------------------------------- mf eval
+
+
+def load_tire(ref: str, base_dir: Path | None = None):
+    """``(ParameterSet, MFTire)`` of a built-in tyre name or a ``.tir``/YAML path."""
+    from tirecli.parameters.sets import load_set
+
+    if ref not in mfp.builtin_tire_names() and not Path(ref).exists():
+        read_document(ref)  # raises with a did-you-mean
+    ps = load_set(ref, base_dir or Path.cwd())
+    if ps.kind != "magic_formula":
+        raise UsageError(f"{ref}: a {ps.kind} parameter set, not a Magic Formula tyre")
+    return ps, mfp.tire_from_set(ps)
+
+
+def _echo_ok(lines: list[bytes], header: list[str], n: int, mapped: bool) -> bool:
+    """Whether the input rows can be copied verbatim (plain CSV in the canonical column order)."""
+    if mapped or len(lines) != n + 1:
+        return False
+    canon = list(INPUT_COLUMNS[:4])
+    rest = header[4:]
+    if header[:4] != canon or rest not in ([], ["p"], ["vx"], ["p", "vx"]):
+        return False
+    return not any(b"#" in ln or b'"' in ln or not ln.strip() for ln in lines)
+
+
+def mf_eval(tire_ref: str, points: str | Path, out: str | Path, convention: str = "mfeval", side: str | None = None,
+            limits: bool = True, mapping: dict | None = None, threads: int | None = None) -> dict:
+    """Evaluate a tyre at the points of a CSV and write the result CSV (``tirecli mf eval``).
+
+    ``points`` has the columns ``kappa, alpha, gamma, fz`` (rad, N) and optionally ``p`` [Pa] and
+    ``vx`` [m/s] (defaults: the tyre's INFLPRES/NOMPRES and LONGVL). The result has the six input
+    columns (inputs copied verbatim when the file is a plain CSV in that column order, else written
+    exactly) followed by ``fx, fy, mz, mx, my`` (ISO-W, N and N m, 17 significant digits). Bad
+    input (missing column, non-numeric or NaN cell, p <= 0) is a DataError naming the column and
+    row, and nothing is written.
+    """
+    from tirecli.io.data import read_columns
+    from tirecli.io.fastcsv import format_rows, read_lines, write_rows
+    from tirecli.models.magic_formula import evaluate
+
+    ps, tire = load_tire(tire_ref)
+    if side is not None and tire.side == "unknown" and tire.family == "mf":
+        raise UsageError(f"--side {side}: the tyre {tire_ref} does not say which side it was measured on "
+                         "(no TYRESIDE), so it cannot be mirrored")
+    points = Path(points)
+    cols = read_columns(points, list(INPUT_COLUMNS[:4]), min_rows=1, optional=("p", "vx"), rename=mapping)
+    n = len(cols["kappa"])
+    p, vx = cols.get("p"), cols.get("vx")
+    if p is not None:
+        bad = np.flatnonzero(p <= 0)
+        if bad.size:
+            raise DataError(f"{points}: column 'p' row {bad[0] + 1}: pressure must be > 0 Pa, got {p[bad[0]]:g}")
+    if vx is None and tire.family == "mf" and tire.reference_speed is None:
+        raise DataError(f"{points}: no column 'vx' and the tyre has no LONGVL to default to")
+    p_def = tire.default_pressure if tire.nominal_pressure else None
+    vx_def = tire.reference_speed
+    res = evaluate(tire, cols["kappa"], cols["alpha"], cols["gamma"], cols["fz"],
+                   vx if vx is not None else vx_def, p if p is not None else p_def,
+                   convention=convention, side=side, limits=limits, threads=threads)
+    bad = [k for k in OUTPUT_COLUMNS if not np.isfinite(getattr(res, k)).all()]
+    if bad:
+        raise RunError(f"non-finite {', '.join(bad)} at {int((~np.isfinite(getattr(res, bad[0]))).sum())} point(s)")
+    tails = format_rows([getattr(res, k) for k in OUTPUT_COLUMNS], threads=threads)
+    lines = read_lines(points)
+    header = [h.strip() for h in lines[0].decode("utf-8", "replace").split(",")] if lines else []
+    const = {k: (b"" if d is None else repr(float(d)).encode()) for k, d in (("p", p_def), ("vx", vx_def))}
+    joiner = b","
+    if _echo_ok(lines, header, n, bool(mapping)):
+        joiner = b"".join(b"," + const[k] for k in ("p", "vx") if k not in header) + b","
+        prefixes = lines[1:]
+        if any(ln[-1:].isspace() for ln in prefixes):
+            prefixes = [ln.rstrip() for ln in prefixes]
+        how = "copied"
+    else:
+        ins = [cols["kappa"], cols["alpha"], cols["gamma"], cols["fz"]]
+        prefixes = format_rows(ins, threads=threads)
+        for k, arr in (("p", p), ("vx", vx)):
+            if arr is not None:
+                prefixes = [a + b"," + b for a, b in zip(prefixes, format_rows([arr], threads=threads))]
+            else:
+                prefixes = [a + b"," + const[k] for a in prefixes]
+        how = "rewritten exactly"
+    out = Path(out)
+    if out.exists() and out.is_dir():
+        raise UsageError(f"--out {out}: is a directory")
+    try:
+        write_rows(out, ",".join(INPUT_COLUMNS + OUTPUT_COLUMNS), prefixes, tails, joiner)
+    except OSError as exc:
+        raise UsageError(f"--out {out}: cannot write ({exc.strerror})") from None
+    return {"points": n, "tire": ps.name, "version": tire.version, "side": tire.side, "mirrored": res.mirrored,
+            "convention": res.convention, "limits": limits, "counts": res.counts, "inputs": how, "out": str(out),
+            "pressure_default": p_def if p is None else None, "speed_default": vx_def if vx is None else None}
+
+
+def describe_counts(counts: dict) -> list[str]:
+    """Lines naming every input rule that touched points (``tirecli mf eval``, run.json)."""
+    from tirecli.models.magic_formula.inputs import COUNTERS
+
+    return [f"{n} point(s): {COUNTERS.get(k, k)}" for k, n in counts.items() if n]
+
+
+__all__ = ["tir_show", "tir_check", "tir_convert", "mf_eval", "load_tire", "read_document", "describe_counts"]
