@@ -135,9 +135,20 @@ def plan(config: Config):
     return checked, tire, variants, thetas_fm
 
 
-@register_study("sweep", check=plan)
+def check_sweep(config: Config):
+    """Check a sweep config of either model family (LuGre or Magic Formula ``tire:``)."""
+    from tirecli.studies import mf_sweep
+
+    return mf_sweep.plan(config) if mf_sweep.uses_mf_tire(config) else plan(config)
+
+
+@register_study("sweep", check=check_sweep)
 def run_sweep(config: Config, progress=None) -> StudyResult:
     """Run a steady-state sweep config (see module doc)."""
+    from tirecli.studies import mf_sweep
+
+    if mf_sweep.uses_mf_tire(config):
+        return mf_sweep.run_mf_sweep(config, progress)
     checked, tire, variants, thetas_fm = plan(config)
     p = tire.model()
     sw = checked["sweep"]

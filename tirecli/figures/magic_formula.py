@@ -1,0 +1,330 @@
+"""Magic Formula figures: pure-slip families, camber, combined slip, the LuGre comparison, one
+overview card per built-in tyre and one card per golden-data block (spec magic_formula.md).
+
+Curves are drawn in ISO-W (§2.2): a positive slip angle gives a negative side force and, at
+small angles, a positive aligning moment. The comparison with LuGre uses ``|mu|`` against
+``|s|`` (the LuGre slip of :mod:`tirecli.conventions`), so signs do not matter there.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from tirecli.figures.registry import register
+from tirecli.figures.style import COLORS, LINESTYLES, finish, new_figure
+from tirecli.studies.base import Check
+
+ISO = " (ISO-W)"
+
+
+def _fam(df, family):
+    return df[df["family"] == family]
+
+
+def _by(df, key):
+    for i, (val, d) in enumerate(df.groupby(key, sort=True)):
+        yield i, val, d
+
+
+def _plot_family(ax, df, family, x, y, key, label_fmt):
+    d = _fam(df, family)
+    for i, val, g in _by(d, key):
+        g = g.sort_values(x)
+        ax.plot(g[x], g[y], color=COLORS[i % len(COLORS)], ls=LINESTYLES[(i // len(COLORS)) % len(LINESTYLES)],
+                label=label_fmt.format(val))
+
+
+def _title(result, what):
+    name = result.parameter_sets["tire"].name
+    return f"{what}: {name} ({result.meta.get('convention', 'mfeval')})"
+
+
+def draw_fx_kappa(ax, result):
+    _plot_family(ax, result.data["sweep"], "fx-kappa", "kappa", "fx", "fz", "Fz = {:g} N")
+    finish(ax, "longitudinal slip kappa [-]", "Fx [N]" + ISO, _title(result, "Fx vs kappa"))
+
+
+def draw_fy_alpha(ax, result):
+    _plot_family(ax, result.data["sweep"], "fy-alpha", "alpha", "fy", "fz", "Fz = {:g} N")
+    finish(ax, "slip angle alpha [rad]", "Fy [N]" + ISO, _title(result, "Fy vs alpha"))
+
+
+def draw_mz_alpha(ax, result):
+    _plot_family(ax, result.data["sweep"], "fy-alpha", "alpha", "mz", "fz", "Fz = {:g} N")
+    finish(ax, "slip angle alpha [rad]", "Mz [N m]" + ISO, _title(result, "Mz vs alpha"))
+
+
+def draw_camber(axes, result):
+    df = result.data["sweep"]
+    fz = _fam(df, "camber")["fz"].iloc[0] if len(_fam(df, "camber")) else float("nan")
+    for ax, y, lab in zip(axes, ("fy", "mz"), ("Fy [N]", "Mz [N m]")):
+        _plot_family(ax, df, "camber", "alpha", y, "gamma", "gamma = {:g} rad")
+        finish(ax, "slip angle alpha [rad]", lab + ISO, f"camber family at Fz = {fz:g} N")
+
+
+def draw_combined(axes, result):
+    df = result.data["sweep"]
+    a, b = axes
+    _plot_family(a, df, "combined-alpha", "kappa", "fy", "alpha", "alpha = {:g} rad")
+    d = _fam(df, "combined-alpha")
+    a.clear()
+    for i, val, g in _by(d, "alpha"):
+        g = g.sort_values("kappa")
+        a.plot(g["fx"], g["fy"], color=COLORS[i % len(COLORS)], label=f"alpha = {val:g} rad (kappa swept)")
+    finish(a, "Fx [N]" + ISO, "Fy [N]" + ISO, "combined slip: fixed alpha")
+    d = _fam(df, "combined-kappa")
+    for i, val, g in _by(d, "kappa"):
+        g = g.sort_values("alpha")
+        b.plot(g["fx"], g["fy"], color=COLORS[i % len(COLORS)], label=f"kappa = {val:g} (alpha swept)")
+    finish(b, "Fx [N]" + ISO, "Fy [N]" + ISO, "combined slip: fixed kappa")
+
+
+@register("mf-fx-kappa", paper="generic", label="MF sweep", title="Magic Formula Fx vs kappa at several loads",
+          caption="Longitudinal force against the practical slip kappa (ISO-W, > 0 driving) at alpha = gamma = 0, "
+                  "one curve per load.")
+def fig_fx_kappa(result):
+    fig, ax = new_figure()
+    draw_fx_kappa(ax, result)
+    return fig
+
+
+@register("mf-fy-alpha", paper="generic", label="MF sweep", title="Magic Formula Fy vs alpha at several loads",
+          caption="Lateral force against the slip angle at kappa = gamma = 0, one curve per load; ISO-W signs "
+                  "(alpha > 0 gives Fy < 0).")
+def fig_fy_alpha(result):
+    fig, ax = new_figure()
+    draw_fy_alpha(ax, result)
+    return fig
+
+
+@register("mf-mz-alpha", paper="generic", label="MF sweep", title="Magic Formula Mz vs alpha at several loads",
+          caption="Aligning moment (combined-slip formula of spec §6.3 at kappa = 0) against the slip angle, "
+                  "one curve per load; ISO-W signs.")
+def fig_mz_alpha(result):
+    fig, ax = new_figure()
+    draw_mz_alpha(ax, result)
+    return fig
+
+
+@register("mf-camber", paper="generic", label="MF sweep", title="Magic Formula camber family",
+          caption="Fy and Mz against the slip angle for several inclination angles at one load (kappa = 0).")
+def fig_camber(result):
+    fig, axes = new_figure(ncols=2, width=11.0, height=4.2)
+    draw_camber(axes, result)
+    return fig
+
+
+@register("mf-combined", paper="generic", label="MF sweep", title="Magic Formula combined slip (Fx-Fy)",
+          caption="Fy against Fx under combined slip at one load: kappa swept at fixed slip angles (left) and "
+                  "alpha swept at fixed slips (right); the weighting functions G_xa, G_yk of spec §6.")
+def fig_combined(result):
+    fig, axes = new_figure(ncols=2, width=11.0, height=4.2)
+    draw_combined(axes, result)
+    return fig
+
+
+# --------------------------------------------------------------------------- LuGre vs MF
+
+
+def _compare_checks(result):
+    """Both curves start at the origin and stay finite; the Magic Formula curve's initial slope
+    d|mu|/d|s| is K_xk / Fz (spec §5.1: slope at zero slip equals the stiffness)."""
+    from tirecli.models.magic_formula.mf61 import pure_slip_factors
+
+    d = _fam(result.data["sweep"], "compare")
+    lu = result.data["lugre"]
+    bad = float((~np.isfinite(d["mu_x"])).sum() + (~np.isfinite(lu["mu"])).sum())
+    out = [Check("finite", "non-finite |mu| values on the comparison plot", bad, 0.0, 0.0, "-", "output contract")]
+    t = result.payload["tire"]
+    if t.family == "mf":
+        fz = float(d["fz"].iloc[0])
+        f = pure_slip_factors(t, fz, convention=result.payload["convention"])
+        g = d.assign(s=d["slip"].abs()).sort_values("s")
+        g = g[(g["kappa"] > 0) & (g["kappa"] < 0.01)]
+        if len(g) >= 2:
+            s0 = g.iloc[:2]
+            slope = float(np.diff(s0["mu_x"])[0] / np.diff(s0["kappa"])[0])
+            out.append(Check("mf-slope", "Magic Formula d(Fx/Fz)/dkappa near zero slip over K_xk/Fz", slope / (f["fx"]["K"] / fz),
+                             1.0, 0.05, "-", "magic_formula.md §5.1"))
+    return out
+
+
+@register(
+    "mf-lugre-compare", paper="MF", label="LuGre vs MF", study="mf-lugre-compare", order=5,
+    title="Steady-state LuGre (FM Table 1) and a Magic Formula tyre on one |mu| - |s| plot",
+    caption="Braking and driving friction |mu| = |F|/F_n against the slip |s| (s = vr / max(v, r omega), "
+            "tirecli.conventions): the distributed LuGre steady state (uniform load, FM Table 1, held speed) "
+            "and the Magic Formula pure longitudinal force Fx/Fz at one load on the same slip grid (kappa = "
+            "kappa_from_slip(s); input clipping off, since the file's KPUMAX would flatten the driving branch). "
+            "The Magic Formula curve does not depend on speed; LuGre's falls with speed (Stribeck).",
+    paper_shows="No paper figure: the comparison the MCPS paper makes between a dynamic friction model and the "
+                "Magic Formula, drawn with the tyres available here (spec magic_formula.md §16).",
+    checks=_compare_checks,
+)
+def fig_lugre_compare(result):
+    fig, ax = new_figure()
+    d = _fam(result.data["sweep"], "compare")
+    name = result.parameter_sets["tire"].name
+    for i, (direction, sel) in enumerate((("braking", d["kappa"] <= 0), ("driving", d["kappa"] >= 0))):
+        g = d[sel].assign(s=np.abs(d["slip"]), m=np.abs(d["mu_x"])).sort_values("s")
+        ax.plot(g["s"], g["m"], color=COLORS[0], ls=LINESTYLES[i],
+                label=f"Magic Formula {name}, Fz = {g['fz'].iloc[0]:g} N ({direction})")
+    lu = result.data["lugre"]
+    lname = result.parameter_sets["lugre"].name
+    for i, direction in enumerate(("braking", "driving")):
+        g = lu[lu["direction"] == direction]
+        g = g.assign(s=np.abs(g["slip"]), m=np.abs(g["mu"])).sort_values("s")
+        if len(g):
+            ax.plot(g["s"], g["m"], color=COLORS[1], ls=LINESTYLES[i],
+                    label=f"LuGre {lname}, {g['speed'].iloc[0]:g} m/s ({direction})")
+    finish(ax, "slip |s| [-]", "friction |mu| = |F|/F_n [-]", "LuGre and Magic Formula steady states")
+    ax.set_xlim(0, 1)
+    ax.set_ylim(bottom=0)
+    return fig
+
+
+# --------------------------------------------------------------------------- built-in tyre cards
+
+
+def _tire_checks(result):
+    """Facts every Magic Formula curve of a sweep must satisfy (spec §5, §13.1, §15.5)."""
+    from tirecli.models.magic_formula import evaluate
+    from tirecli.models.magic_formula.mf61 import pure_slip_factors
+
+    t = result.payload["tire"]
+    df = result.data["sweep"]
+    cols = ["fx", "fy", "mz", "mx", "my"]
+    bad = float(sum(int((~np.isfinite(df[c])).sum()) for c in cols))
+    out = [Check("finite", "non-finite outputs over the whole sweep", bad, 0.0, 0.0, "-", "issue 6")]
+    if t.family != "mf":
+        return out
+    conv = result.payload["convention"]
+    fz0 = t["FNOMIN"]
+    f = pure_slip_factors(t, fz0, convention=conv)
+    h = 1e-7
+    sh = f["fx"]["SH"]
+    fx = evaluate(t, np.array([-sh - h, -sh + h, -sh]), 0.0, 0.0, fz0, convention=conv, limits=False).fx
+    slope = (fx[1] - fx[0]) / (2 * h)
+    out += [
+        Check("kxk-slope", "dFx0/dkappa at kappa_x = 0 over K_xk (spec §13.1: slope BCD = K)", float(slope / f["fx"]["K"]),
+              1.0, 1e-5, "-", "magic_formula.md §5.1, §13.1"),
+        Check("fx-shift", "Fx0(kappa = -S_Hx) - S_Vx [N] (spec §15.5)", float(fx[2] - f["fx"]["SV"]), 0.0,
+              1e-9 * fz0, "N", "magic_formula.md §15.5"),
+    ]
+    shy = f["fy"]["SH"]
+    fy = evaluate(t, 0.0, np.array([-shy - h, -shy + h, -shy]), 0.0, fz0, convention=conv, limits=False).fy
+    out += [
+        Check("kya-slope", "dFy0/dalpha at alpha_y = 0 over K_ya", float((fy[1] - fy[0]) / (2 * h) / f["fy"]["K"]),
+              1.0, 1e-5, "-", "magic_formula.md §5.2, §13.1"),
+        Check("fy-shift", "Fy0(alpha = -S_Hy) - S_Vy [N] (spec §15.5)", float(fy[2] - f["fy"]["SV"]), 0.0,
+              1e-9 * fz0, "N", "magic_formula.md §15.5"),
+    ]
+    if result.parameter_sets["tire"].name == "pacejka2006-205-60r15":
+        for fz, mux, kxk, muy, kya in ((2000.0, 1.2285, 38204.2551, -1.0625, -26608.8700),
+                                       (4000.0, 1.2100, 86040.0, -0.9900, -46009.1387)):
+            g = pure_slip_factors(t, fz, convention=conv)
+            out += [
+                Check(f"mux-{fz:g}", f"mu_x at Fz = {fz:g} N", float(g["fx"]["mu"]), mux, 5e-5, "-", "magic_formula.md §15.5"),
+                Check(f"kxk-{fz:g}", f"K_xk at Fz = {fz:g} N", float(g["fx"]["K"]), kxk, 5e-5, "N", "magic_formula.md §15.5"),
+                Check(f"muy-{fz:g}", f"mu_y at Fz = {fz:g} N", float(g["fy"]["mu"]), muy, 5e-5, "-", "magic_formula.md §15.5"),
+                Check(f"kya-{fz:g}", f"K_ya at Fz = {fz:g} N", float(g["fy"]["K"]), kya, 5e-5, "N/rad", "magic_formula.md §15.5"),
+            ]
+    return out
+
+
+def draw_overview(result):
+    """Six panels: Fx-kappa, Fy-alpha, Mz-alpha at several loads; camber Fy, Mz; combined Fx-Fy."""
+    fig, axes = new_figure(ncols=3, nrows=2, width=15.0, height=8.4)
+    draw_fx_kappa(axes[0, 0], result)
+    draw_fy_alpha(axes[0, 1], result)
+    draw_mz_alpha(axes[0, 2], result)
+    draw_camber(axes[1, :2], result)
+    d = _fam(result.data["sweep"], "combined-alpha")
+    ax = axes[1, 2]
+    for i, val, g in _by(d, "alpha"):
+        g = g.sort_values("kappa")
+        ax.plot(g["fx"], g["fy"], color=COLORS[i % len(COLORS)], label=f"alpha = {val:g} rad")
+    finish(ax, "Fx [N]" + ISO, "Fy [N]" + ISO, "combined slip, kappa swept")
+    for a in axes.ravel():
+        a.title.set_fontsize(9)
+    return fig
+
+
+def _register_tire_cards():
+    from tirecli.parameters.mf import BUILTIN_TIRES
+
+    for i, (name, meta) in enumerate(sorted(BUILTIN_TIRES.items())):
+        register(
+            f"mf-tire-{name}", paper="MF", label=f"built-in tyre {name}", study=f"mf-sweep-{name}", order=20 + i,
+            title=f"Sweeps of the built-in tyre {name}",
+            caption=f"{meta['title']}. Fx against kappa, Fy and Mz against alpha at 0.5, 1 and 1.5 x FNOMIN; Fy and "
+                    "Mz for a camber family; combined-slip Fx-Fy at fixed slip angles (mfeval convention, ISO-W). "
+                    f"Source: {meta['citation']}; licence {meta['licence']}.",
+            paper_shows="Reference facts instead of a paper figure: the slopes at zero slip equal the stiffnesses "
+                        "K_xk and K_ya, the curves pass through (-S_H, S_V), outputs are finite"
+                        + (", and the derived values of spec §15.5." if name == "pacejka2006-205-60r15" else "."),
+            checks=_tire_checks,
+        )(draw_overview)
+
+
+_register_tire_cards()
+
+
+# --------------------------------------------------------------------------- golden-data cards
+
+
+def _golden_block(result, block):
+    df = result.data["golden"]
+    return df[df["block"] == block]
+
+
+def _golden_checks_for(block):
+    from tirecli.studies.mf_golden import OUTPUTS, TOLERANCE
+
+    def checks(result):
+        d = _golden_block(result, block)
+        worst = max(float(np.abs(d[f"{c}_residual"]).max()) for c in OUTPUTS)
+        per = {c: float(np.abs(d[f"{c}_residual"]).max()) for c in OUTPUTS}
+        which = max(per, key=per.get)
+        return [Check("largest-residual", f"largest |tirecli - golden| over the {len(d)} rows of {block}.csv "
+                                          f"(Fx, Fy, Mz, Mx, My; largest in {which})", worst, 0.0, TOLERANCE,
+                      "N or N m", "magic_formula.md §15.4")]
+
+    return checks
+
+
+def _draw_golden(block):
+    from tirecli.studies.mf_golden import OUTPUTS, TOLERANCE
+
+    def draw(result):
+        d = _golden_block(result, block)
+        fig, ax = new_figure(width=7.0, height=3.8)
+        x = d["row"].to_numpy()
+        for i, c in enumerate(OUTPUTS):
+            r = np.abs(d[f"{c}_residual"].to_numpy())
+            ax.semilogy(x + (i - 2) * 0.08, np.maximum(r, 1e-16), "o", ms=4, color=COLORS[i % len(COLORS)],
+                        label=c.replace("f", "F").replace("m", "M"))
+        ax.axhline(TOLERANCE, color="k", ls="--", lw=1, label=f"tolerance {TOLERANCE:g}")
+        ax.set_ylim(1e-17, 1e-4)
+        finish(ax, f"row of {block}.csv", "|tirecli - golden| [N, N m] (zero shown at 1e-16)",
+               f"golden rows {block}: {result.meta.get('convention')} convention", ncol=3)
+        return fig
+
+    return draw
+
+
+def _register_golden_cards():
+    from tirecli.studies.mf_golden import BLOCK_TITLES, GOLDEN
+
+    for i, block in enumerate(GOLDEN):
+        register(
+            f"mf-golden-{block.replace('_', '-')}", paper="MF", label=f"golden data {block}", study="mf-golden",
+            order=10 + i, title=f"Golden rows, {BLOCK_TITLES[block]}",
+            caption=f"The rows of {block}.csv quoted in spec §15.4 (Pacejka 2006 Table A3.1 tyre, teasit "
+                    "magic-formula-tyre-library under GNU Octave, via KMoula30/outlap), evaluated with the teasit "
+                    "convention: absolute residual of every output per row against the 1e-6 print precision.",
+            paper_shows="The public MF 6.1 golden values (spec §15.1-15.4): Fx, Fy, Mz, Mx, My printed to 1e-6.",
+            checks=_golden_checks_for(block),
+        )(_draw_golden(block))
+
+
+_register_golden_cards()
