@@ -160,9 +160,9 @@ def tir_convert(ref: str, to: str, out: str | None) -> str:
 
 def load_tire(ref: str, base_dir: Path | None = None):
     """``(ParameterSet, MFTire)`` of a built-in tyre name or a ``.tir``/YAML path."""
-    from tirecli.parameters.sets import load_set
+    from tirecli.parameters.sets import builtin_names, load_set
 
-    if ref not in mfp.builtin_tire_names() and not Path(ref).exists():
+    if ref not in builtin_names() and not Path(ref).exists():
         read_document(ref)  # raises with a did-you-mean
     ps = load_set(ref, base_dir or Path.cwd())
     if ps.kind != "magic_formula":
