@@ -64,9 +64,7 @@ def draw_camber(axes, result):
 def draw_combined(axes, result):
     df = result.data["sweep"]
     a, b = axes
-    _plot_family(a, df, "combined-alpha", "kappa", "fy", "alpha", "alpha = {:g} rad")
     d = _fam(df, "combined-alpha")
-    a.clear()
     for i, val, g in _by(d, "alpha"):
         g = g.sort_values("kappa")
         a.plot(g["fx"], g["fy"], color=COLORS[i % len(COLORS)], label=f"alpha = {val:g} rad (kappa swept)")
@@ -305,7 +303,10 @@ def _draw_golden(block):
                         label=c.replace("f", "F").replace("m", "M"))
         ax.axhline(TOLERANCE, color="k", ls="--", lw=1, label=f"tolerance {TOLERANCE:g}")
         ax.set_ylim(1e-17, 1e-4)
-        finish(ax, f"row of {block}.csv", "|tirecli - golden| [N, N m] (zero shown at 1e-16)",
+        from matplotlib.ticker import MaxNLocator
+
+        ax.xaxis.set_major_locator(MaxNLocator(integer=True))
+        finish(ax, f"row of the spec §15.4 excerpt of {block}.csv", "|tirecli - golden| [N, N m] (zero shown at 1e-16)",
                f"golden rows {block}: {result.meta.get('convention')} convention", ncol=3)
         return fig
 

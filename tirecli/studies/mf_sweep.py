@@ -40,7 +40,7 @@ import numpy as np
 import pandas as pd
 
 from tirecli.config.loader import Config
-from tirecli.config.schema import Bool, Grid, Map, Num, Raw, Str, collect
+from tirecli.config.schema import Bool, Grid, Map, Num, Raw, Str, check_document, collect
 from tirecli.conventions import kappa_from_slip, slip_from_kappa
 from tirecli.errors import ConfigError
 from tirecli.studies.base import StudyResult, common_fields
@@ -79,7 +79,7 @@ SPEC = Map(fields=common_fields() | {
     "convention": Str(choices=("mfeval", "teasit"), default="mfeval", doc="variant of spec §10"),
     "side": Str(choices=("left", "right"), default=None, doc="mount side (mirroring, §2.4)"),
     "limits": Bool(default=True, doc="input clipping and low-speed rules (§11)"),
-    "sweep": MF_SWEEP,
+    "sweep": Map(fields=MF_SWEEP.fields, default=None),
     "compare": COMPARE,
 })
 
@@ -113,6 +113,8 @@ def plan(config: Config):
     checked, tire = collect(lambda: config.checked(SPEC),
                             lambda: resolve_tire(config.data.get("tire"), config.origins, ("tire",), config.base_dir))
     ps, t = tire
+    if checked["sweep"] is None:  # every sweep key has a default
+        checked["sweep"] = check_document({}, MF_SWEEP, config.origins, ("sweep",))
     lugre = None
     cmp = checked["compare"]
     if cmp is not None:
