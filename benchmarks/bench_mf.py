@@ -24,17 +24,11 @@ from pathlib import Path
 
 import numpy as np
 
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from bench_steady_state import best_of  # noqa: E402  (the shared timing helper)
+
 ROOT = Path(__file__).resolve().parents[1]
 N = 1_000_000
-
-
-def best_of(fn, repeat=7):
-    times = []
-    for _ in range(repeat):
-        t0 = time.perf_counter()
-        fn()
-        times.append(time.perf_counter() - t0)
-    return min(times)
 
 
 def inputs(n=N, seed=0):

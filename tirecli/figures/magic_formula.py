@@ -76,48 +76,34 @@ def draw_combined(axes, result):
     finish(b, "Fx [N]" + ISO, "Fy [N]" + ISO, "combined slip: fixed kappa")
 
 
-@register("mf-fx-kappa", paper="generic", label="MF sweep", title="Magic Formula Fx vs kappa at several loads",
-          caption="Longitudinal force against the practical slip kappa (ISO-W, > 0 driving) at alpha = gamma = 0, "
-                  "one curve per load.")
-def fig_fx_kappa(result):
-    fig, ax = new_figure()
-    draw_fx_kappa(ax, result)
+def _figure_of(draw, ncols=1):
+    """A figure function drawing ``draw(ax_or_axes, result)`` on one panel or a row of ``ncols``."""
+
+    def fig(result):
+        f, axes = new_figure(ncols=ncols, width=6.4 if ncols == 1 else 11.0, height=4.2)
+        draw(axes, result)
+        return f
+
     return fig
 
 
-@register("mf-fy-alpha", paper="generic", label="MF sweep", title="Magic Formula Fy vs alpha at several loads",
-          caption="Lateral force against the slip angle at kappa = gamma = 0, one curve per load; ISO-W signs "
-                  "(alpha > 0 gives Fy < 0).")
-def fig_fy_alpha(result):
-    fig, ax = new_figure()
-    draw_fy_alpha(ax, result)
-    return fig
-
-
-@register("mf-mz-alpha", paper="generic", label="MF sweep", title="Magic Formula Mz vs alpha at several loads",
-          caption="Aligning moment (combined-slip formula of spec §6.3 at kappa = 0) against the slip angle, "
-                  "one curve per load; ISO-W signs.")
-def fig_mz_alpha(result):
-    fig, ax = new_figure()
-    draw_mz_alpha(ax, result)
-    return fig
-
-
-@register("mf-camber", paper="generic", label="MF sweep", title="Magic Formula camber family",
-          caption="Fy and Mz against the slip angle for several inclination angles at one load (kappa = 0).")
-def fig_camber(result):
-    fig, axes = new_figure(ncols=2, width=11.0, height=4.2)
-    draw_camber(axes, result)
-    return fig
-
-
-@register("mf-combined", paper="generic", label="MF sweep", title="Magic Formula combined slip (Fx-Fy)",
-          caption="Fy against Fx under combined slip at one load: kappa swept at fixed slip angles (left) and "
-                  "alpha swept at fixed slips (right); the weighting functions G_xa, G_yk of spec §6.")
-def fig_combined(result):
-    fig, axes = new_figure(ncols=2, width=11.0, height=4.2)
-    draw_combined(axes, result)
-    return fig
+for _id, _title_text, _caption, _draw, _ncols in (
+    ("mf-fx-kappa", "Magic Formula Fx vs kappa at several loads",
+     "Longitudinal force against the practical slip kappa (ISO-W, > 0 driving) at alpha = gamma = 0, one curve "
+     "per load.", draw_fx_kappa, 1),
+    ("mf-fy-alpha", "Magic Formula Fy vs alpha at several loads",
+     "Lateral force against the slip angle at kappa = gamma = 0, one curve per load; ISO-W signs (alpha > 0 gives "
+     "Fy < 0).", draw_fy_alpha, 1),
+    ("mf-mz-alpha", "Magic Formula Mz vs alpha at several loads",
+     "Aligning moment (combined-slip formula of spec §6.3 at kappa = 0) against the slip angle, one curve per load; "
+     "ISO-W signs.", draw_mz_alpha, 1),
+    ("mf-camber", "Magic Formula camber family",
+     "Fy and Mz against the slip angle for several inclination angles at one load (kappa = 0).", draw_camber, 2),
+    ("mf-combined", "Magic Formula combined slip (Fx-Fy)",
+     "Fy against Fx under combined slip at one load: kappa swept at fixed slip angles (left) and alpha swept at "
+     "fixed slips (right); the weighting functions G_xa, G_yk of spec §6.", draw_combined, 2),
+):
+    register(_id, paper="generic", label="MF sweep", title=_title_text, caption=_caption)(_figure_of(_draw, _ncols))
 
 
 # --------------------------------------------------------------------------- LuGre vs MF

@@ -372,37 +372,34 @@ def fy0_curve(t: MFTire, cv: Convention, b, f, alpha_raw):
 def g_xa(t: MFTire, cv: Convention, b, kappa, g_star):
     """Weighting function ``G_xa`` [-] of ``Fx`` under side slip (§6.1, 4.E51-4.E57)."""
     c = t.coef
-    bxa = c["RBX1"]
-    if not t.is_52 and c["RBX3"] and not _is_zero(g_star):
-        bxa = bxa + c["RBX3"] * np.square(g_star)
-    if c["RBX2"]:
-        bxa = bxa * _cos_atan(c["RBX2"] * kappa)
-    bxa = _scale(bxa, c["LXAL"])
-    cxa = c["RCX1"]
-    exa = _clip_e(_lin(c["REX1"], c["REX2"], b.dfz), cv)
-    shxa = c["RHX1"]
-    num = cos_curve(bxa, cxa, exa, b.a_star + shxa if shxa else b.a_star)
-    if shxa == 0.0:
-        return num
-    return num / cos_curve(bxa, cxa, exa, shxa)
+    bxa = _weighting_slope(t, c["RBX1"], c["RBX3"], g_star, c["RBX2"], kappa, c["LXAL"])
+    return _weighting(bxa, c["RCX1"], _clip_e(_lin(c["REX1"], c["REX2"], b.dfz), cv), b.a_star, c["RHX1"])
 
 
 def g_yk(t: MFTire, cv: Convention, b, kappa, g_star):
     """Weighting function ``G_yk`` [-] of ``Fy`` under longitudinal slip (§6.2, 4.E59-4.E65)."""
     c = t.coef
-    byk = c["RBY1"]
-    if not t.is_52 and c["RBY4"] and not _is_zero(g_star):
-        byk = byk + c["RBY4"] * np.square(g_star)
-    if c["RBY2"]:
-        byk = byk * _cos_atan(c["RBY2"] * (b.a_star - c["RBY3"]))
-    byk = _scale(byk, c["LYKA"])
-    cyk = c["RCY1"]
-    eyk = _clip_e(_lin(c["REY1"], c["REY2"], b.dfz), cv)
-    shyk = _lin(c["RHY1"], c["RHY2"], b.dfz)
-    num = cos_curve(byk, cyk, eyk, kappa + shyk)
-    if _is_zero(shyk):
-        return num
-    return num / cos_curve(byk, cyk, eyk, shyk)
+    byk = _weighting_slope(t, c["RBY1"], c["RBY4"], g_star, c["RBY2"], b.a_star - c["RBY3"], c["LYKA"])
+    return _weighting(byk, c["RCY1"], _clip_e(_lin(c["REY1"], c["REY2"], b.dfz), cv), kappa,
+                      _lin(c["RHY1"], c["RHY2"], b.dfz))
+
+
+def _weighting_slope(t, r1, r_cam, g_star, r2, arg, scale):
+    """``B = (r1 + r_cam g*^2) cos(arctan(r2 arg)) lambda`` of G_xa (4.E54) and G_yk (4.E62)."""
+    B = r1
+    if not t.is_52 and r_cam and not _is_zero(g_star):
+        B = B + r_cam * np.square(g_star)
+    if r2:
+        B = B * _cos_atan(r2 * arg)
+    return _scale(B, scale)
+
+
+def _weighting(B, C, E, x, shift):
+    """``cos(C atan(B x_s - E(...))) / cos(C atan(B S_H - E(...)))`` with ``x_s = x + S_H``: the
+    combined-slip weighting functions G_xa (4.E51-4.E52) and G_yk (4.E59-4.E60), 1 at ``x = 0``."""
+    if _is_zero(shift):
+        return cos_curve(B, C, E, x)
+    return cos_curve(B, C, E, x + shift) / cos_curve(B, C, E, shift)
 
 
 def sv_yk(t: MFTire, b, kappa, fz, mu_y, g_star, zeta2=1.0, red=None):
