@@ -372,14 +372,14 @@ def fy0_curve(t: MFTire, cv: Convention, b, f, alpha_raw):
 def g_xa(t: MFTire, cv: Convention, b, kappa, g_star):
     """Weighting function ``G_xa`` [-] of ``Fx`` under side slip (§6.1, 4.E51-4.E57)."""
     c = t.coef
-    bxa = _weighting_slope(t, c["RBX1"], c["RBX3"], g_star, c["RBX2"], kappa, c["LXAL"])
+    bxa = _weighting_slope(t, c["RBX1"], c.get("RBX3", 0.0), g_star, c["RBX2"], kappa, c["LXAL"])
     return _weighting(bxa, c["RCX1"], _clip_e(_lin(c["REX1"], c["REX2"], b.dfz), cv), b.a_star, c["RHX1"])
 
 
 def g_yk(t: MFTire, cv: Convention, b, kappa, g_star):
     """Weighting function ``G_yk`` [-] of ``Fy`` under longitudinal slip (§6.2, 4.E59-4.E65)."""
     c = t.coef
-    byk = _weighting_slope(t, c["RBY1"], c["RBY4"], g_star, c["RBY2"], b.a_star - c["RBY3"], c["LYKA"])
+    byk = _weighting_slope(t, c["RBY1"], c.get("RBY4", 0.0), g_star, c["RBY2"], b.a_star - c["RBY3"], c["LYKA"])
     return _weighting(byk, c["RCY1"], _clip_e(_lin(c["REY1"], c["REY2"], b.dfz), cv), kappa,
                       _lin(c["RHY1"], c["RHY2"], b.dfz))
 
