@@ -245,7 +245,7 @@ def mf_eval(tire_ref: str, points: str | Path, out: str | Path, convention: str 
         write_rows(out, ",".join(INPUT_COLUMNS + OUTPUT_COLUMNS), prefixes, tails, joiner)
     except OSError as exc:
         raise UsageError(f"--out {out}: cannot write ({exc.strerror})") from None
-    return {"points": n, "tire": ps.name, "version": tire.version, "side": tire.side, "mirrored": res.mirrored,
+    return {"points": n, "tire": ps.name, "warnings": list((ps.extra or {}).get("warnings", [])), "version": tire.version, "side": tire.side, "mirrored": res.mirrored,
             "convention": res.convention, "limits": limits, "counts": res.counts, "inputs": how, "out": str(out),
             "pressure_default": p_def if p is None else None, "speed_default": vx_def if vx is None else None}
 

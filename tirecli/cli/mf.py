@@ -62,6 +62,8 @@ def eval_(
     echo(f"mf eval: {s['points']} point(s), tyre {s['tire']} (MF {s['version']}, measured {s['side']}"
          f"{', mirrored' if s['mirrored'] else ''}), convention {s['convention']}"
          + (f"; {', '.join(extra)}" if extra else ""))
+    if s["warnings"]:
+        echo(f"{len(s['warnings'])} reader warning(s) for {tire} (tirecli tir show {tire} lists them)")
     touched = describe_counts(s["counts"])
     if s["limits"]:
         echo("limits and low-speed rules: " + ("; ".join(touched) if touched else "no point touched"))

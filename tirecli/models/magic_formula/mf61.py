@@ -495,6 +495,8 @@ def equivalent_slip(angle, ratio2, cv: Convention):
     ``ratio2 = (K_xk/K'_ya)^2 kappa^2``; paper: ``arctan(sqrt(tan^2(angle) + ratio2)) sgn(angle)``,
     book: ``sqrt(angle^2 + ratio2) sgn(angle)``.
     """
+    if _is_zero(ratio2) and not np.any(np.abs(angle) >= 0.5 * np.pi):
+        return angle  # no longitudinal slip: the equivalent slip is the slip angle itself
     if cv.eq_slip_paper:
         r = np.arctan(np.sqrt(np.square(np.tan(angle)) + ratio2))
     else:
@@ -668,7 +670,7 @@ def _mz(t, cv, b, kappa, alpha, vx, fz, fz_mz, fxf, fyf, L, fy0, gyk, svyk, fx, 
     if ts is not None:
         turnslip.mz_zetas(t, cv, b, fz, fyf, gyk, m, ts)
     # equivalent slips (A54/A55 or 4.E77/4.E78) with the stiffness ratio K_xk / K'_ya (with camber)
-    ratio2 = np.square((fxf.K / fyf.Kp) * kappa)
+    ratio2 = 0.0 if _is_zero(kappa) else np.square((fxf.K / fyf.Kp) * kappa)
     at_eq = equivalent_slip(m.alpha_t, ratio2, cv)
     ar_eq = equivalent_slip(m.alpha_r, ratio2, cv)
     trail = _imul(_imul(cos_curve(m.Bt, m.Ct, m.Et, at_eq), m.Dt), cos_ap)
