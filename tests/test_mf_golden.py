@@ -56,3 +56,12 @@ def test_nominal_load_identities(book):
     f = pure_slip_factors(t, 4000.0)
     assert f["fx"]["mu"] == pytest.approx(1.21 * 0.8, rel=1e-14)
     assert f["fx"]["K"] == pytest.approx(4000.0 * 21.51 * 1.3, rel=1e-14)
+
+
+def test_pure_slip_mz0_matches_the_kappa0_golden_rows(book):
+    """teasit's kappa = 0 path is the pure-slip Mz0 (spec §15.4): the uncombined evaluation gives the
+    same Mz for every fy0_mz row, whatever kappa is passed with it."""
+    g = rows("fy0_mz")
+    r = evaluate(book, 0.3, g[:, 1], g[:, 2], g[:, 3], g[:, 5], g[:, 4], convention="teasit", combined=False)
+    assert np.abs(r.mz - g[:, 8]).max() <= TOL
+    assert np.abs(r.fy - g[:, 7]).max() <= TOL  # Fy0 does not see the kappa = 0.3 passed along

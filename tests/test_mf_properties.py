@@ -224,3 +224,13 @@ def test_effective_rolling_radius():
     re, om = effective_rolling_radius(t, np.array([2000.0, 6752.0, 12000.0]), 0.0, 16.6)
     assert (np.diff(re) < 0).all() and (re < t["UNLOADED_RADIUS"]).all() and (re > 0.3).all()
     assert np.allclose(om * re, 16.6)  # kappa = 0: Omega R_e = Vx
+
+
+def test_uncombined_equals_combined_at_zero_cross_slip(tire):
+    k = np.linspace(-0.4, 0.4, 9)
+    a = np.linspace(-0.2, 0.2, 7)
+    pure = evaluate(tire, k[:, None], a, 0.01, combined=False, outputs=("fx", "fy"))
+    fx_a0 = evaluate(tire, k, 0.0, 0.01, outputs=("fx",)).fx
+    fy_k0 = evaluate(tire, 0.0, a, 0.01, outputs=("fy",)).fy
+    np.testing.assert_array_equal(pure.fx, np.broadcast_to(fx_a0[:, None], pure.fx.shape))
+    np.testing.assert_array_equal(pure.fy, np.broadcast_to(fy_k0, pure.fy.shape))

@@ -92,14 +92,15 @@ def _as_input(x, shape, n):
     return np.broadcast_to(a, shape).reshape(n)  # copies a broadcast view
 
 
-def _block(t, cv, vals, need, limits, low_speed, lo, hi, outs):
+def _block(t, cv, vals, need, limits, low_speed, combined, lo, hi, outs):
     sl = slice(lo, hi)
     kappa, alpha, gamma, fz, vx, p, phit = (v[sl] if isinstance(v, np.ndarray) else v for v in vals)
     pr = _inputs.prepare(t, kappa, alpha, gamma, fz, vx, p, phit, limits, low_speed, need_my="my" in need)
     if t.family == "pac89":
         res = evaluate_pac89(t, pr.kappa, pr.alpha, pr.gamma, pr.fz, need)
     else:
-        res = evaluate_kernel(t, cv, pr.kappa, pr.alpha, pr.gamma, pr.fz, pr.vx, pr.p, need, phit=pr.phit, **pr.kernel)
+        res = evaluate_kernel(t, cv, pr.kappa, pr.alpha, pr.gamma, pr.fz, pr.vx, pr.p, need, phit=pr.phit,
+                              combined=combined, **pr.kernel)
     for k in need:
         outs[k][sl] = res[k]
     return pr.counts
@@ -107,8 +108,8 @@ def _block(t, cv, vals, need, limits, low_speed, lo, hi, outs):
 
 def evaluate(tire: MFTire, kappa=0.0, alpha=0.0, gamma=0.0, fz=None, vx=None, p=None, phit=None, *,
              convention: str | Convention = "mfeval", alpha_star: bool = False, side: str | None = None,
-             limits: bool = True, low_speed: bool | None = None, outputs=OUTPUTS, threads: int | None = None,
-             block: int = BLOCK) -> MFResult:
+             limits: bool = True, low_speed: bool | None = None, outputs=OUTPUTS, combined: bool = True,
+             threads: int | None = None, block: int = BLOCK) -> MFResult:
     """Forces and moments of a Magic Formula tyre, ISO-W, combined slip (magic_formula.md §5-§9, §13).
 
     Parameters
@@ -140,6 +141,9 @@ def evaluate(tire: MFTire, kappa=0.0, alpha=0.0, gamma=0.0, fz=None, vx=None, p=
         Low-speed handling of §11 (default: same as ``limits``).
     outputs : iterable of str
         Subset of ``fx, fy, mz, mx, my`` to compute.
+    combined : bool
+        Combined slip (default); False gives the pure-slip ``Fx0(kappa)``, ``Fy0(alpha)``,
+        ``Mz0(alpha)`` each from its own slip (PAC89 is always uncombined).
     threads : int or None
         Worker threads for inputs larger than one block (default :func:`default_threads`).
     block : int
@@ -190,10 +194,11 @@ def evaluate(tire: MFTire, kappa=0.0, alpha=0.0, gamma=0.0, fz=None, vx=None, p=
     starts = list(range(0, max(n, 1), block)) if n else []
     nthreads = default_threads() if threads is None else max(1, int(threads))
     if len(starts) <= 1 or nthreads == 1:
-        counts_list = [_block(tire, cv, vals, need, limits, low_speed, s, min(s + block, n), outs) for s in starts]
+        counts_list = [_block(tire, cv, vals, need, limits, low_speed, combined, s, min(s + block, n), outs)
+                       for s in starts]
     else:
         pool = _pool(nthreads)
-        futs = [pool.submit(_block, tire, cv, vals, need, limits, low_speed, s, min(s + block, n), outs)
+        futs = [pool.submit(_block, tire, cv, vals, need, limits, low_speed, combined, s, min(s + block, n), outs)
                 for s in starts]
         counts_list = [f.result() for f in futs]
     counts: dict = {}

@@ -575,8 +575,9 @@ def rolling(t: MFTire, cv: Convention, b, fz, gamma, vx, p, fx, fz_scale=None):
 
 
 def evaluate_kernel(t: MFTire, cv: Convention, kappa, alpha, gamma, fz, vx, p, need=("fx", "fy", "mz", "mx", "my"),
-                    red=None, fz_mz=None, fz_scale_mx=None, fz_scale_my=None, my_window=None, phit=None):
-    """Every requested output of one block of points (MF 6.1 / 5.2, combined slip).
+                    red=None, fz_mz=None, fz_scale_mx=None, fz_scale_my=None, my_window=None, phit=None,
+                    combined=True):
+    """Every requested output of one block of points (MF 6.1 / 5.2, combined or pure slip).
 
     Parameters
     ----------
@@ -595,6 +596,9 @@ def evaluate_kernel(t: MFTire, cv: Convention, kappa, alpha, gamma, fz, vx, p, n
         Factor of My near standstill (mfeval's sine ramp in kappa, §11).
     phit : ndarray or None
         Turn slip phi_t [1/m] (§8); None: no turn slip (all zeta = 1).
+    combined : bool
+        Combined slip (§6, default). False: the pure-slip ``Fx0(kappa)``, ``Fy0(alpha)`` and
+        ``Mz0(alpha)`` (§5.3, 4.E31) each from its own slip ("uncombined", ADAMS USE_MODE 3).
 
     Returns
     -------
@@ -619,7 +623,7 @@ def evaluate_kernel(t: MFTire, cv: Convention, kappa, alpha, gamma, fz, vx, p, n
         fx0 = fx0_curve(t, cv, fxf, kappa)
         if b.backward:
             fx0 = fx0 * b.sgn_vx
-        fx = fx0 * g_xa(t, cv, b, kappa, b.g_star)
+        fx = fx0 * g_xa(t, cv, b, kappa, b.g_star) if combined else fx0
         out["fx"] = fx
     if "fy" in need:
         L = fy0_load(t, cv, b, fz)
@@ -627,14 +631,19 @@ def evaluate_kernel(t: MFTire, cv: Convention, kappa, alpha, gamma, fz, vx, p, n
         fy0 = fy0_curve(t, cv, b, fyf, alpha)
         if b.backward and cv.alpha_star == "tan":
             fy0 = fy0 * b.sgn_vx
-        gyk = g_yk(t, cv, b, kappa, b.g_star)
-        svyk = sv_yk(t, b, kappa, fz, fyf.mu, b.g_star, 1.0 if ts is None else ts.zeta2, red)
+        if combined:
+            gyk = g_yk(t, cv, b, kappa, b.g_star)
+            svyk = sv_yk(t, b, kappa, fz, fyf.mu, b.g_star, 1.0 if ts is None else ts.zeta2, red)
+        else:
+            gyk, svyk = 1.0, 0.0
         fy = gyk * fy0
         if not _is_zero(svyk):
             fy = fy + svyk
         out["fy"] = fy
-    if "mz" in need:
+    if "mz" in need and combined:
         out["mz"] = _mz(t, cv, b, kappa, alpha, vx, fz, fz_mz, fxf, fyf, L, fy0, gyk, svyk, fx, out["fy"], red, ts)
+    elif "mz" in need:
+        out["mz"] = _mz0(t, cv, b, alpha, vx, fz, fz_mz, fyf, L, fy0, red, ts)
     if "mx" in need:
         out["mx"] = overturning(t, cv, b, fz, gamma, out["fy"], fz_scale_mx)
     if "my" in need:
@@ -647,25 +656,56 @@ def evaluate_kernel(t: MFTire, cv: Convention, kappa, alpha, gamma, fz, vx, p, n
     return out
 
 
+def _cos_alpha_prime(b, alpha, vx, eps):
+    """``cos(alpha') = Vcx / (Vc + eps)`` with ``Vc = |Vcx| sqrt(1 + tan^2 alpha) = |Vcx| / |cos alpha|``
+    (4.E6, 4.E6a); also stores ``cos(alpha)`` in ``b`` (the factor of D_r, §5.3)."""
+    ca = np.cos(alpha)
+    b.cos_a = ca
+    aca = np.abs(ca)
+    if np.ndim(vx) == 0:
+        if eps < 1e-12:
+            return aca if vx > 0 else aca * np.sign(vx)
+        return aca * (vx / (abs(vx) + eps * aca))
+    return aca * (vx / (np.abs(vx) + eps * aca))
+
+
+def _fy0_zero_camber(t, cv, b, fz, alpha, red, L, always=False):
+    """Factors and value of Fy0 at zero camber and no turn slip (M'z, 4.E32, 4.E74), or
+    ``(None, None)`` when the camber is zero anyway."""
+    if not b.has_camber or (t.is_52 and not always):
+        return None, None
+    f0 = fy0_factors(t, cv, b, fz, 0.0, None, red, L)
+    y0 = fy0_curve(t, cv, b, f0, alpha)
+    if b.backward and cv.alpha_star == "tan":
+        y0 = y0 * b.sgn_vx
+    return f0, y0
+
+
+def _mz0(t, cv, b, alpha, vx, fz, fz_mz, fyf, L, fy0, red, ts):
+    """Pure-slip aligning moment ``Mz0 = -t0 Fy0(gamma=0) + Mzr0`` [N m] (§5.3, 4.E31-4.E47)."""
+    cos_ap = _cos_alpha_prime(b, alpha, vx, cv.eps)
+    fyf0, fy00 = _fy0_zero_camber(t, cv, b, fz, alpha, red, L, always=True)
+    m = mz_factors(t, cv, b, fz if fz_mz is None else fz_mz, fyf, fyf0, ts)
+    if ts is not None:
+        turnslip.mz_zetas(t, cv, b, fz, fyf, 1.0, m, ts)
+    trail = _imul(_imul(cos_curve(m.Bt, m.Ct, m.Et, m.alpha_t), m.Dt), cos_ap)
+    mzr = np.arctan(m.Br * m.alpha_r)
+    if np.ndim(m.Cr) or m.Cr != 1.0:
+        mzr = mzr * m.Cr
+    mzr = _imul(_imul(np.cos(mzr), m.Dr), cos_ap)
+    if red is not None:
+        trail = trail * red
+        mzr = mzr * red
+    return _isub(mzr, _imul(trail, fy0 if fy00 is None else fy00))
+
+
 def _mz(t, cv, b, kappa, alpha, vx, fz, fz_mz, fxf, fyf, L, fy0, gyk, svyk, fx, fy, red, ts):
     """Combined-slip aligning moment ``Mz`` [N m] (§6.3, 4.E71-4.E78, A54-A56; §9 for MF 5.2)."""
     c = t.coef
-    ca = np.cos(alpha)
-    b.cos_a = ca
-    # cos(alpha') = Vcx / (Vc + eps), Vc = |Vcx| sqrt(1 + tan^2 alpha) = |Vcx| / |cos alpha| (4.E6, 4.E6a)
-    aca = np.abs(ca)
-    if np.ndim(vx) == 0:
-        cos_ap = aca * (vx / (abs(vx) + cv.eps * aca)) if cv.eps >= 1e-12 else (aca if vx > 0 else aca * np.sign(vx))
-    else:
-        cos_ap = aca * (vx / (np.abs(vx) + cv.eps * aca))
+    cos_ap = _cos_alpha_prime(b, alpha, vx, cv.eps)
     fz_m = fz if fz_mz is None else fz_mz
-    need_g0 = b.has_camber and not t.is_52
-    fyf0 = fy00 = None
-    if need_g0:  # Fy0 at zero camber (and no turn slip): M'z = -t Fy' (4.E32, 4.E74)
-        fyf0 = fy0_factors(t, cv, b, fz, 0.0, None, red, L)
-        fy00 = fy0_curve(t, cv, b, fyf0, alpha)
-        if b.backward and cv.alpha_star == "tan":
-            fy00 = fy00 * b.sgn_vx
+    fyf0, fy00 = _fy0_zero_camber(t, cv, b, fz, alpha, red, L)
+    need_g0 = fy00 is not None
     m = mz_factors(t, cv, b, fz_m, fyf, fyf0, ts)
     if ts is not None:
         turnslip.mz_zetas(t, cv, b, fz, fyf, gyk, m, ts)
