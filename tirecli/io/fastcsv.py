@@ -14,7 +14,7 @@ infinities ``inf``/``-inf``.
 Rows are built in one byte matrix of 24-byte slots per value (separator, sign, first digit,
 point | four groups of four digits | ``e``, exponent sign, two exponent digits), written as six
 32-bit words from lookup tables; a filler byte marks unused bytes (the sign of positive numbers,
-trailing zeros) and one ``bytes.replace`` removes them. Blocks of rows are formatted on the Magic Formula thread
+trailing zeros) and one ``bytes.replace`` removes them. Blocks of rows are formatted on the shared thread
 pool (numpy releases the GIL). Exponents beyond two digits, NaN and infinities are rare and take
 a slower exact path (``repr``).
 """
@@ -153,11 +153,11 @@ def format_rows(columns, threads: int | None = None) -> list[bytes]:
     if n == 0:
         return []
     starts = list(range(0, n, _BLOCK))
-    from tirecli.models.magic_formula.engine import _pool, default_threads
+    from tirecli.numerics.pool import default_threads, thread_pool
 
     nthreads = default_threads() if threads is None else max(1, threads)
     if len(starts) > 1 and nthreads > 1:
-        parts = list(_pool(nthreads).map(lambda s: _rows_block(cols, s, min(s + _BLOCK, n)), starts))
+        parts = list(thread_pool(nthreads).map(lambda s: _rows_block(cols, s, min(s + _BLOCK, n)), starts))
     else:
         parts = [_rows_block(cols, s, min(s + _BLOCK, n)) for s in starts]
     out = b"".join(parts).split(b"\n")[1:]

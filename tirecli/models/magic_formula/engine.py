@@ -11,9 +11,6 @@ the block size or number of threads (every operation is elementwise).
 from __future__ import annotations
 
 import math
-import os
-import threading
-from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -23,29 +20,13 @@ from tirecli.models.magic_formula.axes import mirror_outputs, needs_mirror
 from tirecli.models.magic_formula.mf61 import evaluate_kernel
 from tirecli.models.magic_formula.pac89 import evaluate_pac89
 from tirecli.models.magic_formula.tire import Convention, MFTire, get_convention
+from tirecli.numerics.pool import default_threads, thread_pool
 
 #: Outputs of :func:`evaluate`, in the order of ``tirecli mf eval``'s CSV.
 OUTPUTS = ("fx", "fy", "mz", "mx", "my")
 
 #: Points per block (about 0.5 MB per float64 temporary: stays in L2/L3 cache).
 BLOCK = 16384
-
-_POOL: ThreadPoolExecutor | None = None
-_POOL_LOCK = threading.Lock()
-
-
-def default_threads() -> int:
-    """Worker threads for large evaluations: the CPU count (at most 8)."""
-    return max(1, min(os.cpu_count() or 1, 8))
-
-
-def _pool(n: int) -> ThreadPoolExecutor:
-    global _POOL
-    with _POOL_LOCK:
-        if _POOL is None or _POOL._max_workers != n:  # noqa: SLF001
-            _POOL = ThreadPoolExecutor(max_workers=n, thread_name_prefix="tirecli-mf")
-        return _POOL
-
 
 @dataclass
 class MFResult:
@@ -197,7 +178,7 @@ def evaluate(tire: MFTire, kappa=0.0, alpha=0.0, gamma=0.0, fz=None, vx=None, p=
         counts_list = [_block(tire, cv, vals, need, limits, low_speed, combined, s, min(s + block, n), outs)
                        for s in starts]
     else:
-        pool = _pool(nthreads)
+        pool = thread_pool(nthreads)
         futs = [pool.submit(_block, tire, cv, vals, need, limits, low_speed, combined, s, min(s + block, n), outs)
                 for s in starts]
         counts_list = [f.result() for f in futs]

@@ -467,12 +467,11 @@ def mz_factors(t: MFTire, cv: Convention, b, fz_mz, fy_f, fy_f0, ts=None):
     m.Br = br + c["QBZ10"] * src.B * src.C if c["QBZ10"] else br
     m.Cr = 1.0
     r0 = t.coef["UNLOADED_RADIUS"]
-    z0, z2 = (1.0, 1.0) if ts is None else (0.0, ts.zeta2)
-    if ts is not None:
+    if ts is not None:  # zeta0 = 0 removes the camber part of D_r below
         m.Br = m.Br * ts.zeta6
     inner = _scale(_lin(c["QDZ6"], c["QDZ7"], dfz), c["LRES"])
     if ts is not None:
-        inner = inner * z2
+        inner = inner * ts.zeta2
     if cam and ts is None:
         if t.is_52:
             inner = inner + _lin(c["QDZ8"], c["QDZ9"], dfz) * gz
@@ -485,7 +484,6 @@ def mz_factors(t: MFTire, cv: Convention, b, fz_mz, fy_f, fy_f0, ts=None):
             inner = inner + gam * g * c["LKZC"]
     dr = (fz_mz * r0) * inner * (b.cos_a * b.lmuy_s)
     m.Dr = dr * b.sgn_vx if b.backward else dr
-    del z0
     return m
 
 

@@ -1,0 +1,31 @@
+"""A shared worker-thread pool for large vectorized evaluations (numpy releases the GIL in its loops).
+
+Used by the Magic Formula evaluator and the fast CSV formatter: work is split into blocks that fit
+the CPU cache and the blocks run on these threads. Results never depend on the number of threads.
+"""
+from __future__ import annotations
+
+import os
+import threading
+from concurrent.futures import ThreadPoolExecutor
+
+_POOL: ThreadPoolExecutor | None = None
+_SIZE = 0
+_LOCK = threading.Lock()
+
+
+def default_threads() -> int:
+    """Worker threads for large evaluations: the CPU count (at most 8)."""
+    return max(1, min(os.cpu_count() or 1, 8))
+
+
+def thread_pool(n: int) -> ThreadPoolExecutor:
+    """The process-wide pool with ``n`` workers (re-created when ``n`` changes)."""
+    global _POOL, _SIZE
+    with _LOCK:
+        if _POOL is None or _SIZE != n:
+            if _POOL is not None:
+                _POOL.shutdown(wait=False)
+            _POOL = ThreadPoolExecutor(max_workers=n, thread_name_prefix="tirecli")
+            _SIZE = n
+        return _POOL
