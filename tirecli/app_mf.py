@@ -68,7 +68,10 @@ def tir_show(ref: str) -> str:
     if label in mfp.BUILTIN_TIRES:
         meta = mfp.BUILTIN_TIRES[label]
         lines += [f"built-in tyre {label}: {meta['title']}", f"citation: {meta['citation']}", f"licence: {meta['licence']}"]
-    lines.append(f"file: {doc.file} ({doc.n_bytes} bytes, {doc.last_line} lines, {doc.line_ends} line ends)")
+    if doc.n_bytes:
+        lines.append(f"file: {doc.file} ({doc.n_bytes} bytes, {doc.last_line} lines, {doc.line_ends} line ends)")
+    else:
+        lines.append(f"file: {doc.file} (the YAML form of a .tir file)")
     size = tyre_size(v)
     dims = ", ".join(f"{k} {v[k]:g} m" for k in ("UNLOADED_RADIUS", "WIDTH", "RIM_RADIUS", "RIM_WIDTH") if k in v)
     if "ASPECT_RATIO" in v:
