@@ -39,21 +39,25 @@ def _title(result, what):
 
 
 def draw_fx_kappa(ax, result):
+    """Fx [N] against kappa [-], one curve per load (family ``fx-kappa``)."""
     _plot_family(ax, result.data["sweep"], "fx-kappa", "kappa", "fx", "fz", "Fz = {:g} N")
     finish(ax, "longitudinal slip kappa [-]", "Fx [N]" + ISO, _title(result, "Fx vs kappa"))
 
 
 def draw_fy_alpha(ax, result):
+    """Fy [N] against alpha [rad], one curve per load (family ``fy-alpha``)."""
     _plot_family(ax, result.data["sweep"], "fy-alpha", "alpha", "fy", "fz", "Fz = {:g} N")
     finish(ax, "slip angle alpha [rad]", "Fy [N]" + ISO, _title(result, "Fy vs alpha"))
 
 
 def draw_mz_alpha(ax, result):
+    """Mz [N m] against alpha [rad], one curve per load (family ``fy-alpha``)."""
     _plot_family(ax, result.data["sweep"], "fy-alpha", "alpha", "mz", "fz", "Fz = {:g} N")
     finish(ax, "slip angle alpha [rad]", "Mz [N m]" + ISO, _title(result, "Mz vs alpha"))
 
 
 def draw_camber(axes, result):
+    """Fy [N] and Mz [N m] against alpha [rad], one curve per camber [rad] (family ``camber``)."""
     df = result.data["sweep"]
     fz = _fam(df, "camber")["fz"].iloc[0] if len(_fam(df, "camber")) else float("nan")
     for ax, y, lab in zip(axes, ("fy", "mz"), ("Fy [N]", "Mz [N m]")):
@@ -62,6 +66,7 @@ def draw_camber(axes, result):
 
 
 def draw_combined(axes, result):
+    """Fy against Fx [N]: kappa swept at fixed alpha (left), alpha swept at fixed kappa (right)."""
     df = result.data["sweep"]
     a, b = axes
     d = _fam(df, "combined-alpha")
@@ -145,6 +150,7 @@ def _compare_checks(result):
     checks=_compare_checks,
 )
 def fig_lugre_compare(result):
+    """|mu| [-] against |s| [-]: the Magic Formula ``compare`` family and the LuGre frame."""
     fig, ax = new_figure()
     d = _fam(result.data["sweep"], "compare")
     name = result.parameter_sets["tire"].name

@@ -308,6 +308,7 @@ def format_number(v) -> str:
 
 
 def format_value(v) -> str:
+    """A value as ``.tir`` text: text in single quotes, numbers by :func:`format_number`."""
     if isinstance(v, str):
         if "'" in v:
             raise ValueError(f"cannot write text containing a single quote: {v!r}")

@@ -338,6 +338,7 @@ def builtin_tire_names() -> list[str]:
 
 
 def builtin_tire_resource(name: str):
+    """Package resource ``tirecli/parameters/data/NAME.tir`` of a built-in tyre."""
     return resources.files("tirecli.parameters").joinpath("data").joinpath(name + ".tir")
 
 

@@ -91,6 +91,7 @@ SPEC = Map(fields=common_fields() | {
 
 
 def plan(config: Config):
+    """Check a golden-data config: ``(checked document, (ParameterSet, MFTire))``."""
     from tirecli.parameters.mf import resolve_tire
 
     checked, tire = collect(lambda: config.checked(SPEC),
