@@ -173,15 +173,11 @@ def load_tire(ref: str, base_dir: Path | None = None):
     return ps, mfp.tire_from_set(ps)
 
 
-def _echo_ok(lines: list[bytes], header: list[str], n: int, mapped: bool) -> bool:
+def _echo_ok(lines: list[bytes], facts: dict, header: list[str], n: int, mapped: bool) -> bool:
     """Whether the input rows can be copied verbatim (plain CSV in the canonical column order)."""
-    if mapped or len(lines) != n + 1:
+    if mapped or len(lines) != n + 1 or facts["comment"] or facts["quote"] or facts["blank"] or facts["trailing"]:
         return False
-    canon = list(INPUT_COLUMNS[:4])
-    rest = header[4:]
-    if header[:4] != canon or rest not in ([], ["p"], ["vx"], ["p", "vx"]):
-        return False
-    return not any(b"#" in ln or b'"' in ln or not ln.strip() for ln in lines)
+    return header[:4] == list(INPUT_COLUMNS[:4]) and header[4:] in ([], ["p"], ["vx"], ["p", "vx"])
 
 
 def mf_eval(tire_ref: str, points: str | Path, out: str | Path, convention: str = "mfeval", side: str | None = None,
@@ -222,15 +218,13 @@ def mf_eval(tire_ref: str, points: str | Path, out: str | Path, convention: str 
     if bad:
         raise RunError(f"non-finite {', '.join(bad)} at {int((~np.isfinite(getattr(res, bad[0]))).sum())} point(s)")
     tails = format_rows([getattr(res, k) for k in OUTPUT_COLUMNS], threads=threads)
-    lines = read_lines(points)
+    lines, facts = read_lines(points)
     header = [h.strip() for h in lines[0].decode("utf-8", "replace").split(",")] if lines else []
     const = {k: (b"" if d is None else repr(float(d)).encode()) for k, d in (("p", p_def), ("vx", vx_def))}
     joiner = b","
-    if _echo_ok(lines, header, n, bool(mapping)):
+    if _echo_ok(lines, facts, header, n, bool(mapping)):
         joiner = b"".join(b"," + const[k] for k in ("p", "vx") if k not in header) + b","
         prefixes = lines[1:]
-        if any(ln[-1:].isspace() for ln in prefixes):
-            prefixes = [ln.rstrip() for ln in prefixes]
         how = "copied"
     else:
         ins = [cols["kappa"], cols["alpha"], cols["gamma"], cols["fz"]]
