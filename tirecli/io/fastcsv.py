@@ -32,6 +32,7 @@ def _words(texts) -> np.ndarray:
 
 _DIGITS4 = _words(f"{i:04d}" for i in range(10000))
 _TRIM4 = _words(f"{i:04d}".rstrip("0").ljust(4, chr(1)) for i in range(10000))  # trailing zeros -> filler
+_GROUPS = np.concatenate([_DIGITS4, _TRIM4])  # index c + 10000 * (every later group is zero)
 _EXP = _words(f"e{'-' if k < 0 else '+'}{abs(k):02d}" for k in range(-99, 100))  # index k + 99
 _HEAD = {sep: _words(f"{sep}{chr(1) if neg == 0 else '-'}{dig}." for neg in (0, 1) for dig in range(10))
          for sep in ("\n", ",")}  # index 10 neg + first digit
@@ -111,7 +112,7 @@ def _fill(x, w, sep: str) -> np.ndarray:
     later_zero = np.ones(a.size, dtype=bool)  # every later group of digits is zero
     for k in range(3, -1, -1):
         c = chunks[k]
-        w[:, 1 + k] = np.where(later_zero, _TRIM4[c], _DIGITS4[c])
+        w[:, 1 + k] = _GROUPS[c + 10000 * later_zero]
         later_zero &= c == 0
     head = _HEAD[sep][d0.astype(np.intp) + 10 * (x < 0)]
     w[:, 0] = np.where(later_zero, (head & np.uint32(0x00FFFFFF)) | np.uint32(_FILL << 24), head)  # no point without fraction digits
