@@ -40,6 +40,6 @@ def test_rows_nan_inf_and_threads():
     a = np.array([1.5, np.nan, np.inf, -2.0, 1e300])
     b = np.array([0.0, 2.0, -np.inf, 3.25, -1e-300])
     rows = format_rows([a, b])
-    assert rows == [b"1.5e+00,0", b",2.0", b"inf,-inf", b"-2e+00,3.25e+00", b"1e+300,-1e-300"]
+    assert rows == [b"1.5e+00,0", b",2e+00", b"inf,-inf", b"-2e+00,3.25e+00", b"1e+300,-1e-300"]
     x = np.random.default_rng(0).normal(size=200_003)
     assert format_rows([x, -x], threads=1) == format_rows([x, -x], threads=3)

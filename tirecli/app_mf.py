@@ -217,29 +217,27 @@ def mf_eval(tire_ref: str, points: str | Path, out: str | Path, convention: str 
     bad = [k for k in OUTPUT_COLUMNS if not np.isfinite(getattr(res, k)).all()]
     if bad:
         raise RunError(f"non-finite {', '.join(bad)} at {int((~np.isfinite(getattr(res, bad[0]))).sum())} point(s)")
-    tails = format_rows([getattr(res, k) for k in OUTPUT_COLUMNS], threads=threads)
+    outputs = [getattr(res, k) for k in OUTPUT_COLUMNS]
     lines, facts = read_lines(points)
     header = [h.strip() for h in lines[0].decode("utf-8", "replace").split(",")] if lines else []
     const = {k: (b"" if d is None else repr(float(d)).encode()) for k, d in (("p", p_def), ("vx", vx_def))}
-    joiner = b","
     if _echo_ok(lines, facts, header, n, bool(mapping)):
         joiner = b"".join(b"," + const[k] for k in ("p", "vx") if k not in header) + b","
         prefixes = lines[1:]
+        tails = format_rows(outputs, threads=threads, lead=joiner, keepends=True)
         how = "copied"
     else:
         ins = [cols["kappa"], cols["alpha"], cols["gamma"], cols["fz"]]
-        prefixes = format_rows(ins, threads=threads)
-        for k, arr in (("p", p), ("vx", vx)):
-            if arr is not None:
-                prefixes = [a + b"," + b for a, b in zip(prefixes, format_rows([arr], threads=threads))]
-            else:
-                prefixes = [a + b"," + const[k] for a in prefixes]
+        ins += [np.full(n, np.nan) if cols.get(k) is None and const[k] == b"" else
+                (cols[k] if cols.get(k) is not None else np.full(n, float(const[k]))) for k in ("p", "vx")]
+        prefixes = None
+        tails = format_rows(ins + outputs, threads=threads, keepends=True)
         how = "rewritten exactly"
     out = Path(out)
     if out.exists() and out.is_dir():
         raise UsageError(f"--out {out}: is a directory")
     try:
-        write_rows(out, ",".join(INPUT_COLUMNS + OUTPUT_COLUMNS), prefixes, tails, joiner)
+        write_rows(out, ",".join(INPUT_COLUMNS + OUTPUT_COLUMNS), prefixes, tails)
     except OSError as exc:
         raise UsageError(f"--out {out}: cannot write ({exc.strerror})") from None
     return {"points": n, "tire": ps.name, "warnings": list((ps.extra or {}).get("warnings", [])), "version": tire.version, "side": tire.side, "mirrored": res.mirrored,

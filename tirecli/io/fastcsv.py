@@ -94,13 +94,15 @@ def _digits(a):
 def _fill(x, w, sep: str) -> np.ndarray:
     """Write the text of the floats ``x`` (1-D) into the word matrix view ``w`` (n, 6).
 
-    Returns the indices of the values left for the slow path (|exponent| >= 100, NaN, inf).
+    Returns the indices of the values left for the slow path (|exponent| >= 100, inf); NaN is an
+    empty cell.
     """
     a = np.abs(x)
     zero = a == 0
-    odd = ~np.isfinite(a)
-    special = zero.any() or odd.any()
-    d, e = _digits(np.where(zero | odd, 1.0, a) if special else a)
+    nan = np.isnan(a)
+    odd = np.isinf(a)
+    special = zero.any() or nan.any() or odd.any()
+    d, e = _digits(np.where(zero | nan | odd, 1.0, a) if special else a)
     d0 = d // np.uint64(10 ** 16)
     r = d - d0 * np.uint64(10 ** 16)
     chunks = []
@@ -118,12 +120,13 @@ def _fill(x, w, sep: str) -> np.ndarray:
     w[:, 0] = np.where(later_zero, (head & np.uint32(0x00FFFFFF)) | np.uint32(_FILL << 24), head)  # no point without fraction digits
     big = np.abs(e) >= 100
     w[:, 5] = _EXP[np.where(big, 0, e) + 99]
-    if zero.any():  # "0": separator, then '0' and fillers
-        m = w[zero].view(np.uint8)
-        m[:, 1] = ord("0")
-        m[:, 2:] = _FILL
-        w[zero] = m.view(w.dtype)
-    return np.flatnonzero(odd | big)
+    for sel, text in ((zero, ord("0")), (nan, _FILL)):  # "0" or an empty cell: separator, then fillers
+        if sel.any():
+            m = w[sel].view(np.uint8)
+            m[:, 1] = text
+            m[:, 2:] = _FILL
+            w[sel] = m.view(w.dtype)
+    return np.flatnonzero(odd | (big & ~nan))
 
 
 def _rows_block(cols, lo, hi) -> bytes:
@@ -147,15 +150,19 @@ def _exact(v: float) -> bytes:
     return repr(v).encode()
 
 
-def format_rows(columns, threads: int | None = None) -> list[bytes]:
-    """One ``bytes`` line per row (no newline): the columns' exact texts joined by commas.
+def format_rows(columns, threads: int | None = None, lead: bytes = b"", keepends: bool = False) -> list[bytes]:
+    """One ``bytes`` line per row: the columns' exact texts joined by commas.
 
     Parameters
     ----------
     columns : sequence of array_like
         Float columns of equal length.
     threads : int or None
-        Worker threads (default: the Magic Formula evaluator's thread count).
+        Worker threads (default: the shared pool's thread count).
+    lead : bytes
+        Text put before every row (e.g. the comma after columns written elsewhere).
+    keepends : bool
+        End every row with a newline.
     """
     cols = [np.ascontiguousarray(c, dtype=float).ravel() for c in columns]
     n = cols[0].size if cols else 0
@@ -169,10 +176,12 @@ def format_rows(columns, threads: int | None = None) -> list[bytes]:
         parts = list(thread_pool(nthreads).map(lambda s: _rows_block(cols, s, min(s + _BLOCK, n)), starts))
     else:
         parts = [_rows_block(cols, s, min(s + _BLOCK, n)) for s in starts]
-    out = b"".join(parts).split(b"\n")[1:]
+    text = b"".join(parts)[1:] + b"\n"  # every block starts each row with a newline
     if not _EXTENDED:
-        out = _verified(cols, out)
-    return out
+        text = b"\n".join(_verified(cols, text.split(b"\n")[:-1])) + b"\n"
+    if lead:
+        text = lead + text.replace(b"\n", b"\n" + lead)[:-len(lead)]
+    return text.splitlines(keepends=True) if keepends else text.split(b"\n")[:-1]
 
 
 def _verified(cols, rows):
@@ -217,11 +226,12 @@ def read_lines(path) -> tuple[list[bytes], dict]:
     return lines, facts
 
 
-def write_rows(path, header: str, prefixes, tails, joiner: bytes = b",") -> None:
-    """Write ``header`` then one line per row: ``prefix + joiner + tail`` (``tail`` alone when
-    ``prefixes`` is None). Written to a temporary file and renamed, so a failure leaves nothing."""
+def write_rows(path, header: str, prefixes, tails) -> None:
+    """Write ``header`` then one line per row: ``prefix + tail`` (``tail`` alone when ``prefixes``
+    is None; every tail ends with its newline, see ``format_rows(keepends=True)``). Written to a
+    temporary file and renamed, so a failure leaves nothing."""
     import os
-    from itertools import chain, repeat
+    from itertools import chain
     from pathlib import Path
 
     path = Path(path)
@@ -233,10 +243,9 @@ def write_rows(path, header: str, prefixes, tails, joiner: bytes = b",") -> None
             fh.write(header.encode() + b"\n")
             for s in range(0, n, step):
                 if prefixes is None:
-                    parts = zip(tails[s:s + step], repeat(b"\n"))
+                    fh.write(b"".join(tails[s:s + step]))
                 else:
-                    parts = zip(prefixes[s:s + step], repeat(joiner), tails[s:s + step], repeat(b"\n"))
-                fh.write(b"".join(chain.from_iterable(parts)))
+                    fh.write(b"".join(chain.from_iterable(zip(prefixes[s:s + step], tails[s:s + step]))))
         os.replace(tmp, path)
     finally:
         if tmp.exists():
