@@ -121,7 +121,8 @@ class CharacteristicsStepper:
     with loops over the few tire states (one for the uniform and exponential loads).
     """
 
-    out_names = ("vr", "mu", "zbar", "zdot", "torque", "brake_torque", "theta", "kappa0", "locked", "z_trailing")
+    out_names = ("vr", "mu", "zbar", "zdot", "torque", "brake_torque", "theta", "kappa0", "locked", "z_trailing",
+                 "dv", "domega")
 
     def __init__(self, p: LuGreParams, car: QuarterCarParams, red: PatchReduction, torque, theta,
                  v_of_t=None, omega_of_t=None, tol: float = 1e-4):
@@ -287,12 +288,13 @@ class CharacteristicsStepper:
             cv.append(av * dq[3 + j])
             cw.append(aw * dq[3 + j])
         if mode == PRESCRIBED:
+            # v, omega: pseudo-states with the secant slopes as right-hand side, no Jacobian row
             ftv = ftw = 0.0
-            sv, sw = (self.V(t1) - y[0]) / h, (self.W(t1) - y[1]) / h
+            f = [(self.V(t1) - y[0]) / h, (self.W(t1) - y[1]) / h] + f[2:]
 
             def solve(rv, rw, rq):
                 base = tire(rq)
-                return sv, sw, [base[i] + cv[i] * sv + cw[i] * sw for i in range(nq)]
+                return rv, rw, [base[i] + cv[i] * rv + cw[i] * rw for i in range(nq)]
         else:
             ftv, ftw = Fm * mu_th * thd, -rFJ * mu_th * thd + ud / J
             Jvv, Jvw = Fm * mu_v, Fm * mu_w
@@ -320,6 +322,8 @@ class CharacteristicsStepper:
         k1v, k1w, k1q = solve(f[0] + gh * ftv, f[1] + gh * ftw, [f[2 + i] + gh * ftq[i] for i in range(nq)])
         y2 = [y[0] + h * k1v, y[1] + h * k1w] + [y[2 + i] + h * k1q[i] for i in range(nq)]
         f2 = self._eval(t1, y2, u1, th1, mode, False)
+        if mode == PRESCRIBED:
+            f2[0], f2[1] = f[0], f[1]
         k2v, k2w, k2q = solve(f2[0] - 2.0 * k1v - gh * ftv, f2[1] - 2.0 * k1w - gh * ftw,
                               [f2[2 + i] - 2.0 * k1q[i] - gh * ftq[i] for i in range(nq)])
         sc = self.iscale
@@ -339,4 +343,4 @@ class CharacteristicsStepper:
         tb = -u if u < 0.0 else 0.0
         if mode == LOCKED:
             u = self.car.r * F
-        return (vr, mu, zw, zwd, u, tb, th, k0, 1.0 if mode == LOCKED else 0.0, zL)
+        return (vr, mu, zw, zwd, u, tb, th, k0, 1.0 if mode == LOCKED else 0.0, zL, f[0], f[1])

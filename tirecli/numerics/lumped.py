@@ -64,7 +64,7 @@ class LumpedStepper:
     """
 
     y_names = ("v", "omega", "z")
-    out_names = ("vr", "mu", "zdot", "torque", "brake_torque", "theta", "kappa0", "locked")
+    out_names = ("vr", "mu", "zdot", "torque", "brake_torque", "theta", "kappa0", "locked", "dv", "domega")
 
     def __init__(self, p: LuGreParams, car: QuarterCarParams, kappa0, torque, theta,
                  v_of_t=None, omega_of_t=None, tol: float = 1e-4):
@@ -180,11 +180,13 @@ class LumpedStepper:
             dz = 1.0 - gh * Jzz
             cz = gh / dz
             if mode == PRESCRIBED:
-                sv = (V(t1) - v) / h
-                sw_ = (W(t1) - w) / h
+                # v, omega are pseudo-states with the secant slopes as right-hand side and no
+                # Jacobian row: k1 = slope, k2 = -slope (their ROS2 update is then exact)
+                fv = (V(t1) - v) / h
+                fw = (W(t1) - w) / h
 
                 def solve(rv, rw, rz):
-                    return sv, sw_, (rz + gh * (Jzv * sv + Jzw * sw_)) / dz
+                    return rv, rw, (rz + gh * (Jzv * rv + Jzw * rw)) / dz
                 ftv = ftw = 0.0
             else:
                 # eliminate z: kz = (rz + gh (Jzv kv + Jzw kw)) / dz
@@ -207,6 +209,8 @@ class LumpedStepper:
                         return kv, kw, (rz + gh * (Jzv * kv + Jzw * kw)) / dz
             k1v, k1w, k1z = solve(fv + gh * ftv, fw + gh * ftw, fz + gh * ftz)
             f2v, f2w, f2z = rhs(t1, v + h * k1v, w + h * k1w, z + h * k1z, u1, th1, mode)
+            if mode == PRESCRIBED:
+                f2v, f2w = fv, fw
             k2v, k2w, k2z = solve(f2v - 2.0 * k1v - gh * ftv, f2w - 2.0 * k1w - gh * ftw,
                                   f2z - 2.0 * k1z - gh * ftz)
             ev = abs(k1v + k2v) * iv
@@ -226,6 +230,6 @@ class LumpedStepper:
             tb = -u if u < 0.0 else 0.0
             if mode == LOCKED:
                 u = r * F  # brake reaction torque holding the wheel
-            return (vr, mu, zd, u, tb, th, k0, 1.0 if mode == LOCKED else 0.0)
+            return (vr, mu, zd, u, tb, th, k0, 1.0 if mode == LOCKED else 0.0, fv, fw)
 
         self.start, self.attempt, self.holds, self.outputs = start, attempt, holds, outputs

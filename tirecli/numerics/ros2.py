@@ -142,6 +142,7 @@ def integrate(stepper, y0, t0: float, t_end: float, breakpoints=(), tol: float =
         while True:
             hh = min(h, h_max)
             at_bp = t + hh >= tb - 1e-9 * hh
+            forced = at_bp and tb - t < hh  # shortened to land on a breakpoint
             if at_bp:
                 hh = tb - t
             y_new, err = attempt(E, hh, at_bp)
@@ -154,6 +155,7 @@ def integrate(stepper, y0, t0: float, t_end: float, breakpoints=(), tol: float =
             if mode == FREE and y_new[1] < 0.0:
                 # the wheel would turn backwards: land on omega = 0 and lock (lugre.md §7)
                 frac = y[1] / (y[1] - y_new[1])
+                forced = True
                 if frac * hh > 1e-9:
                     y_land, err_land = attempt(E, frac * hh)
                     if err_land <= 1.0:
@@ -177,7 +179,8 @@ def integrate(stepper, y0, t0: float, t_end: float, breakpoints=(), tol: float =
             reason = "stop"
         t = tb if (stop_t is None and abs(t + hh - tb) <= 1e-9 * max(hh, 1e-300)) else t + hh
         y = y_new
-        h = hh * min(3.0, max(0.2, 0.9 * max(err, 1e-12) ** -0.333)) if hh > 0 else h
+        if hh > 0 and not (forced and err <= 1.0):  # a forced short step says nothing about the next one
+            h = hh * min(3.0, max(0.2, 0.9 * max(err, 1e-12) ** -0.333))
     out = {name: np.array([o[i] for o in rec_o], dtype=float) for i, name in enumerate(stepper.out_names)}
     return Trajectory(
         t=np.array(rec_t), y=np.array(rec_y, dtype=float), out=out,
