@@ -33,16 +33,11 @@ def _style(i: int, case) -> dict:
 
 
 def _mark(fig, result=None, text=SYN, title=None):
-    """Label synthetic data (style.synthetic_mark) and add ``title`` below it, keeping the top strip free."""
+    """Label synthetic data (style.synthetic_mark), with ``title`` as a suptitle below the label."""
     if result is None or result.synthetic:
-        top = 0.975
         if title:
             fig.suptitle(title, fontsize=10, y=0.965, va="top")
-            top = 0.94
-        engine = fig.get_layout_engine()
-        if engine is not None and hasattr(engine, "set"):
-            engine.set(rect=(0.0, 0.0, 1.0, top))
-        synthetic_mark(fig, text)
+        synthetic_mark(fig, text, top=0.94 if title else 0.975)
     elif title:
         fig.suptitle(title, fontsize=10)
 
