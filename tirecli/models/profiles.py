@@ -246,8 +246,22 @@ def _post_expr(v, path, ctx):
 
 
 def profile_spec(unit: str, lo: float | None = None, hi: float | None = None, gt: float | None = None):
-    """Schema of a profile whose values are in ``unit`` and within the given bounds."""
-    from tirecli.config.schema import AnyOf, ListOf, Map, Num, Str
+    """Schema of a profile whose values are in ``unit`` and within the given bounds.
+
+    Each mapping form is recognised by its key (``table``, ``initial``, ``csv``, ``expr``), so a
+    problem inside one form is reported as such.
+    """
+    from tirecli.config.schema import AnyOf, ListOf, Num, Str
+    from tirecli.config.schema import Map as _Map
+
+    def Map(fields, post=None):
+        key = next(iter(fields))
+
+        class _Keyed(_Map):
+            def accepts(self, value):
+                return isinstance(value, dict) and key in value
+
+        return _Keyed(fields=fields, post=post)
 
     val = Num(unit=unit, ge=lo, le=hi, gt=gt)
     time = Num(unit="s", ge=0)

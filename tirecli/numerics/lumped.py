@@ -35,7 +35,7 @@ def kappa0_and_slope(x: float) -> tuple[float, float]:
     if x > 1e12:
         return 1.0, 0.0
     E = math.exp(-x)
-    q = 1.0 - E
+    q = -math.expm1(-x)
     hx = 1.0 - q / x
     hp = (q - x * E) / (x * x)
     return q / hx, (E * hx - q * hp) / (hx * hx)
@@ -94,7 +94,7 @@ class LumpedStepper:
             cache[0], cache[1], cache[2] = t, u, th
             return u, th
         V, W = self.v_of_t, self.omega_of_t
-        exp = math.exp
+        exp, expm1 = math.exp, math.expm1
         # error scales: speeds in m/s, z in friction units (sigma0 z)
         iv, iw, iz = 1.0 / self.tol, r / self.tol, s0 / self.tol
 
@@ -117,7 +117,7 @@ class LumpedStepper:
                     k0, k0p = 1.0, 0.0
                 else:  # kappa0_and_slope, inlined
                     E = exp(-x)
-                    q = 1.0 - E
+                    q = -expm1(-x)
                     hx = 1.0 - q / x
                     k0 = q / hx
                     k0p = (E * hx - q * (q - x * E) / (x * x)) / (hx * hx)

@@ -37,7 +37,7 @@ import numpy as np
 import pandas as pd
 
 from tirecli.config.loader import Config, load_config
-from tirecli.config.schema import AnyOf, Bool, ListOf, Map, Num, Raw, Str, collect
+from tirecli.config.schema import AnyOf, Bool, ListOf, Map, Num, Raw, Spec, Str, collect
 from tirecli.errors import ConfigError, DataError
 from tirecli.io.yamlio import dump_yaml
 from tirecli.numerics import identify, runs
@@ -58,12 +58,26 @@ def _data_post(v, path, ctx):
         ctx.fail(path + ("window", "end"), "must be after start")
 
 
+class _Nullable(Spec):
+    """``null`` or a value of ``inner`` (lets ``--data`` switch the source off with ``data.simulate=null``)."""
+
+    def __init__(self, inner, default=None, doc=""):
+        super().__init__(doc=doc, default=default)
+        self.inner = inner
+
+    def accepts(self, value):
+        return value is None or self.inner.accepts(value)
+
+    def check(self, value, path, ctx):
+        return None if value is None else self.inner.check(value, path, ctx)
+
+
 WINDOW = Map(fields={"start": Num(unit="s", default=None, doc="first time"),
                      "end": Num(unit="s", default=None, doc="last time")}, default=None)
 
 DATA = Map(fields={
-    "csv": Str(default=None, doc="CSV file: columns t [s], v [m/s], s [-] (or romega [m/s]), mu [-]"),
-    "simulate": Str(default=None, doc="simulate config (built-in name or file) whose samples are the data"),
+    "csv": _Nullable(Str(), doc="CSV file: columns t [s], v [m/s], s [-] (or romega [m/s]), mu [-]"),
+    "simulate": _Nullable(Str(), doc="simulate config (built-in name or file) whose samples are the data"),
     "frame": Str(default="measured", doc="frame of the simulate result (measured, measured_clean, ...)"),
     "cases": ListOf(item=Str(), default=None, doc="run only these cases of the simulate config"),
     "map": Map(open_keys=Str(), default=None, doc="rename file columns {FILE_COLUMN: NAME}"),
