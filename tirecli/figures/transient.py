@@ -334,10 +334,11 @@ def _fig8_checks(result):
 def _draw_open_loop(result, title, tags):
     meas = _measured(result)
     drivers = [c.label for c in coupled(result) if c.label in BRAKINGS] or [c.label for c in coupled(result)]
-    fig, axes = new_figure(nrows=len(drivers), width=7.2, height=2.7 * len(drivers) + 0.6)
-    axes = np.atleast_1d(axes)
+    fig, axes = new_figure(nrows=len(drivers), ncols=2, width=10.0, height=2.7 * len(drivers) + 0.6,
+                           width_ratios=(2.0, 1.0))
+    axes = np.atleast_2d(axes)
     for k, drv in enumerate(drivers):
-        ax = axes[k]
+        ax, dax = axes[k]
         truth = run_of(result, drv)
         if meas is not None:
             d = meas[meas["case"] == drv]
@@ -346,10 +347,12 @@ def _draw_open_loop(result, title, tags):
         for i, case in enumerate(c for c in open_loop_of(result, drv) if _variant_tag(c) in tags):
             tr = run_of(result, case.label)
             e = open_loop_errors(result, drv, case)
-            ax.plot(tr.t, tr.out["mu"], color=COLORS[(i + 1) % len(COLORS)], ls=LINESTYLES[(i + 1) % 4], lw=1.3,
-                    label=f"lumped kappa0 = {_variant_tag(case)} (max |dmu| {e['max']:.3f})")
-        finish(ax, "time t [s]" if k == len(drivers) - 1 else "", "mu [-]", f"{drv} (synthetic)",
-               loc="lower left")
+            st = {"color": COLORS[(i + 1) % len(COLORS)], "ls": LINESTYLES[(i + 1) % 4], "lw": 1.3}
+            ax.plot(tr.t, tr.out["mu"], **st, label=f"lumped kappa0 = {_variant_tag(case)} (max |dmu| {e['max']:.3f})")
+            dax.plot(tr.t, tr.out["mu"] - np.interp(tr.t, truth.t, truth.out["mu"]), **st)
+        last = k == len(drivers) - 1
+        finish(ax, "time t [s]" if last else "", "mu [-]", f"{drv} (synthetic)", loc="lower left")
+        finish(dax, "time t [s]" if last else "", "mu_lumped - mu_truth [-]", "model - truth", legend=False)
     _mark(fig, title=title)
     return fig
 

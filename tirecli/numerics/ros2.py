@@ -119,7 +119,6 @@ def integrate(stepper, y0, t0: float, t_end: float, breakpoints=(), tol: float =
     h = min(h0, h_max)
     ib = 0
     n_acc = n_rej = 0
-    h_min_used, h_max_used = math.inf, 0.0
     stop_t = None
     reason = "t_end"
     start, attempt, outputs = stepper.start, stepper.attempt, stepper.outputs
@@ -165,8 +164,6 @@ def integrate(stepper, y0, t0: float, t_end: float, breakpoints=(), tol: float =
                 locks.append([t + hh, None])
             break
         n_acc += 1
-        h_min_used = min(h_min_used, hh)
-        h_max_used = max(h_max_used, hh)
         if mode != PRESCRIBED and y_new[0] <= v_stop:
             frac = (y[0] - v_stop) / (y[0] - y_new[0]) if y[0] > y_new[0] else 1.0
             frac = min(max(frac, 0.0), 1.0)
@@ -181,11 +178,13 @@ def integrate(stepper, y0, t0: float, t_end: float, breakpoints=(), tol: float =
         y = y_new
         if hh > 0 and not (forced and err <= 1.0):  # a forced short step says nothing about the next one
             h = hh * min(3.0, max(0.2, 0.9 * max(err, 1e-12) ** -0.333))
-    out = {name: np.array([o[i] for o in rec_o], dtype=float) for i, name in enumerate(stepper.out_names)}
+    out = dict(zip(stepper.out_names, np.array(rec_o, dtype=float).T))
+    t_arr = np.array(rec_t)
+    hs = np.diff(t_arr)
     return Trajectory(
-        t=np.array(rec_t), y=np.array(rec_y, dtype=float), out=out,
+        t=t_arr, y=np.array(rec_y, dtype=float), out=out,
         events={"lock": locks, "stop": stop_t, "reason": reason},
-        stats={"steps": n_acc, "rejected": n_rej, "h_min": h_min_used if n_acc else 0.0,
-               "h_max": h_max_used, "tol": tol},
+        stats={"steps": n_acc, "rejected": n_rej, "h_min": float(hs.min()) if hs.size else 0.0,
+               "h_max": float(hs.max()) if hs.size else 0.0, "tol": tol},
         y_names=tuple(stepper.y_names),
     )
