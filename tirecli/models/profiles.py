@@ -26,7 +26,6 @@ Config forms (see :data:`PROFILE_SPEC` and :func:`profile_from_config`)::
 """
 from __future__ import annotations
 
-import ast
 import bisect
 import math
 from dataclasses import dataclass, field
@@ -166,19 +165,21 @@ EXPRESSION_FUNCTIONS = {
     "maximum": np.maximum, "clip": np.clip, "where": np.where, "heaviside": np.heaviside,
 }
 _EXPRESSION_NAMES = {"t", "pi", "e"} | set(EXPRESSION_FUNCTIONS)
-_EXPRESSION_NODES = (ast.Expression, ast.BinOp, ast.UnaryOp, ast.Compare, ast.Call, ast.Name, ast.Load,
-                     ast.Constant, ast.Add, ast.Sub, ast.Mult, ast.Div, ast.Pow, ast.Mod, ast.USub, ast.UAdd,
-                     ast.Lt, ast.LtE, ast.Gt, ast.GtE)
+_EXPRESSION_NODES = ("Expression", "BinOp", "UnaryOp", "Compare", "Call", "Name", "Load", "Constant", "Add", "Sub",
+                     "Mult", "Div", "Pow", "Mod", "USub", "UAdd", "Lt", "LtE", "Gt", "GtE")
 
 
 def expression_problem(text: str) -> str | None:
     """Why ``text`` is not an admissible formula of ``t`` (None if it is)."""
+    import ast  # lazily: start-up time of every command
+
+    allowed = tuple(getattr(ast, n) for n in _EXPRESSION_NODES)
     try:
         tree = ast.parse(text, mode="eval")
     except SyntaxError as exc:
         return f"cannot read the formula ({exc.msg})"
     for node in ast.walk(tree):
-        if not isinstance(node, _EXPRESSION_NODES):
+        if not isinstance(node, allowed):
             return f"not allowed in a formula: {type(node).__name__}"
         if isinstance(node, ast.Name) and node.id not in _EXPRESSION_NAMES:
             return f"unknown name {node.id!r} (use t, pi, e and {', '.join(sorted(EXPRESSION_FUNCTIONS))})"
@@ -204,6 +205,8 @@ class Expression:
         problem = expression_problem(self.text)
         if problem is not None:
             raise ValueError(f"formula {self.text!r}: {problem}")
+        import ast
+
         object.__setattr__(self, "_code", compile(ast.parse(self.text, mode="eval"), "<formula>", "eval"))
 
     def __call__(self, t):
