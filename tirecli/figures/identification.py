@@ -6,7 +6,7 @@ from matplotlib.figure import Figure
 
 from tirecli.figures.registry import Table, register
 from tirecli.figures.style import COLORS, finish, new_figure, synthetic_mark
-from tirecli.figures.transient import SYN
+from tirecli.figures.transient import SYN, require
 from tirecli.studies.base import Check
 
 #: FM Table 2 (lugre.md §6): the paper's identified values.
@@ -29,6 +29,7 @@ def _surface_mu(p, s_abs, v):
                   "FM eq. (4) at the minimum, middle and maximum sample speed; below, the residuals mu_model - mu of all "
                   "samples (grey: not used: outside the window or |s| below the threshold).")
 def draw_fit_steady(result):
+    require(result, "fit", "fit-steady")
     d = result.data["samples"]
     p = result.payload["fitted"]
     used = d["used"].to_numpy() > 0
@@ -53,6 +54,7 @@ def draw_fit_steady(result):
                   "(sigma1 from the transient); dashed: the steady state FM eq. (4) at the same (s, v), which misses "
                   "the lag of the bristle dynamics.")
 def draw_fit_transient(result):
+    require(result, "fit", "fit-transient")
     tr = result.data.get("transient")
     fig, (a, b) = new_figure(nrows=2, width=7.0, height=6.0, sharex=True, height_ratios=(2.2, 1))
     if tr is None:
@@ -101,6 +103,7 @@ def _fig6_checks(result):
                 "surface (alpha = 2).",
 )
 def draw_fm_fig6(result):
+    require(result, "fit", "fm-fig6")
     d = result.data["samples"]
     used = d["used"].to_numpy() > 0
     p = result.payload["fitted"]
@@ -167,6 +170,7 @@ def _table2_checks(result):
                 "mu_s = 1.5, v_s = 5.5 m/s.",
 )
 def draw_fm_table2(result):
+    require(result, "fit", "fm-table2")
     rows = []
     fits = result.data["parameters"].set_index("parameter")
     p = result.payload["fitted"]

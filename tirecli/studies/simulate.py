@@ -560,6 +560,11 @@ def run_simulate(config: Config, progress=None) -> StudyResult:
     }
     if meas is not None:
         meta["measurement"] = {**meas, "note": "synthetic samples of the simulated runs (seeded noise), not measured data"}
+    inp = checked["input"] or {}
+    uses_pressure = inp.get("pressure") is not None or meas is not None or any(c.pressure is not None for c in cases)
+    if uses_pressure and (inp.get("pressure_gain") in (None, DEFAULT_PRESSURE_GAIN)):
+        meta["assumed"] = [f"input.pressure_gain = {DEFAULT_PRESSURE_GAIN:g} N m/bar: brake torque per unit pressure "
+                           "(figures.md FM Fig. 4) [assumed]; override with --set input.pressure_gain=VALUE"]
     return StudyResult(
         study="simulate", config=config, parameter_sets={"tire": tire, "vehicle": vehicle}, data=data, meta=meta,
         figures=figures, payload={"params": p, "car": car, "cases": cases, "runs": trs, "checked": checked},
