@@ -84,7 +84,8 @@ def draw_histories(result):
             ax2.plot(tr.t, tr.out["brake_torque"], color="0.5", lw=0.8)
             ax2.set_ylabel(f"brake torque T_b [N m] ({case.label})", color="0.4", fontsize=8)
             shown_torque = True
-    finish(a, "", "v (solid), r omega (dotted) [m/s]", result.meta.get("title") or "Transient runs", legend=False)
+    finish(a, "", "v (solid), r omega (dotted) [m/s]", _wrap(result.meta.get("title") or "Transient runs"),
+           legend=False)
     finish(b, "", "slip s [-]", legend=False)
     finish(c, "time t [s]", "friction mu = F/F_n [-]", legend=False)
     _case_legend(fig, c)
@@ -132,38 +133,47 @@ def draw_mu_slip(result):
     _steady_curves(ax, result, [v0, 0.75 * v0, 0.5 * v0], smax)
     ax.set_xlim(0, smax)
     ax.set_ylim(bottom=0)
-    finish(ax, "slip |s| [-]", "friction |mu| [-]", result.meta.get("title") or "mu-slip trajectories", legend=False)
+    finish(ax, "slip |s| [-]", "friction |mu| [-]", _wrap(result.meta.get("title") or "mu-slip trajectories"),
+           legend=False)
     _case_legend(fig, ax)
     _mark(fig, result)
     return fig
 
 
 @register("transient-overlay", paper="generic", label="simulate", title="Model against model",
-          caption="Friction mu(t) and slip s(t) of every case minus those of the first case (the reference), on the "
-                  "reference's time steps; open-loop cases share the kinematics of the run that drives them, so their "
-                  "differences are pure model differences.")
+          caption="Friction mu(t) of every case; below, the differences in mu and slip: each open-loop case minus the "
+                  "run that drives it (same kinematics, so a pure model difference), each other case minus the first "
+                  "coupled case (the reference), on the solver steps of the case.")
 def draw_overlay(result):
     require(result, "simulate", "transient-overlay")
     cases = result.payload["cases"]
-    ref = cases[0]
-    tref = run_of(result, ref.label)
+    ref = next((c for c in cases if c.mode == "coupled"), cases[0])
     fig, (a, b, c) = new_figure(nrows=3, width=7.0, height=8.0, sharex=True)
     for i, case in enumerate(cases):
         tr = run_of(result, case.label)
         st = _style(i, case)
         a.plot(tr.t, tr.out["mu"], **st, label=case.label)
-        if i == 0:
+        base = case.drive_case if case.drive_case is not None else (None if case is ref else ref.label)
+        if base is None:
             continue
-        t = tref.t[tref.t <= tr.t[-1]]
-        b.plot(t, np.interp(t, tr.t, tr.out["mu"]) - np.interp(t, tref.t, tref.out["mu"]), **st, label=case.label)
-        c.plot(t, np.interp(t, tr.t, tr.out["slip"]) - np.interp(t, tref.t, tref.out["slip"]), **st, label=case.label)
-    finish(a, "", "mu [-]", result.meta.get("title") or "Model overlay", legend=False)
-    finish(b, "", f"mu - mu(reference) [-]", legend=False)
-    finish(c, "time t [s]", f"s - s(reference) [-]", legend=False)
-    b.set_title(f"reference: {ref.label}", fontsize=9)
+        tb = run_of(result, base)
+        t = tr.t[tr.t <= tb.t[-1]]
+        mu = np.interp(t, tr.t, tr.out["mu"])
+        b.plot(t, mu - np.interp(t, tb.t, tb.out["mu"]), **st)
+        c.plot(t, np.interp(t, tr.t, tr.out["slip"]) - np.interp(t, tb.t, tb.out["slip"]), **st)
+    finish(a, "", "mu [-]", _wrap(result.meta.get("title") or "Model overlay"), legend=False)
+    finish(b, "", "mu - mu(base) [-]", legend=False)
+    finish(c, "time t [s]", "s - s(base) [-]", legend=False)
+    b.set_title(f"base: the driving run (open loop), else {ref.label}", fontsize=9)
     _case_legend(fig, a)
     _mark(fig, result)
     return fig
+
+
+def _wrap(title: str, width: int = 72) -> str:
+    import textwrap
+
+    return "\n".join(textwrap.wrap(title, width))
 
 
 # --------------------------------------------------------------------------- FM Fig. 4
