@@ -41,7 +41,7 @@ class SolverOptions:
     """
 
     tol: float | None = None
-    h_max: float = 0.01
+    h_max: float = 0.05
     v_stop: float = 0.1
 
     def tol_for(self, variant: FrictionVariant) -> float:

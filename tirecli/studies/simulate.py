@@ -15,7 +15,7 @@ Config (``tirecli simulate CONFIG``)::
       theta: 1.0                             # adhesion profile, FM convention unless theta_convention: obs
     t_end: 5.0                               # [s]
     stop: {v_min: 0.1}                       # the run ends when v falls to v_min [m/s]
-    solver: {tol: null, h_max: 0.01}         # null: 1e-3 lumped, 3e-4 distributed
+    solver: {tol: null, h_max: 0.05}         # null: 1e-3 lumped, 3e-4 distributed
     cases:                                   # model variants, run side by side
       - {model: lumped, kappa0: 1}
       - {model: lumped, kappa0: Z}
@@ -104,7 +104,7 @@ INITIAL_OVERRIDE = Map(fields={k: _optional(Num(**{**s.__dict__})) for k, s in I
 SOLVER = Map(fields={
     "tol": Num(unit="-", gt=0, lt=0.1, default=None,
                doc="local error tolerance (m/s, friction units); null: 1e-3 lumped, 3e-4 distributed"),
-    "h_max": Num(unit="s", gt=0, le=0.1, default=0.01, doc="largest time step"),
+    "h_max": Num(unit="s", gt=0, le=0.5, default=0.05, doc="largest time step"),
 })
 SOLVER_OVERRIDE = Map(fields={k: _optional(Num(**{**s.__dict__})) for k, s in SOLVER.fields.items()})
 
@@ -169,7 +169,7 @@ SPEC = Map(fields=common_fields() | {
     "input": _with_default(INPUT, None),
     "t_end": Num(unit="s", gt=0, le=3600, default=5.0, doc="end time"),
     "stop": Map(fields={"v_min": Num(unit="m/s", ge=0, default=0.1, doc="stop speed")}, default={"v_min": 0.1}),
-    "solver": _with_default(SOLVER, {"tol": None, "h_max": 0.01}),
+    "solver": _with_default(SOLVER, {"tol": None, "h_max": 0.05}),
     "cases": ListOf(item=CASE, default=["distributed"], doc="model variants"),
     "open_loop": Map(fields={"models": ListOf(item=VARIANT, doc="tire models driven by each coupled case"),
                              "cases": ListOf(item=Str(), default=None, doc="coupled cases that drive them (default: all)")},
