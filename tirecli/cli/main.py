@@ -12,7 +12,7 @@ import traceback
 import typer
 
 from tirecli import __version__
-from tirecli.cli import common, figures, params, report, sweep
+from tirecli.cli import common, figures, observe, params, report, sweep
 
 app = typer.Typer(
     name="tirecli",
@@ -42,6 +42,7 @@ def _root(
 
 
 app.command("sweep")(sweep.sweep)
+app.command("observe")(observe.observe)
 app.command("report")(report.report)
 app.add_typer(params.app, name="params")
 app.add_typer(figures.app, name="figures")

@@ -1,2 +1,3 @@
 """Figure functions, registered in :mod:`tirecli.figures.registry` on import."""
 from tirecli.figures import steady  # noqa: F401
+from tirecli.figures import observer  # noqa: F401

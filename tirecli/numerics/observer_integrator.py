@@ -241,7 +241,7 @@ def simulate_fast(plant: ObserverPlant, gains: ObserverGains, scenario: Scenario
     sample_at = {}
     if not sensor.ideal:
         idx = np.searchsorted(grid, samples - 1e-9 * step)
-        sample_at = {int(i): k for k, i in enumerate(idx)}
+        sample_at = {int(i): k for k, i in enumerate(idx) if i > 0}  # t = 0 is sampled at the start
     ideal = sensor.ideal
     sampler = None if ideal else sensor.sampler(len(samples), scenario.omega0)
 
@@ -421,7 +421,7 @@ def simulate_fast(plant: ObserverPlant, gains: ObserverGains, scenario: Scenario
             a_n = a1
         yt, phh, zh, vh = oeval(et, ct, thh, eta, z, w, thpz1, nv, ydiff)
         if (n + 1) % record_every == 0 or n + 1 == N:
-            rec_append((t1, v, w, z, ym, vh, zh, thh, yt, th, u1))
+            rec_append((t1, v, w, z, w if ideal else ym, vh, zh, thh, yt, th, u1))
             if not (lam0 + lamb * thh > 0.1 * MIN_FAST_RATE and math.isfinite(thh + et + z)):
                 raise RunError(f"observer diverged at t = {t1:.4g} s (theta_hat = {thh:.4g}, fast-mode rate "
                                f"{lam0 + lamb * thh:.3g} 1/s): the gains do not keep it stable in this scenario")
@@ -458,7 +458,7 @@ def full_rhs(plant: ObserverPlant, gains: ObserverGains, scenario: Scenario):
 
 
 def simulate_reference(plant: ObserverPlant, gains: ObserverGains, scenario: Scenario, sensor: Sensor | None = None,
-                       rtol: float = 1e-8, atol: float = 1e-10, max_step: float = 5e-3, output_dt: float = 1e-3,
+                       rtol: float = 1e-8, atol: float = 1e-10, max_step: float = 5e-3, output_dt: float = 1e-3, first_step: float | None = None,
                        method: str = "Radau") -> Trajectory:
     """Integrate the full plant + observer with ``solve_ivp`` (default Radau, rtol 1e-8: observer.md §7).
 
@@ -492,13 +492,13 @@ def simulate_reference(plant: ObserverPlant, gains: ObserverGains, scenario: Sce
         yy = None if sampler is None else y_hold
         te = t_out[(t_out >= a) & (t_out < b)]
         sol = solve_ivp(lambda t, x: f(t, x, yy), (a, b), X, method=method, rtol=rtol, atol=atol,
-                        max_step=max_step, t_eval=te if len(te) else None)
+                        max_step=max_step, t_eval=np.append(te, b), first_step=first_step)
         if sol.status < 0:
             raise RunError(f"reference integration failed at t = {a:.4g} s: {sol.message}")
         if len(te):
-            ts.append(sol.t)
-            Xs.append(sol.y)
-            ys.append(np.full(len(sol.t), np.nan) if sampler is None else np.full(len(sol.t), y_hold))
+            ts.append(sol.t[:-1])
+            Xs.append(sol.y[:, :-1])
+            ys.append(np.full(len(te), np.nan if sampler is None else y_hold))
         X = sol.y[:, -1]
     ts.append([scenario.duration])
     Xs.append(X[:, None])

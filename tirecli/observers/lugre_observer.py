@@ -17,6 +17,7 @@ Units: ``eta = r m v + J omega`` and ``chi = J omega + r F_n sigma1 z`` are angu
 from __future__ import annotations
 
 from dataclasses import asdict, dataclass
+from functools import lru_cache
 
 import numpy as np
 
@@ -335,17 +336,17 @@ def alpha_bound(lambda_min_q: float, theta_max: float, L_phi: float, L_psi: floa
     return float("inf") if den <= 0 else (theta_max * L_phi ** 2 + L_psi ** 2) / den
 
 
+@lru_cache(maxsize=32)
 def passivity_margin(plant: ObserverPlant, gains: ObserverGains) -> dict:
     """Best ``lambda_min(Q)`` found over ``P = P' > 0`` with ``P B = C'`` (A3; observer.md §6).
 
     ``P B = C'`` fixes the third column of ``P`` to ``(0, -1/J, r F_n sigma1/J)``; the free entries
-    ``p11, p12, p22`` are searched (Nelder-Mead from a few starts) to maximise
-    ``lambda_min(Q)``, ``Q = -(P (A-KC) + (A-KC)' P)``. The spec finds about 1.1e-6 for the OBS
-    gains, which makes the sufficient bound (17) on ``alpha`` astronomically large. Returns
-    ``lambda_min_q`` (<= 0 when no admissible ``P`` was found) and ``P``.
+    ``p11, p12, p22`` are searched (Nelder-Mead, :func:`_nelder_mead`, from a few starts) to
+    maximise ``lambda_min(Q)``, ``Q = -(P (A-KC) + (A-KC)' P)``. The spec finds about 1.1e-6 for
+    the OBS gains, which makes the sufficient bound (17) on ``alpha`` astronomically large.
+    Returns ``lambda_min_q`` (0 when no admissible ``P`` was found) and ``P`` (cached per
+    plant and gains; do not modify the result).
     """
-    from scipy.optimize import minimize
-
     M = error_matrix(plant, gains)
     J = plant.car.J
 
@@ -358,12 +359,71 @@ def passivity_margin(plant: ObserverPlant, gains: ObserverGains) -> dict:
         Pm, Q = build(q)
         return -min(np.linalg.eigvalsh(Q)[0], 1e3 * np.linalg.eigvalsh(Pm)[0])
 
-    best = None
+    best_x, best_f = None, np.inf
     for x0 in ([1e-3, 0.0, 1e-2], [1.0, 0.0, 1.0], [1e-6, 0.0, 1e-3]):
-        res = minimize(cost, x0, method="Nelder-Mead",
-                       options={"xatol": 1e-14, "fatol": 1e-16, "maxiter": 5000, "maxfev": 10000})
-        if best is None or res.fun < best.fun:
-            best = res
-    Pm, Q = build(best.x)
+        x, fx = _nelder_mead(cost, np.array(x0, dtype=float))
+        if fx < best_f:
+            best_x, best_f = x, fx
+    Pm, Q = build(best_x)
     ok = np.linalg.eigvalsh(Pm)[0] > 0
     return {"lambda_min_q": float(np.linalg.eigvalsh(Q)[0]) if ok else 0.0, "P": Pm}
+
+
+def _nelder_mead(f, x0, iters: int = 3000, xtol: float = 1e-14, ftol: float = 1e-16):
+    """Minimise ``f`` from ``x0`` by the Nelder-Mead simplex (standard coefficients 1, 2, 1/2, 1/2).
+
+    A small self-contained version: importing ``scipy.optimize`` costs more than the search.
+    """
+    n = len(x0)
+    simplex = [x0] + [x0 + np.eye(n)[i] * (0.05 * x0[i] if x0[i] != 0 else 2.5e-4) for i in range(n)]
+    vals = [f(x) for x in simplex]
+    for _ in range(iters):
+        order = np.argsort(vals)
+        simplex = [simplex[i] for i in order]
+        vals = [vals[i] for i in order]
+        if (max(np.max(np.abs(x - simplex[0])) for x in simplex[1:]) <= xtol
+                and max(abs(v - vals[0]) for v in vals[1:]) <= ftol):
+            break
+        centroid = np.mean(simplex[:-1], axis=0)
+        xr = centroid + (centroid - simplex[-1])
+        fr = f(xr)
+        if fr < vals[0]:
+            xe = centroid + 2.0 * (centroid - simplex[-1])
+            fe = f(xe)
+            simplex[-1], vals[-1] = (xe, fe) if fe < fr else (xr, fr)
+        elif fr < vals[-2]:
+            simplex[-1], vals[-1] = xr, fr
+        else:
+            xc = centroid + 0.5 * ((xr if fr < vals[-1] else simplex[-1]) - centroid)
+            fc = f(xc)
+            if fc < min(fr, vals[-1]):
+                simplex[-1], vals[-1] = xc, fc
+            else:
+                simplex = [simplex[0]] + [simplex[0] + 0.5 * (x - simplex[0]) for x in simplex[1:]]
+                vals = [vals[0]] + [f(x) for x in simplex[1:]]
+    i = int(np.argmin(vals))
+    return simplex[i], vals[i]
+
+
+def linearized_error_matrix(plant: ObserverPlant, gains: ObserverGains, theta_obs: float, y: float, v: float,
+                            z: float) -> np.ndarray:
+    """Error dynamics (OBS (15)-(16)) linearised at ``x_hat = x``, ``theta_hat = theta`` (theta known).
+
+    ``A - K_eff C - e3 e3' (theta a_phi + kappa r |y|) - e3 e1' theta z d a_phi/d eta`` at the
+    operating point ``(y [rad/s], v [m/s], z [m])``; ``K_eff = (k1, k2, k3 - alpha (1 + theta))``.
+    Its slowest eigenvalue is the speed-error mode along a trajectory (a few % off the
+    ``A - K C`` value of observer.md §6, which leaves out the friction terms).
+    """
+    t, c = plant.tire, plant.car
+    A, _, _, _, C = plant.matrices()
+    keff = np.array([gains.k1, gains.k2, gains.k3 - gains.alpha * (1.0 + theta_obs)])
+    M = A - np.outer(keff, C)
+    vr = c.r * y - v
+    g = float(stribeck(vr, t))
+    a_phi = t.sigma0 * abs(vr) / g
+    x = abs(vr) / t.v_s
+    dg = -(t.mu_s - t.mu_c) * t.alpha * x ** (t.alpha - 1.0) * np.exp(-(x ** t.alpha)) / t.v_s if vr != 0 else 0.0
+    da_dvr = np.sign(vr) * t.sigma0 * (g - abs(vr) * dg) / g ** 2
+    M[2, 2] -= theta_obs * a_phi + plant.kappa * c.r * abs(y)
+    M[2, 0] -= theta_obs * z * da_dvr * (-1.0 / (c.r * c.m))
+    return M

@@ -3,3 +3,4 @@
 Importing this package registers every study in :data:`tirecli.studies.base.STUDIES`.
 """
 from tirecli.studies import sweep  # noqa: F401
+from tirecli.studies import observe  # noqa: F401
