@@ -16,6 +16,12 @@ from tirecli.studies.base import Check
 
 OBS7 = "observer.md §7 check"
 
+#: theta_hat(t) of the Fig. 2 scenario: t [s] -> (reference, tolerance) (observer.md §7; 3-decimal values
+#: +-1e-3, 4-decimal ones +-3e-4).
+FIG2_THETA_HAT = {5.5: (1.413, 1e-3), 6.0: (1.565, 1e-3), 7.0: (1.646, 1e-3), 8.0: (1.6669, 3e-4),
+                  10.0: (1.6672, 3e-4), 12.5: (1.974, 1e-3), 15.0: (2.487, 1e-3), 16.0: (2.498, 1e-3),
+                  20.0: (2.4978, 3e-4)}
+
 
 def _runs(result):
     return list(zip(result.payload["cases"], result.payload["trajectories"], result.payload["runs"]))
@@ -68,9 +74,7 @@ def _fig2_checks(result):
                   7.395, 0.005, "s", OBS7),
             Check("crossing-2", "second v_r zero crossing (spec: first 5 ms sample after it)", cr[1], 12.535, 0.005,
                   "s", OBS7)]
-    for t, ref, tol in ((5.5, 1.413, 1e-3), (6.0, 1.565, 1e-3), (7.0, 1.646, 1e-3), (8.0, 1.6669, 3e-4),
-                        (10.0, 1.6672, 3e-4), (12.5, 1.974, 1e-3), (15.0, 2.487, 1e-3), (16.0, 2.498, 1e-3),
-                        (20.0, 2.4978, 3e-4)):
+    for t, (ref, tol) in FIG2_THETA_HAT.items():
         out.append(Check(f"theta-hat-{t:g}s", f"theta_hat at {t:g} s", _at(tr, tr.theta_hat, t), ref, tol, "-", OBS7))
     out.append(Check("theta-12.5s", "true theta at 12.5 s (half-cosine wet -> snow)", _at(tr, tr.theta, 12.5), 2.083,
                      1e-3, "-", OBS7))
