@@ -71,8 +71,8 @@ def settle_times(t, err, changes, tol: float = 0.05, end: float | None = None) -
     end = float(t[-1]) if end is None else end
     bounds = list(changes) + [end]
     out = []
-    for a, b in zip(bounds[:-1], bounds[1:]):
-        sel = (t >= a) & (t <= b)
+    for k, (a, b) in enumerate(zip(bounds[:-1], bounds[1:])):
+        sel = (t >= a) & ((t < b) if k < len(bounds) - 2 else (t <= b))
         ts, es = t[sel], err[sel]
         if len(ts) == 0:
             out.append({"at": float(a), "settled_at": None, "time": None})
