@@ -43,6 +43,8 @@ from tirecli.observers.measurement import Sensor
 DEFAULT_STEP = 2.5e-3
 #: The singular-perturbation reduction needs a fast observer mode well above the plant's rates.
 MIN_FAST_RATE = 1e5
+#: Steps after t = 0 and each breakpoint are graded down to step/2^GRADING.
+GRADING = 4
 
 
 @dataclass(frozen=True)
@@ -114,14 +116,17 @@ class Trajectory:
 # --------------------------------------------------------------------------- time grid
 
 
-def time_grid(duration: float, step: float, breakpoints=(), samples=()) -> np.ndarray:
+def time_grid(duration: float, step: float, breakpoints=(), samples=(), grading: int = GRADING) -> np.ndarray:
     """Grid on ``[0, duration]`` of steps ``<= step`` containing every breakpoint and sampling instant.
 
-    Points closer than ``1e-9 step`` to an existing point are merged (no sliver steps).
+    After ``t = 0`` and each breakpoint the steps are graded (``step 2^-k``, k = ``grading`` .. 1) to
+    resolve the fast plant transient a jump of the inputs starts. Points closer than ``1e-9 step`` to
+    an existing point are merged (no sliver steps).
     """
     n = max(int(math.ceil(duration / step - 1e-9)), 1)
-    pts = np.concatenate([np.linspace(0.0, duration, n + 1),
-                          [b for b in breakpoints if 0.0 < b < duration], np.asarray(samples, dtype=float)])
+    starts = [0.0] + [b for b in breakpoints if 0.0 < b < duration]
+    graded = [b + step * 2.0 ** -k for b in starts for k in range(1, grading + 1)]
+    pts = np.concatenate([np.linspace(0.0, duration, n + 1), starts, graded, np.asarray(samples, dtype=float)])
     pts = np.unique(pts[(pts >= 0.0) & (pts <= duration)])
     keep = np.concatenate([[True], np.diff(pts) > 1e-9 * step])
     pts = pts[keep]
