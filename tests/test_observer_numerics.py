@@ -8,23 +8,10 @@ import pytest
 from tirecli.conventions import theta_fm_from_obs
 from tirecli.models.profiles import Change, Constant, Transitions
 from tirecli.numerics import observer_integrator as oi
-from tirecli.observers import lugre_observer as lo
 from tirecli.observers.measurement import Sensor
 
 
-@pytest.fixture(scope="module")
-def plant():
-    from tirecli.parameters.sets import load_builtin
-
-    return lo.ObserverPlant(tire=load_builtin("canudas2003-table1").model(),
-                            car=load_builtin("canudas2003-obs-quarter-car").model())
-
-
-@pytest.fixture(scope="module")
-def gains():
-    from tirecli.parameters.sets import load_builtin
-
-    return load_builtin("canudas2003-obs-gains").model()
+from observer_fixtures import gains, plant  # noqa: F401 (fixtures)
 
 
 def theta_of(profile_obs):

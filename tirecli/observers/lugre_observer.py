@@ -102,7 +102,7 @@ class ObserverPlant:
 
     def matrices(self):
         """``(A, B, R, E, C)`` of OBS (6) for the lumped LuGre plant (observer.md §3)."""
-        t, c = self.tire, self.car
+        c = self.car
         A = np.array([[-self.c_eta, 0.0, 0.0],
                       [0.0, 0.0, -self.Q],
                       [-1.0 / (c.r * c.m), 0.0, 0.0]])

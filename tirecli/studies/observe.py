@@ -34,7 +34,6 @@ forward motion) are listed in ``meta["warnings"]``.
 """
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass, replace
 
 import numpy as np
@@ -45,7 +44,7 @@ from tirecli.config.schema import ListOf, Map, Num, Raw, Str
 from tirecli.conventions import (THETA_CONVENTIONS, slip_from_speeds, theta_fm_from_obs, theta_obs_from_fm,
                                  to_theta_fm)
 from tirecli.errors import ConfigError
-from tirecli.models.profiles import Constant, Table, Transitions, profile_from_checked, profile_spec
+from tirecli.models.profiles import Table, Transitions, profile_from_checked, profile_spec
 from tirecli.observers import lugre_observer as lo
 from tirecli.observers import metrics as om
 from tirecli.observers.measurement import METHODS, Sensor
@@ -342,7 +341,7 @@ def design_record(plant: lo.ObserverPlant, gains: lo.ObserverGains, tr=None) -> 
 
 
 def _frame(plant, tr, label, dt_out) -> pd.DataFrame:
-    r, J = plant.car.r, plant.car.J
+    r = plant.car.r
     keep = _decimate(tr.t, dt_out)
     t = tr.t[keep]
     v, w, y = tr.v[keep], tr.omega[keep], tr.y[keep]
