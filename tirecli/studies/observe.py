@@ -211,7 +211,7 @@ def _make_case(label, gains, checked, theta_raw, torque_raw, est, meas, config, 
                         theta_hat0=theta_hat0_obs,
                         breakpoints=tuple(sorted(set(profile_breakpoints(theta_p) + profile_breakpoints(torque_p)))))
     return Case(label=label, gains=gains, scenario=scenario, sensor=_sensor(meas), theta_profile=theta_p,
-                changes=sorted(set(changes)))
+                changes=sorted({c for c in changes if c < sc["duration"]}))
 
 
 @dataclass
