@@ -9,6 +9,7 @@ from __future__ import annotations
 import numpy as np
 
 from tirecli.figures.registry import register
+from tirecli.figures.transient import require
 from tirecli.figures.style import COLORS, finish, new_figure, synthetic_mark
 from tirecli.observers import lugre_observer as lo
 from tirecli.observers import metrics as om
@@ -24,6 +25,7 @@ FIG2_THETA_HAT = {5.5: (1.413, 1e-3), 6.0: (1.565, 1e-3), 7.0: (1.646, 1e-3), 8.
 
 
 def _runs(result):
+    require(result, "observe", "obs-*")
     return list(zip(result.payload["cases"], result.payload["trajectories"], result.payload["runs"]))
 
 
@@ -52,7 +54,6 @@ def _slip(result, tr):
 
 def _mark_synthetic(result, fig):
     if result.synthetic:
-        fig.get_layout_engine().set(rect=(0.0, 0.0, 1.0, 0.975))  # room for the label above the panels
         synthetic_mark(fig)
 
 
@@ -287,6 +288,11 @@ def _gain_checks(result):
     paper_shows="Not in OBS (the paper shows one gain set).",
 )
 def draw_obs_gain_study(result):
+    from tirecli.errors import UsageError
+
+    require(result, "observe", "obs-gain-study")
+    if "gain_study" not in result.data:
+        raise UsageError("figure 'obs-gain-study' needs a 'gain_study' block in the config")
     gs = result.data["gain_study"]
     fig, (a, b) = new_figure(nrows=2, width=7.0, height=7.0)
     for k, (case, tr, _) in enumerate(_plot_runs(result)):

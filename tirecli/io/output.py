@@ -7,6 +7,7 @@ writes files. Layout of an output directory::
                             config hash, citations, wall time, checks, study facts
     DIR/data/NAME.csv       the study's frames (long format)
     DIR/figures/ID.png|svg  each figure (tables as ID.csv)
+    DIR/NAME                extra text files of the study (e.g. fitted.yaml of tirecli fit)
 """
 from __future__ import annotations
 
@@ -198,6 +199,7 @@ def write_result(out: str | Path, result, figures: dict, checks: list, command: 
             fig_paths.append(write_csv(out / "figures" / f"{fid}.csv", pd.DataFrame(fig.rows, columns=fig.columns)))
         else:
             fig_paths += save_figure(fig, out / "figures", fid)
+    file_paths = [write_text(out / name, text) for name, text in getattr(result, "files", {}).items()]
     record = {
         "tool": "tirecli",
         "command": command,
@@ -213,6 +215,7 @@ def write_result(out: str | Path, result, figures: dict, checks: list, command: 
         "outputs": {
             "data": [str(p.relative_to(out)) for p in data_paths],
             "figures": [str(p.relative_to(out)) for p in fig_paths],
+            "files": [str(p.relative_to(out)) for p in file_paths],
         },
         "wall_time_s": round(wall_time, 4),
         "environment": environment(),
@@ -222,4 +225,4 @@ def write_result(out: str | Path, result, figures: dict, checks: list, command: 
     if extra:
         record.update(extra)
     write_json(out / "run.json", record)
-    return {"dir": out, "data": data_paths, "figures": fig_paths, "run": out / "run.json"}
+    return {"dir": out, "data": data_paths, "figures": fig_paths, "files": file_paths, "run": out / "run.json"}

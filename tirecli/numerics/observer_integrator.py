@@ -450,7 +450,8 @@ def full_rhs(plant: ObserverPlant, gains: ObserverGains, scenario: Scenario):
     from tirecli.models.quarter_car import QuarterCarLumped, rhs
 
     qc = QuarterCarLumped(tire=plant.tire, car=plant.car, kappa0=None, sigma2_in_wheel=False)
-    u_of, th_of = scenario.torque, scenario.theta_fm
+    u_of = getattr(scenario.torque, "at", scenario.torque)  # scalar evaluation without numpy overhead
+    th_of = scenario.theta_fm
 
     def f(t, X, y=None):
         u = float(u_of(t))

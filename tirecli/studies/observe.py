@@ -156,15 +156,6 @@ class Case:
     changes: list             # start times of the adhesion changes (settling)
 
 
-def profile_breakpoints(profile) -> list[float]:
-    """Times [s] where a profile may jump or kink (grid points of the fast scheme)."""
-    if isinstance(profile, Transitions):
-        return sorted({c.at for c in profile.changes} | {c.at + c.duration for c in profile.changes})
-    if isinstance(profile, Table):
-        return sorted(set(profile.t))
-    return []
-
-
 def profile_changes(profile) -> list[float]:
     """Start times [s] of the level changes of a profile (for the settling metric)."""
     if isinstance(profile, Transitions):
@@ -184,7 +175,10 @@ def _sensor(m: dict | None) -> Sensor:
 
 
 def _theta_fm_fn(profile, convention):
+    """``theta_fm(t)`` of a profile given in ``convention`` (scalar calls use the profile's fast ``at``)."""
     def theta_fm(t):
+        if np.ndim(t) == 0 and hasattr(profile, "at"):
+            return float(to_theta_fm(profile.at(float(t)), convention))
         return to_theta_fm(profile(t), convention)
     return theta_fm
 
@@ -209,7 +203,7 @@ def _make_case(label, gains, checked, theta_raw, torque_raw, est, meas, config, 
     scenario = Scenario(duration=sc["duration"], torque=torque_p, theta_fm=_theta_fm_fn(theta_p, conv), v0=v0,
                         omega0=romega0 / r, z0=sc["z0"], v_hat0=v0 + est["v_error"], z_hat0=est["z"],
                         theta_hat0=theta_hat0_obs,
-                        breakpoints=tuple(sorted(set(profile_breakpoints(theta_p) + profile_breakpoints(torque_p)))))
+                        breakpoints=tuple(sorted(set(theta_p.breakpoints()) | set(torque_p.breakpoints()))))
     return Case(label=label, gains=gains, scenario=scenario, sensor=_sensor(meas), theta_profile=theta_p,
                 changes=sorted({c for c in changes if c < sc["duration"]}))
 
