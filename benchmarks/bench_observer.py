@@ -18,16 +18,9 @@ from pathlib import Path
 
 import numpy as np
 
+from bench_transient import best_of  # noqa: E402 (same folder: (min time, last result) of repeated runs)
+
 ROOT = Path(__file__).resolve().parents[1]
-
-
-def best_of(fn, repeat=5):
-    times, out = [], None
-    for _ in range(repeat):
-        t0 = time.perf_counter()
-        out = fn()
-        times.append(time.perf_counter() - t0)
-    return min(times), out
 
 
 def setup():
@@ -71,7 +64,7 @@ def main() -> None:
 
     rows = []
     for step in (oi.DEFAULT_STEP, 1e-3):
-        t_fast, tr = best_of(lambda: oi.simulate_fast(plant, gains, sc, step=step))
+        t_fast, tr = best_of(lambda: oi.simulate_fast(plant, gains, sc, step=step), repeat=5)
         dth, ddv = deviation(tr.t, tr.theta_hat, tr.v_hat - tr.v, ref)
         rows.append((f"fast scheme, step {step * 1e3:g} ms (best of 5)", t_fast, dth, ddv, tr.info["steps"]))
     t_main = rows[0][1]
