@@ -205,3 +205,13 @@ def test_report_strict_fails_when_fig2_drifts(cli, tmp_path, monkeypatch):
     assert code == 1 and "obs-fig2/theta-hat-8s" in out + err
     summary = json.loads((tmp_path / "summary.json").read_text())
     assert summary["n_failed"] == 1
+
+
+def test_reference_integrator_through_the_study():
+    from tirecli.studies.base import builtin_config, run_study
+
+    res = run_study(builtin_config("obs-fig2", overrides=["numerics.method=reference", "scenario.duration=1",
+                                                          "metrics.phases=[0, 1]"]))
+    run = res.meta["runs"][0]
+    assert run["integrator"].startswith("reference (Radau")
+    assert run["metrics"]["phases"][0]["max"] < 1e-6   # exact start, constant theta
