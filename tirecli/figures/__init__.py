@@ -2,3 +2,4 @@
 from tirecli.figures import steady  # noqa: F401
 from tirecli.figures import transient  # noqa: F401
 from tirecli.figures import identification  # noqa: F401
+from tirecli.figures import observer  # noqa: F401

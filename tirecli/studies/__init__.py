@@ -5,3 +5,4 @@ Importing this package registers every study in :data:`tirecli.studies.base.STUD
 from tirecli.studies import sweep  # noqa: F401
 from tirecli.studies import simulate  # noqa: F401
 from tirecli.studies import fit  # noqa: F401
+from tirecli.studies import observe  # noqa: F401
