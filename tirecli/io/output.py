@@ -165,11 +165,18 @@ def environment() -> dict:
 
 
 def assumed_list(result) -> list[str]:
-    """``group.param: reason`` for every value of a result still flagged as assumed."""
+    """``group.param: reason`` for every value of a result still flagged as assumed.
+
+    A study's own assumptions (scenario values the paper does not print) come from
+    ``result.meta["assumed"]`` (a text or a list of texts).
+    """
     out = []
     for group, ps in result.parameter_sets.items():
         for key, why in ps.assumed.items():
             out.append(f"{group}.{key}: {why}")
+    extra = result.meta.get("assumed") if isinstance(result.meta, dict) else None
+    for why in ([extra] if isinstance(extra, str) else list(extra or [])):
+        out.append(str(why))
     return out
 
 
