@@ -11,6 +11,7 @@ writes files. Layout of an output directory::
 """
 from __future__ import annotations
 
+import contextlib
 import json
 import math
 import platform
@@ -117,6 +118,16 @@ def read_text(path: str | Path) -> str:
         raise UsageError(f"{path}: file not found") from None
 
 
+@contextlib.contextmanager
+def _quiet_mpl3d():
+    """Silence mplot3d's benign 'overflow encountered in dot' (projection of far axis panes)."""
+    import warnings
+
+    with warnings.catch_warnings():
+        warnings.filterwarnings("ignore", category=RuntimeWarning, module=r"mpl_toolkits\.mplot3d.*")
+        yield
+
+
 def save_figure(fig, directory: str | Path, name: str, dpi: int = 150) -> list[Path]:
     """Save a matplotlib figure as ``NAME.png`` and ``NAME.svg`` (deterministic metadata)."""
     directory = Path(directory)
@@ -125,12 +136,13 @@ def save_figure(fig, directory: str | Path, name: str, dpi: int = 150) -> list[P
     import matplotlib
 
     engine = fig.get_layout_engine()
-    if engine is not None:  # lay out once, then save both formats without re-running the engine
-        fig.draw_without_rendering()
-        fig.set_layout_engine("none")
-    fig.savefig(png, dpi=dpi, metadata={"Software": None})
-    with matplotlib.rc_context({"svg.fonttype": "none"}):  # text stays text: smaller, faster, editable
-        fig.savefig(svg, metadata={"Date": None, "Creator": None})
+    with _quiet_mpl3d():
+        if engine is not None:  # lay out once, then save both formats without re-running the engine
+            fig.draw_without_rendering()
+            fig.set_layout_engine("none")
+        fig.savefig(png, dpi=dpi, metadata={"Software": None})
+        with matplotlib.rc_context({"svg.fonttype": "none"}):  # text stays text: smaller, faster, editable
+            fig.savefig(svg, metadata={"Date": None, "Creator": None})
     if engine is not None:
         fig.set_layout_engine(engine)
     return [png, svg]
@@ -141,7 +153,8 @@ def png_bytes(fig, dpi: int = 110) -> bytes:
     import io
 
     buf = io.BytesIO()
-    fig.savefig(buf, format="png", dpi=dpi, metadata={"Software": None})
+    with _quiet_mpl3d():
+        fig.savefig(buf, format="png", dpi=dpi, metadata={"Software": None})
     return buf.getvalue()
 
 
