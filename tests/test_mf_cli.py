@@ -298,3 +298,15 @@ def test_report_mf_cards(cli, tmp_path):
     assert summary["n_failed"] == 0
     html = (tmp_path / "index.html").read_text()
     assert 'id="mf-lugre-compare"' in html and 'id="mf-golden-fx0"' in html
+
+
+def test_figures_of_the_other_model_family_are_refused(cli, tmp_path):
+    cfg = tmp_path / "s.yaml"
+    cfg.write_text("study: sweep\ntire: chrono-185-80r14\nfigures: [sweep-mu-slip]\n")
+    code, out, err = cli("sweep", cfg, "--out", tmp_path / "a")
+    one_line_error(code, err)
+    assert "draws a LuGre sweep" in err
+    cfg.write_text("study: sweep\ntire: canudas2003-table1\nsweep: {slip: [-0.1, 0]}\nfigures: [mf-fx-kappa]\n")
+    code, out, err = cli("sweep", cfg, "--out", tmp_path / "b")
+    one_line_error(code, err)
+    assert "figure 'mf-fx-kappa' draws a Magic Formula sweep" in err

@@ -12,7 +12,7 @@ import traceback
 import typer
 
 from tirecli import __version__
-from tirecli.cli import common, figures, mf, params, report, sweep, tir
+from tirecli.cli import common, figures, fit, mf, observe, params, report, simulate, sweep, tir
 
 app = typer.Typer(
     name="tirecli",
@@ -42,6 +42,9 @@ def _root(
 
 
 app.command("sweep")(sweep.sweep)
+app.command("simulate")(simulate.simulate)
+app.command("fit")(fit.fit)
+app.command("observe")(observe.observe)
 app.command("report")(report.report)
 app.add_typer(params.app, name="params")
 app.add_typer(figures.app, name="figures")

@@ -16,6 +16,16 @@ from tirecli.studies.base import Check
 ISO = " (ISO-W)"
 
 
+def require_mf(result, fid: str, frame: str = "sweep", column: str = "family", what: str | None = None) -> None:
+    """A UsageError unless ``result`` holds the Magic Formula frame this figure draws."""
+    from tirecli.errors import UsageError
+
+    df = result.data.get(frame)
+    if df is None or column not in df.columns:
+        need = what or "a Magic Formula sweep (a 'sweep' config whose tire: is a Magic Formula tyre)"
+        raise UsageError(f"figure {fid!r} draws {need}, not this '{result.study}' run (see 'tirecli figures list')")
+
+
 def _fam(df, family):
     return df[df["family"] == family]
 
@@ -81,10 +91,11 @@ def draw_combined(axes, result):
     finish(b, "Fx [N]" + ISO, "Fy [N]" + ISO, "combined slip: fixed kappa")
 
 
-def _figure_of(draw, ncols=1):
+def _figure_of(fid, draw, ncols=1):
     """A figure function drawing ``draw(ax_or_axes, result)`` on one panel or a row of ``ncols``."""
 
     def fig(result):
+        require_mf(result, fid)
         f, axes = new_figure(ncols=ncols, width=6.4 if ncols == 1 else 11.0, height=4.2)
         draw(axes, result)
         return f
@@ -108,7 +119,7 @@ for _id, _title_text, _caption, _draw, _ncols in (
      "Fy against Fx under combined slip at one load: kappa swept at fixed slip angles (left) and alpha swept at "
      "fixed slips (right); the weighting functions G_xa, G_yk of spec §6.", draw_combined, 2),
 ):
-    register(_id, paper="generic", label="MF sweep", title=_title_text, caption=_caption)(_figure_of(_draw, _ncols))
+    register(_id, paper="generic", label="MF sweep", title=_title_text, caption=_caption)(_figure_of(_id, _draw, _ncols))
 
 
 # --------------------------------------------------------------------------- LuGre vs MF
@@ -151,6 +162,7 @@ def _compare_checks(result):
 )
 def fig_lugre_compare(result):
     """|mu| [-] against |s| [-]: the Magic Formula ``compare`` family and the LuGre frame."""
+    require_mf(result, "mf-lugre-compare", "lugre", "mu", "a Magic Formula sweep with a 'compare:' block")
     fig, ax = new_figure()
     d = _fam(result.data["sweep"], "compare")
     name = result.parameter_sets["tire"].name
@@ -223,6 +235,7 @@ def _tire_checks(result):
 
 def draw_overview(result):
     """Six panels: Fx-kappa, Fy-alpha, Mz-alpha at several loads; camber Fy, Mz; combined Fx-Fy."""
+    require_mf(result, "mf-tire-*")
     fig, axes = new_figure(ncols=3, nrows=2, width=15.0, height=8.4)
     draw_fx_kappa(axes[0, 0], result)
     draw_fy_alpha(axes[0, 1], result)
@@ -286,6 +299,7 @@ def _draw_golden(block):
     from tirecli.studies.mf_golden import OUTPUTS, TOLERANCE
 
     def draw(result):
+        require_mf(result, f"mf-golden-{block}", "golden", "block", "the golden-data study (built-in config mf-golden)")
         d = _golden_block(result, block)
         fig, ax = new_figure(width=7.0, height=3.8)
         x = d["row"].to_numpy()

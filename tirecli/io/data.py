@@ -78,19 +78,47 @@ def read_columns(path: str | Path, columns, increasing: str | None = None, min_r
         Column name -> float array.
     """
     path = Path(path)
-    frame = read_table(path)
-    if rename:
-        missing_src = [src for src in rename if src not in frame.columns]
-        if missing_src:
-            raise DataError(f"{path}: mapped column(s) {', '.join(map(repr, missing_src))} not in the file "
-                            f"(columns: {', '.join(frame.columns)})")
-        frame = frame.rename(columns=rename)
+    frame = rename_columns(read_table(path), rename, path)
+    return frame_columns(frame, columns, path, increasing=increasing, min_rows=min_rows, optional=optional)
+
+
+def rename_columns(frame, rename: dict | None, path):
+    """Apply a column mapping ``{name in file: expected name}``; DataError if a mapped column is absent."""
+    if not rename:
+        return frame
+    missing_src = [src for src in rename if src not in frame.columns]
+    if missing_src:
+        raise DataError(f"{path}: mapped column(s) {', '.join(map(repr, missing_src))} not in the file "
+                        f"(columns: {', '.join(map(str, frame.columns))})")
+    return frame.rename(columns=rename)
+
+
+def leading_comments(path: str | Path, limit: int = 20) -> list[str]:
+    """The ``#`` comment lines at the top of a CSV (e.g. tirecli's ``# SYNTHETIC DATA ...`` label)."""
+    out = []
+    try:
+        with Path(path).open(encoding="utf-8", errors="replace") as fh:
+            for _ in range(limit):
+                line = fh.readline()
+                if not line.startswith("#"):
+                    break
+                out.append(line[1:].strip())
+    except OSError:
+        return []
+    return out
+
+
+def frame_columns(frame, columns, path, increasing: str | None = None, min_rows: int = 2,
+                  optional=()) -> dict:
+    """Named numeric columns of an already read (and possibly filtered) frame, with the checks of
+    :func:`read_columns` (missing columns, non-numbers, NaN, too few rows, non-increasing time)."""
     missing = [c for c in columns if c not in frame.columns]
     if missing:
         raise DataError(f"{path}: missing column(s) {', '.join(map(repr, missing))} "
-                        f"(file has: {', '.join(frame.columns) or 'none'}; map names with --map FILE_COLUMN=NAME)")
+                        f"(file has: {', '.join(map(str, frame.columns)) or 'none'}; map names with --map FILE_COLUMN=NAME)")
     if len(frame) < min_rows:
         raise DataError(f"{path}: too few data rows ({len(frame)}, need at least {min_rows})")
+    frame = frame.reset_index(drop=True)
     out = {c: numeric_column(frame, c, path) for c in columns}
     for c in optional:
         if c in frame.columns:

@@ -7,9 +7,11 @@ writes files. Layout of an output directory::
                             config hash, citations, wall time, checks, study facts
     DIR/data/NAME.csv       the study's frames (long format)
     DIR/figures/ID.png|svg  each figure (tables as ID.csv)
+    DIR/NAME                extra text files of the study (e.g. fitted.yaml of tirecli fit)
 """
 from __future__ import annotations
 
+import contextlib
 import json
 import math
 import platform
@@ -116,6 +118,16 @@ def read_text(path: str | Path) -> str:
         raise UsageError(f"{path}: file not found") from None
 
 
+@contextlib.contextmanager
+def _quiet_mpl3d():
+    """Silence mplot3d's benign 'overflow encountered in dot' (projection of far axis panes)."""
+    import warnings
+
+    with warnings.catch_warnings():
+        warnings.filterwarnings("ignore", category=RuntimeWarning, module=r"mpl_toolkits\.mplot3d.*")
+        yield
+
+
 def save_figure(fig, directory: str | Path, name: str, dpi: int = 150) -> list[Path]:
     """Save a matplotlib figure as ``NAME.png`` and ``NAME.svg`` (deterministic metadata)."""
     directory = Path(directory)
@@ -124,12 +136,13 @@ def save_figure(fig, directory: str | Path, name: str, dpi: int = 150) -> list[P
     import matplotlib
 
     engine = fig.get_layout_engine()
-    if engine is not None:  # lay out once, then save both formats without re-running the engine
-        fig.draw_without_rendering()
-        fig.set_layout_engine("none")
-    fig.savefig(png, dpi=dpi, metadata={"Software": None})
-    with matplotlib.rc_context({"svg.fonttype": "none"}):  # text stays text: smaller, faster, editable
-        fig.savefig(svg, metadata={"Date": None, "Creator": None})
+    with _quiet_mpl3d():
+        if engine is not None:  # lay out once, then save both formats without re-running the engine
+            fig.draw_without_rendering()
+            fig.set_layout_engine("none")
+        fig.savefig(png, dpi=dpi, metadata={"Software": None})
+        with matplotlib.rc_context({"svg.fonttype": "none"}):  # text stays text: smaller, faster, editable
+            fig.savefig(svg, metadata={"Date": None, "Creator": None})
     if engine is not None:
         fig.set_layout_engine(engine)
     return [png, svg]
@@ -140,7 +153,8 @@ def png_bytes(fig, dpi: int = 110) -> bytes:
     import io
 
     buf = io.BytesIO()
-    fig.savefig(buf, format="png", dpi=dpi, metadata={"Software": None})
+    with _quiet_mpl3d():
+        fig.savefig(buf, format="png", dpi=dpi, metadata={"Software": None})
     return buf.getvalue()
 
 
@@ -164,11 +178,18 @@ def environment() -> dict:
 
 
 def assumed_list(result) -> list[str]:
-    """``group.param: reason`` for every value of a result still flagged as assumed."""
+    """``group.param: reason`` for every value of a result still flagged as assumed.
+
+    A study's own assumptions (scenario values the paper does not print) come from
+    ``result.meta["assumed"]`` (a text or a list of texts).
+    """
     out = []
     for group, ps in result.parameter_sets.items():
         for key, why in ps.assumed.items():
             out.append(f"{group}.{key}: {why}")
+    extra = result.meta.get("assumed") if isinstance(result.meta, dict) else None
+    for why in ([extra] if isinstance(extra, str) else list(extra or [])):
+        out.append(str(why))
     return out
 
 
@@ -198,6 +219,7 @@ def write_result(out: str | Path, result, figures: dict, checks: list, command: 
             fig_paths.append(write_csv(out / "figures" / f"{fid}.csv", pd.DataFrame(fig.rows, columns=fig.columns)))
         else:
             fig_paths += save_figure(fig, out / "figures", fid)
+    file_paths = [write_text(out / name, text) for name, text in getattr(result, "files", {}).items()]
     record = {
         "tool": "tirecli",
         "command": command,
@@ -213,6 +235,7 @@ def write_result(out: str | Path, result, figures: dict, checks: list, command: 
         "outputs": {
             "data": [str(p.relative_to(out)) for p in data_paths],
             "figures": [str(p.relative_to(out)) for p in fig_paths],
+            "files": [str(p.relative_to(out)) for p in file_paths],
         },
         "wall_time_s": round(wall_time, 4),
         "environment": environment(),
@@ -222,4 +245,4 @@ def write_result(out: str | Path, result, figures: dict, checks: list, command: 
     if extra:
         record.update(extra)
     write_json(out / "run.json", record)
-    return {"dir": out, "data": data_paths, "figures": fig_paths, "run": out / "run.json"}
+    return {"dir": out, "data": data_paths, "figures": fig_paths, "files": file_paths, "run": out / "run.json"}

@@ -9,7 +9,12 @@ run's outputs (the shape of a brake release changes the results: lugre.md §7). 
 - :class:`Transitions` — a level that changes at given times to new levels, each change a
   ``step``, a ``linear`` ramp or a ``half-cosine`` (smooth) transition over its duration:
   ``y = y_a + (y_b - y_a) S((t - t0)/d)`` with ``S(x) = (1 - cos(pi clip(x, 0, 1)))/2``
-  (observer.md §7).
+  (observer.md §7);
+- :class:`Expression` — a formula of ``t`` (numpy functions, evaluated safely: no names other
+  than ``t``, ``pi``, ``e`` and the functions of :data:`EXPRESSION_FUNCTIONS`).
+
+Every profile also has ``at(t)`` (fast evaluation at one float time, for time-stepping loops) and
+``breakpoints()`` (times where the profile or its slope jumps; integrators end steps there).
 
 Config forms (see :data:`PROFILE_SPEC` and :func:`profile_from_config`)::
 
@@ -17,10 +22,13 @@ Config forms (see :data:`PROFILE_SPEC` and :func:`profile_from_config`)::
     torque: {table: {t: [0, 0.5, 2.0, 2.6], value: [0, 0, 1000, 0]}}
     torque: {initial: 350, changes: [{at: 7, duration: 1, to: -250, shape: half-cosine}]}
     torque: {csv: measured.csv, t: t, value: torque}      # read by tirecli.io.data
+    theta: {expr: "1 - 0.4*(t > 5)"}                      # a formula of t
 """
 from __future__ import annotations
 
-from dataclasses import dataclass
+import bisect
+import math
+from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -40,6 +48,12 @@ class Constant:
 
     def __call__(self, t):
         return np.full(np.shape(t), self.value, dtype=float) if np.ndim(t) else float(self.value)
+
+    def at(self, t: float) -> float:
+        return float(self.value)
+
+    def breakpoints(self) -> tuple:
+        return ()
 
     def record(self) -> dict:
         return {"kind": "constant", "value": self.value}
@@ -62,6 +76,20 @@ class Table:
         # np.interp takes the right-most value at repeated abscissae (a step at t_i)
         out = np.interp(t, tt, yy)
         return out if np.ndim(t) else float(out)
+
+    def at(self, t: float) -> float:
+        """The value at one time ``t`` [s] (same as ``self(t)``, without numpy overhead)."""
+        tt, yy = self.t, self.y
+        if t <= tt[0]:
+            return float(yy[0])
+        i = bisect.bisect_right(tt, t)
+        if i >= len(tt):
+            return float(yy[-1])
+        t0, t1 = tt[i - 1], tt[i]
+        return float(yy[i - 1] + (yy[i] - yy[i - 1]) * (t - t0) / (t1 - t0))
+
+    def breakpoints(self) -> tuple:
+        return tuple(sorted(set(float(x) for x in self.t)))
 
     def record(self) -> dict:
         rec = {"kind": "table", "t": list(self.t), "value": list(self.y)}
@@ -102,9 +130,100 @@ class Transitions:
             level = c.to
         return y if np.ndim(t) else float(y)
 
+    def at(self, t: float) -> float:
+        """The value at one time ``t`` [s] (same as ``self(t)``, without numpy overhead)."""
+        y = level = self.initial
+        for c in self.changes:
+            if t >= c.at:
+                if c.shape == "step" or c.duration <= 0.0 or t >= c.at + c.duration:
+                    frac = 1.0
+                elif c.shape == "linear":
+                    frac = (t - c.at) / c.duration
+                else:
+                    frac = 0.5 * (1.0 - math.cos(math.pi * (t - c.at) / c.duration))
+                y += (c.to - level) * frac
+            level = c.to
+        return float(y)
+
+    def breakpoints(self) -> tuple:
+        out = set()
+        for c in self.changes:
+            out.add(float(c.at))
+            if c.duration > 0.0 and c.shape != "step":
+                out.add(float(c.at + c.duration))
+        return tuple(sorted(out))
+
     def record(self) -> dict:
         return {"kind": "transitions", "initial": self.initial,
                 "changes": [{"at": c.at, "duration": c.duration, "to": c.to, "shape": c.shape} for c in self.changes]}
+
+
+#: Functions an :class:`Expression` may call (numpy, elementwise).
+EXPRESSION_FUNCTIONS = {
+    "sin": np.sin, "cos": np.cos, "tan": np.tan, "exp": np.exp, "log": np.log, "sqrt": np.sqrt,
+    "abs": np.abs, "tanh": np.tanh, "arctan": np.arctan, "sign": np.sign, "minimum": np.minimum,
+    "maximum": np.maximum, "clip": np.clip, "where": np.where, "heaviside": np.heaviside,
+}
+_EXPRESSION_NAMES = {"t", "pi", "e"} | set(EXPRESSION_FUNCTIONS)
+_EXPRESSION_NODES = ("Expression", "BinOp", "UnaryOp", "Compare", "Call", "Name", "Load", "Constant", "Add", "Sub",
+                     "Mult", "Div", "Pow", "Mod", "USub", "UAdd", "Lt", "LtE", "Gt", "GtE")
+
+
+def expression_problem(text: str) -> str | None:
+    """Why ``text`` is not an admissible formula of ``t`` (None if it is)."""
+    import ast  # lazily: start-up time of every command
+
+    allowed = tuple(getattr(ast, n) for n in _EXPRESSION_NODES)
+    try:
+        tree = ast.parse(text, mode="eval")
+    except SyntaxError as exc:
+        return f"cannot read the formula ({exc.msg})"
+    for node in ast.walk(tree):
+        if not isinstance(node, allowed):
+            return f"not allowed in a formula: {type(node).__name__}"
+        if isinstance(node, ast.Name) and node.id not in _EXPRESSION_NAMES:
+            return f"unknown name {node.id!r} (use t, pi, e and {', '.join(sorted(EXPRESSION_FUNCTIONS))})"
+        if isinstance(node, ast.Call) and not (isinstance(node.func, ast.Name) and node.func.id in EXPRESSION_FUNCTIONS):
+            return "only the listed functions may be called"
+        if isinstance(node, ast.Constant) and not isinstance(node.value, (int, float)):
+            return "only numbers are allowed as constants"
+    return None
+
+
+@dataclass(frozen=True)
+class Expression:
+    """A profile given by a formula of time ``t`` [s], e.g. ``"20 - 4*t"`` or ``"0.1*sin(2*pi*t)"``.
+
+    Only ``t``, ``pi``, ``e``, numbers, arithmetic, comparisons (true = 1) and the functions of
+    :data:`EXPRESSION_FUNCTIONS` are allowed (checked by :func:`expression_problem`).
+    """
+
+    text: str
+    _code: object = field(default=None, compare=False, repr=False)
+
+    def __post_init__(self):
+        problem = expression_problem(self.text)
+        if problem is not None:
+            raise ValueError(f"formula {self.text!r}: {problem}")
+        import ast
+
+        object.__setattr__(self, "_code", compile(ast.parse(self.text, mode="eval"), "<formula>", "eval"))
+
+    def __call__(self, t):
+        tarr = np.asarray(t, dtype=float)
+        env = {"__builtins__": {}, "t": tarr, "pi": np.pi, "e": np.e, **EXPRESSION_FUNCTIONS}
+        with np.errstate(all="ignore"):
+            out = np.broadcast_to(np.asarray(eval(self._code, env), dtype=float), tarr.shape)  # noqa: S307 - checked AST
+        return np.array(out) if np.ndim(t) else float(out)
+
+    def at(self, t: float) -> float:
+        return float(self(float(t)))
+
+    def breakpoints(self) -> tuple:
+        return ()
+
+    def record(self) -> dict:
+        return {"kind": "expression", "expr": self.text}
 
 
 def _post_table(v, path, ctx):
@@ -123,9 +242,29 @@ def _post_transitions(v, path, ctx):
         last = c["at"] + (c["duration"] or 0.0)
 
 
+def _post_expr(v, path, ctx):
+    problem = expression_problem(v["expr"])
+    if problem is not None:
+        ctx.fail(path + ("expr",), problem)
+
+
 def profile_spec(unit: str, lo: float | None = None, hi: float | None = None, gt: float | None = None):
-    """Schema of a profile whose values are in ``unit`` and within the given bounds."""
-    from tirecli.config.schema import AnyOf, ListOf, Map, Num, Str
+    """Schema of a profile whose values are in ``unit`` and within the given bounds.
+
+    Each mapping form is recognised by its key (``table``, ``initial``, ``csv``, ``expr``), so a
+    problem inside one form is reported as such.
+    """
+    from tirecli.config.schema import AnyOf, ListOf, Num, Str
+    from tirecli.config.schema import Map as _Map
+
+    def Map(fields, post=None):
+        key = next(iter(fields))
+
+        class _Keyed(_Map):
+            def accepts(self, value):
+                return isinstance(value, dict) and key in value
+
+        return _Keyed(fields=fields, post=post)
 
     val = Num(unit=unit, ge=lo, le=hi, gt=gt)
     time = Num(unit="s", ge=0)
@@ -140,7 +279,8 @@ def profile_spec(unit: str, lo: float | None = None, hi: float | None = None, gt
         }), min_len=0, default=[])}, post=_post_transitions),
         Map(fields={"csv": Str(doc="CSV file (relative to the config)"),
                     "t": Str(default="t", doc="time column"), "value": Str(doc="value column")}),
-    ), what=f"a number [{unit}], {{table: {{t, value}}}}, {{initial, changes}} or {{csv, t, value}}")
+        Map(fields={"expr": Str(doc=f"formula of t [s] giving the value [{unit}]")}, post=_post_expr),
+    ), what=f"a number [{unit}], {{table: {{t, value}}}}, {{initial, changes}}, {{csv, t, value}} or {{expr}}")
 
 
 def profile_from_checked(v, base_dir=None, origin=("", None)):
@@ -149,6 +289,8 @@ def profile_from_checked(v, base_dir=None, origin=("", None)):
         return Constant(float(v))
     if "table" in v:
         return Table(tuple(v["table"]["t"]), tuple(v["table"]["value"]))
+    if "expr" in v:
+        return Expression(v["expr"])
     if "initial" in v:
         return Transitions(v["initial"], tuple(Change(c["at"], c["to"], c["duration"], c["shape"])
                                                for c in v["changes"] or []))

@@ -1,0 +1,11 @@
+"""Solvers of the transient models (no I/O, no plotting).
+
+- :mod:`tirecli.numerics.ros2` — adaptive second-order Rosenbrock driver (breakpoints, wheel lock,
+  stop condition);
+- :mod:`tirecli.numerics.lumped` — quarter car / tire alone with the lumped LuGre model;
+- :mod:`tirecli.numerics.characteristics` — the same with the distributed LuGre model, solved
+  exactly along characteristics;
+- :mod:`tirecli.numerics.runs` — one entry point per run kind (coupled, open loop);
+- :mod:`tirecli.numerics.observer_integrator` — quarter car + adhesion observer (OBS): a structured
+  fixed-step scheme and a Radau reference.
+"""

@@ -101,6 +101,25 @@ QUARTER_CAR = register_kind(Kind(
 ))
 
 
+OBSERVER = register_kind(Kind(
+    name="observer",
+    title="gains of the nonlinear adhesion/speed observer (OBS Theorem 1, eq. (14))",
+    fields={
+        "k1": Num(unit="kg m^2/s", doc="output injection on eta = r m v + J omega (angular-momentum state)",
+                  eq="OBS (14), K = [k1, k2, k3]"),
+        "k2": Num(unit="kg m^2/s", default=0.0, doc="output injection on chi = J omega + r F_n sigma1 z",
+                  eq="OBS (14); OBS takes k2 = 0"),
+        "k3": Num(unit="m", doc="output injection on the bristle deflection z (< 0 for passivity)",
+                  eq="OBS (14), §IV-h"),
+        "gamma": Num(unit="s/m", ge=0, doc="adaptation gain of theta_hat (0 freezes theta_hat)",
+                     eq="OBS (14), Theorem 1"),
+        "alpha": Num(unit="m", ge=0, doc="nonlinear injection gain alpha(y) (a constant here)",
+                     eq="OBS (14), (17)"),
+    },
+    model="tirecli.observers.lugre_observer:ObserverGains",
+))
+
+
 def _mf_fields() -> dict:
     """One optional number per numeric key of the ``.tir`` catalogue (units from the file's
     dimension; an absent key stays absent, the Magic Formula layer applies the spec's defaults)."""

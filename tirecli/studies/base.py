@@ -86,6 +86,9 @@ class StudyResult:
         Arrays or objects the figure functions need beyond the frames.
     synthetic : bool
         True when the result contains synthetic "measured" data (labelled everywhere).
+    files : dict
+        Extra text files of the run, name -> text (e.g. a fitted parameter set), written
+        into the output directory.
     """
 
     study: str
@@ -96,6 +99,7 @@ class StudyResult:
     figures: list = field(default_factory=list)
     payload: Any = None
     synthetic: bool = False
+    files: dict = field(default_factory=dict)
 
     def citations(self) -> list[str]:
         return [ps.citation for ps in self.parameter_sets.values() if ps.citation]

@@ -121,6 +121,10 @@ def plan(config: Config):
         lugre = resolve_group(cmp["lugre"], config.origins, ("compare", "lugre"), "lugre", config.base_dir)
     if checked["side"] is not None and t.side == "unknown" and t.family == "mf":
         raise ConfigError(config.origins.problem(("side",), f"the tyre {ps.name} has no TYRESIDE, so it cannot be mirrored"))
+    foreign = [f for f in (checked["figures"] or []) if not f.startswith("mf-")]
+    if foreign:
+        raise ConfigError(config.origins.problem(("figures",), f"figure {foreign[0]!r} draws a LuGre sweep; a Magic "
+                                                               "Formula sweep draws the mf-* figures (tirecli figures list)"))
     if checked["sweep"]["speed"] is None and t.family == "mf" and t.reference_speed is None:
         raise ConfigError(config.origins.problem(("sweep",), "missing 'speed': the tyre has no LONGVL to default to"))
     return checked, ps, t, lugre

@@ -1,0 +1,38 @@
+"""``tirecli fit``: identification of the LuGre parameters from braking data."""
+from __future__ import annotations
+
+from pathlib import Path
+from typing import List, Optional
+
+import typer
+
+from tirecli.cli.common import ConfigArg, OutOpt, SetOpt, echo, overrides, progress, report_run, result_line
+
+DataOpt = typer.Option(None, "--data", "-d", metavar="CSV",
+                       help="Data file instead of the config's data source (columns t, v, s or romega, mu).")
+MapOpt = typer.Option(None, "--map", "-m", metavar="FILE_COLUMN=NAME",
+                      help="Rename a column of the data file, e.g. --map slip_ratio=s (repeatable). "
+                           "Names: t [s], v [m/s], s [-] (or romega [m/s]), mu [-].")
+
+
+def fit(config: Path = ConfigArg, out: Optional[Path] = OutOpt, set_: Optional[List[str]] = SetOpt,
+        data: Optional[Path] = DataOpt, map_: Optional[List[str]] = MapOpt) -> None:
+    """Identify sigma0, sigma2, mu_c, mu_s, v_s (and alpha) from (s, mu, v) samples, then sigma1 from the transient.
+
+    Writes fitted.yaml (a parameter set every command accepts: tire: {set: fitted.yaml}),
+    run.json (estimates, standard errors, confidence intervals, correlation matrix, residual RMS),
+    data/parameters.csv, data/correlation.csv, data/samples.csv, data/transient.csv and the figures.
+    """
+    from tirecli.app import run_config
+    from tirecli.studies.fit import overrides_for
+
+    summary = run_config("fit", config, overrides(set_) + overrides_for(str(data) if data else None, map_), out,
+                         progress())
+    df = summary.result.data["parameters"]
+    for _, r in df.iterrows():
+        flag = " (on a bound)" if r["at_bound"] else ""
+        echo(f"  {r['parameter']:7s} {r['estimate']:12.6g} +/- {r['se']:.3g} {r['unit']:4s} "
+             f"CI [{r['ci_low']:.6g}, {r['ci_high']:.6g}]{flag}")
+    echo(f"  residual RMS (steady state): {summary.result.meta['steady_state']['residual_rms']:.3g}")
+    report_run(summary, "fit")
+    result_line(f"wrote {Path(summary.out) / 'fitted.yaml'}")

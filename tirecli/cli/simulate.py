@@ -1,0 +1,28 @@
+"""``tirecli simulate``: transient runs (quarter car or tire alone)."""
+from __future__ import annotations
+
+from pathlib import Path
+from typing import List, Optional
+
+import typer
+
+from tirecli.cli.common import ConfigArg, OutOpt, SetOpt, echo, overrides, progress, report_run
+
+
+def simulate(config: Path = ConfigArg, out: Optional[Path] = OutOpt, set_: Optional[List[str]] = SetOpt) -> None:
+    """Transient runs: quarter-car brakings with lumped/distributed LuGre tires, or the tire driven open loop.
+
+    Writes run.json (cases, events: wheel lock, stop, peak |slip|, stopping distance and time),
+    data/timeseries.csv (case, t, v, omega, slip, vr, mu, torque, ...), data/events.csv, with a
+    measurement block data/measured.csv (synthetic samples), and the figures as PNG and SVG.
+    """
+    from tirecli.app import run_config
+
+    summary = run_config("simulate", config, overrides(set_), out, progress())
+    for ev in summary.result.meta["events"]:
+        locks = ", ".join(f"{a:.3f} s" for a, _ in ev["wheel_lock"]) or "none"
+        stop = f"stop at {ev['stop_time']:.3f} s after {ev['stopping_distance']:.2f} m" if ev["stop_time"] is not None \
+            else f"v = {ev['v_final']:.3g} m/s at {ev['t_final']:.3g} s"
+        echo(f"  {ev['case']}: peak |s| {ev['peak_abs_slip']:.4f} at {ev['t_peak_abs_slip']:.3f} s, "
+             f"peak |mu| {ev['peak_abs_mu']:.4f}, wheel lock: {locks}, {stop}")
+    report_run(summary, "simulate")

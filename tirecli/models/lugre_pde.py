@@ -1,0 +1,179 @@
+"""Distributed LuGre tire (FM eqs. (1)-(2)) solved exactly along characteristics.
+
+PDE (lugre.md §3.1), ``zeta`` from the leading edge, ``u = zeta/L``::
+
+    dz/dt + |r omega| dz/dzeta = vr - b(t) z,    b = sigma0 |vr| / (theta g(vr)),    z(0, t) = 0
+
+The source ``vr - b z`` does not depend on ``zeta``: every tread element obeys the same linear ODE
+and elements differ only by their entry time. With ``Y(t)`` the point-model solution from
+``Y(0) = 0`` (``dY/dt = vr - b Y``), ``Phi(t) = int_0^t b`` and the travelled length
+``X(t) = int_0^t |r omega|``, the element at ``zeta`` entered at ``tau`` with
+``X(tau) = X(t) - zeta`` and (variation of constants)
+
+    z(zeta, t) = Y(t) - exp(Phi(tau) - Phi(t)) Y(tau)        (tau clipped at 0, where Y = 0)
+
+which also holds for the elements initially in the patch when ``z(zeta, 0) = 0`` (the default and
+only supported initial state). The force (FM eq. (2)) needs load-weighted integrals of ``z`` and
+``dz/dt``. Weighting the PDE by ``phi(u)`` and integrating by parts over ``[0, u_i]``::
+
+    d/dt int_0^{u_i} phi z du = (int_0^{u_i} phi) vr - b (...) - (|r omega|/L) [phi(u_i) z(u_i, t) - int_0^{u_i} phi' z du]
+
+closes exactly for ``phi`` = powers of ``u`` (``phi' = k u^(k-1)``) and ``phi = e^(-lambda u)``
+(``phi' = -lambda phi``). So every load of :mod:`tirecli.models.variants` — uniform, exponential,
+parabolic and piecewise-linear tabulated — reduces *exactly* to a few ODE states (:class:`PatchReduction`)
+driven by the deflections ``z(u_i, t)`` at a few tracked points, which come from the stored history
+of ``(X, Phi, Y)``. No spatial grid: the only discretisation is the time step (the characteristics'
+spacing) and the history interpolation, both second order. Uniform load: one state (the mean
+deflection, FM eq. (7)) and one tracked point (the trailing edge): ``dzbar/dt = vr - b zbar -
+(|r omega|/L) z(L, t)``, the lumped model (8) with the exact trailing-edge term in place of
+``kappa |r omega| zbar``.
+
+:func:`upwind_steady_mu` is the first-order upwind discretisation of lugre.md §3.3 check (d), kept as
+a reference for the convergence figures.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from tirecli.models.lugre import LuGreParams, stribeck
+
+
+@dataclass(frozen=True)
+class PatchReduction:
+    """Exact finite set of patch integrals for one normal-load density (module doc).
+
+    States ``S_j = int_0^{u_{p_j}} phi_j(u) z(u, t) du`` [m] obey::
+
+        dS/dt = A vr - b S - (|r omega|/L) (Bc * z(points)[p] - D @ S)
+
+    Attributes
+    ----------
+    points : ndarray
+        Tracked positions ``u_i = zeta_i/L`` in ``(0, 1]`` (always contains 1, the trailing edge).
+    p : ndarray of int
+        Index into ``points`` for each state.
+    A : ndarray
+        ``int_0^{u_p} phi_j du`` [-].
+    Bc : ndarray
+        ``phi_j(u_p)`` [-].
+    D : ndarray
+        ``phi_j' = sum_l D_jl phi_l`` on the state's interval (``K x K``).
+    w : ndarray
+        Force weights: load-weighted mean deflection ``zbar_w = int w z du = w @ S`` [m] for the
+        density ``w`` per unit ``u`` normalised to unit mass (``f_n = F_n w / L``).
+    uniform : bool
+        True for the uniform load (then ``S = [zbar]``).
+    """
+
+    points: np.ndarray
+    p: np.ndarray
+    A: np.ndarray
+    Bc: np.ndarray
+    D: np.ndarray
+    w: np.ndarray
+    uniform: bool = False
+
+    @property
+    def size(self) -> int:
+        return len(self.A)
+
+
+def _powers(points, orders) -> tuple:
+    """States ``int_0^{u_i} u^k z du`` for each point and each order ``k`` in ``orders``."""
+    idx = {}
+    p, A, Bc = [], [], []
+    for i, ui in enumerate(points):
+        for k in orders:
+            idx[(i, k)] = len(p)
+            p.append(i)
+            A.append(ui ** (k + 1) / (k + 1))
+            Bc.append(ui ** k)
+    D = np.zeros((len(p), len(p)))
+    for (i, k), j in idx.items():
+        if k > 0:
+            D[j, idx[(i, k - 1)]] = k  # d/du u^k = k u^(k-1)
+    return idx, np.array(p), np.array(A, dtype=float), np.array(Bc, dtype=float), D
+
+
+def patch_reduction(load: str, lam: float = 0.0, u=None, f=None) -> PatchReduction:
+    """The :class:`PatchReduction` of a normal-load density (lugre.md §3.2).
+
+    Parameters
+    ----------
+    load : str
+        ``uniform`` (FM eq. (3)), ``exponential`` (FM eq. (5), decay ``lam``), ``parabolic``
+        (``6 u (1 - u)``) or ``tabulated`` (samples ``f`` at positions ``u = zeta/L``, linear in
+        between, zero outside, normalised to unit mass).
+    """
+    one = np.array([1.0])
+    if load == "uniform" or (load == "exponential" and lam < 1e-9):
+        return PatchReduction(one, np.array([0]), one.copy(), one.copy(), np.zeros((1, 1)), one.copy(), uniform=True)
+    if load == "exponential":
+        A = -np.expm1(-lam) / lam
+        return PatchReduction(one, np.array([0]), np.array([A]), np.array([np.exp(-lam)]),
+                              np.array([[-lam]]), np.array([1.0 / A]))
+    if load == "parabolic":
+        _, p, A, Bc, D = _powers([1.0], (0, 1, 2))
+        return PatchReduction(one, p, A, Bc, D, np.array([0.0, 6.0, -6.0]))
+    if load == "tabulated":
+        us = np.asarray(u, dtype=float)
+        fs = np.asarray(f, dtype=float)
+        mass = np.trapezoid(fs, us)
+        knots = np.union1d(np.clip(us, 0.0, 1.0), [0.0, 1.0])
+        points = knots[knots > 0.0]
+        idx, p, A, Bc, D = _powers(points, (0, 1))
+        w = np.zeros(len(p))
+        for a, b in zip(knots[:-1], knots[1:]):
+            if b <= us[0] or a >= us[-1] or b <= a:
+                continue  # zero density outside the samples
+            fa, fb = np.interp([a, b], us, fs) / mass
+            beta = (fb - fa) / (b - a)
+            alpha = fa - beta * a
+            ib = int(np.searchsorted(points, b))
+            w[idx[(ib, 0)]] += alpha
+            w[idx[(ib, 1)]] += beta
+            if a > 0.0:
+                ia = int(np.searchsorted(points, a))
+                w[idx[(ia, 0)]] -= alpha
+                w[idx[(ia, 1)]] -= beta
+        return PatchReduction(points, p, A, Bc, D, w)
+    raise ValueError(f"unknown load {load!r}")
+
+
+def deflection(zeta, Y_now, Phi_now, X_now, hist_t, hist_X, hist_Phi, hist_Y):
+    """Bristle deflection ``z(zeta, t)`` [m] along the patch from the characteristic history.
+
+    ``z = Y(t) - exp(Phi(tau) - Phi(t)) Y(tau)`` with ``X(tau) = X(t) - zeta`` (module doc);
+    history arrays are the values at earlier times (``hist_X`` nondecreasing), interpolated
+    linearly. Used for profile plots; the solver uses a higher-order version.
+    """
+    zeta = np.asarray(zeta, dtype=float)
+    target = X_now - zeta
+    Xh = np.append(hist_X, X_now)
+    tau_phi = np.interp(target, Xh, np.append(hist_Phi, Phi_now))
+    tau_Y = np.interp(target, Xh, np.append(hist_Y, Y_now))
+    inside = target > 0.0
+    return np.where(inside, Y_now - np.exp(tau_phi - Phi_now) * tau_Y, Y_now)
+
+
+def upwind_steady_mu(vr: float, romega: float, p: LuGreParams, cells: int, theta: float = 1.0) -> float:
+    """Steady ``mu`` [-] of the first-order upwind discretisation of FM eq. (1), uniform load, ``cells`` cells.
+
+    Cell values ``z_j`` (cell centres are not used: the upwind value is the cell's outflow value)
+    solve ``|r omega| (z_j - z_{j-1})/dzeta = vr - b z_j``, ``z_0 = 0``; the force (FM eq. (2))
+    is their mean, ``mu = sigma0 mean(z) + sigma2 vr``. Converges to FM eq. (4) at first order
+    (lugre.md §3.3 check (d)).
+    """
+    b = p.sigma0 * abs(vr) / float(stribeck(vr, p, theta))
+    c = abs(romega)
+    dz = p.L / cells
+    if c == 0.0:
+        zs = vr / b if b > 0 else 0.0
+        return p.sigma0 * zs + p.sigma2 * vr
+    rho = (c / dz) / (c / dz + b)        # z_j = rho z_{j-1} + (1 - rho) z_ss
+    zss = vr / b if b > 0 else 0.0
+    j = np.arange(1, cells + 1)
+    z = zss * (1.0 - rho ** j)
+    return float(p.sigma0 * z.mean() + p.sigma2 * vr)

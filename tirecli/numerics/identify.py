@@ -1,0 +1,228 @@
+"""Parameter identification of the LuGre tire (FM §4.3; lugre.md §8), no I/O.
+
+Stage 1 — steady state: bounded nonlinear least squares (``scipy.optimize.least_squares``, trust
+region reflective) of the uniform-load steady state FM eq. (4) to samples ``(s_i, v_i, mu_i)``::
+
+    min_p  sum_i (mu_ss(s_i, v_i; p) - mu_i)^2,   p within bounds, mu_c <= mu_s
+
+with ``r omega_i = v_i (1 + s_i)`` when braking (``v_i / (1 - s_i)`` when driving). When both
+``mu_c`` and ``mu_s`` are free the solver works with ``(mu_c, mu_s - mu_c >= 0)``, which keeps
+``mu_c <= mu_s``; results are reported for ``mu_s``.
+
+Stage 2 — ``sigma1`` from the transient: the tire model (default lumped ``kappa0(Z)``) driven
+open loop by the measured ``v(t)``, ``s(t)`` gives ``z(t)``, ``dz/dt(t)`` that do not depend on
+``sigma1`` (it only enters FM eq. (9)), so ``mu = sigma0 z + sigma1 dz/dt + sigma2 vr`` is linear
+in ``sigma1``: a one-parameter linear least squares with its exact standard error.
+
+Statistics (both stages): residual variance ``s^2 = RSS/(n - p)``, covariance ``s^2 (J^T J)^-1``
+(linearised at the optimum), standard errors, Student-t confidence intervals, correlation matrix;
+parameters ending on a bound are flagged (their intervals are then only indicative).
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field, replace
+
+import numpy as np
+
+from tirecli.models.lugre import LuGreParams, mu_ss_uniform
+
+#: Parameters of the steady-state fit and their default bounds (SI units).
+STEADY_PARAMETERS = ("sigma0", "sigma2", "mu_c", "mu_s", "v_s", "alpha")
+DEFAULT_BOUNDS = {
+    "sigma0": (1.0, 5000.0), "sigma2": (0.0, 0.1), "mu_c": (0.01, 3.0), "mu_s": (0.01, 3.0),
+    "v_s": (0.05, 50.0), "alpha": (0.25, 4.0), "sigma1": (0.0, 100.0),
+}
+UNITS = {"sigma0": "1/m", "sigma1": "s/m", "sigma2": "s/m", "mu_c": "-", "mu_s": "-", "v_s": "m/s", "alpha": "-",
+         "L": "m"}
+
+
+@dataclass
+class FitResult:
+    """Estimates with their uncertainty.
+
+    Attributes
+    ----------
+    names : list
+        Fitted parameters (public names).
+    estimate, se, ci_low, ci_high : dict
+        Value, standard error and confidence interval per parameter (SI units).
+    corr : ndarray
+        Correlation matrix (order of ``names``).
+    cov : ndarray
+        Covariance matrix.
+    at_bound : dict
+        Parameter -> True when the estimate lies on a bound.
+    residual_rms : float
+        RMS of ``mu_model - mu`` [-].
+    n, dof : int
+        Number of samples and degrees of freedom ``n - p``.
+    confidence : float
+        Level of the intervals.
+    cond : float
+        Condition number of ``J^T J`` (large: poorly determined combinations).
+    success : bool
+    message : str
+    nfev : int
+    """
+
+    names: list
+    estimate: dict
+    se: dict
+    ci_low: dict
+    ci_high: dict
+    corr: np.ndarray
+    cov: np.ndarray
+    at_bound: dict
+    residual_rms: float
+    n: int
+    dof: int
+    confidence: float
+    cond: float = float("nan")
+    success: bool = True
+    message: str = ""
+    nfev: int = 0
+    extra: dict = field(default_factory=dict)
+
+    def record(self) -> dict:
+        return {
+            "parameters": {k: {"estimate": self.estimate[k], "se": self.se[k], "ci": [self.ci_low[k], self.ci_high[k]],
+                               "unit": UNITS.get(k, "-"), "at_bound": self.at_bound[k]} for k in self.names},
+            "correlation": {"order": list(self.names), "matrix": np.round(self.corr, 6).tolist()},
+            "residual_rms": self.residual_rms, "n": self.n, "dof": self.dof, "confidence": self.confidence,
+            "cond_JTJ": self.cond, "success": self.success, "message": self.message, "nfev": self.nfev, **self.extra,
+        }
+
+
+def romega_of(s, v):
+    """Wheel circumferential speed ``r omega`` [m/s] from slip ``s`` [-] and vehicle speed ``v`` [m/s] (lugre.md §1)."""
+    s, v = np.asarray(s, dtype=float), np.asarray(v, dtype=float)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        return np.where(s <= 0.0, v * (1.0 + s), v / (1.0 - s))
+
+
+def _stats(J, resid, names, estimate, lo, hi, confidence):
+    """Covariance, standard errors, intervals and correlations of a least-squares fit."""
+    from scipy.special import stdtrit  # Student-t quantile (scipy.stats costs 0.6 s to import)
+
+    n, p = J.shape
+    dof = max(n - p, 1)
+    s2 = float(resid @ resid) / dof
+    JTJ = J.T @ J
+    try:
+        cond = float(np.linalg.cond(JTJ))
+        cov = s2 * np.linalg.inv(JTJ) if np.isfinite(cond) and cond < 1e15 else s2 * np.linalg.pinv(JTJ)
+    except np.linalg.LinAlgError:
+        cond, cov = float("inf"), s2 * np.linalg.pinv(JTJ)
+    se = np.sqrt(np.maximum(np.diag(cov), 0.0))
+    tq = float(stdtrit(dof, 0.5 + confidence / 2.0))
+    with np.errstate(divide="ignore", invalid="ignore"):
+        corr = cov / np.outer(se, se)
+    corr = np.where(np.outer(se, se) > 0, corr, np.nan)
+    est = np.array([estimate[k] for k in names])
+    span = np.array([hi[k] - lo[k] for k in names])
+    at_bound = {k: bool(min(abs(estimate[k] - lo[k]), abs(hi[k] - estimate[k])) <= 1e-6 * max(s_, 1e-12))
+                for k, s_ in zip(names, span)}
+    return dict(cov=cov, se=dict(zip(names, se)), ci_low=dict(zip(names, est - tq * se)),
+                ci_high=dict(zip(names, est + tq * se)), corr=corr, at_bound=at_bound, dof=dof, cond=cond)
+
+
+def fit_steady_state(s, v, mu, start: LuGreParams, free=("sigma0", "sigma2", "mu_c", "mu_s", "v_s"),
+                     bounds: dict | None = None, initial: dict | None = None, confidence: float = 0.95):
+    """Stage 1 (module doc): fit FM eq. (4) to samples; returns ``(FitResult, fitted LuGreParams)``.
+
+    Parameters
+    ----------
+    s, v, mu : array_like
+        Slip [-], vehicle speed [m/s] and friction ``F/F_n`` [-] samples.
+    start : LuGreParams
+        Fixed values (``L``, ``alpha`` unless free, ...) and default starting values.
+    free : sequence of str
+        Parameters to fit, among :data:`STEADY_PARAMETERS`.
+    bounds, initial : dict or None
+        Per-parameter ``(low, high)`` and starting values (override the defaults / ``start``).
+    """
+    from scipy.optimize import least_squares
+
+    s, v, mu = (np.asarray(a, dtype=float) for a in (s, v, mu))
+    rw = romega_of(s, v)
+    vr = rw - v
+    free = [k for k in STEADY_PARAMETERS if k in free]
+    lo = {k: DEFAULT_BOUNDS[k][0] for k in DEFAULT_BOUNDS}
+    hi = {k: DEFAULT_BOUNDS[k][1] for k in DEFAULT_BOUNDS}
+    for k, (a, b) in (bounds or {}).items():
+        lo[k], hi[k] = float(a), float(b)
+    x0 = {k: float((initial or {}).get(k, getattr(start, k))) for k in free}
+    split = "mu_c" in free and "mu_s" in free   # internal (mu_c, d = mu_s - mu_c >= 0)
+    inames = ["d_mu" if (split and k == "mu_s") else k for k in free]
+    ilo = {**lo, "d_mu": 0.0}
+    ihi = {**hi, "d_mu": hi["mu_s"] - lo["mu_c"]}
+    if not split and "mu_c" in free:
+        ihi["mu_c"] = min(hi["mu_c"], start.mu_s)      # mu_c <= fixed mu_s
+    if not split and "mu_s" in free:
+        ilo["mu_s"] = max(lo["mu_s"], start.mu_c)      # mu_s >= fixed mu_c
+    xi0 = [x0["mu_s"] - x0["mu_c"] if k == "d_mu" else x0[k] for k in inames]
+    lb = np.array([ilo[k] for k in inames])
+    ub = np.array([ihi[k] for k in inames])
+    pad = 1e-9 * (ub - lb)
+    xi0 = np.clip(xi0, lb + pad, ub - pad)
+
+    def public(xi):
+        d = dict(zip(inames, xi))
+        if split:
+            d["mu_s"] = d["mu_c"] + d.pop("d_mu")
+        return d
+
+    def model(xi):
+        return replace(start, **public(xi))
+
+    def resid(xi):
+        return mu_ss_uniform(vr, rw, model(xi)) - mu
+
+    sol = least_squares(resid, xi0, bounds=(lb, ub), jac="3-point", x_scale="jac", method="trf",
+                        xtol=1e-14, ftol=1e-14, gtol=1e-14, max_nfev=2000)
+    J = sol.jac
+    x = np.where(np.abs(sol.x - lb) <= 1e-12 * (ub - lb), lb, sol.x)   # snap estimates resting on a bound
+    x = np.where(np.abs(ub - x) <= 1e-12 * (ub - lb), ub, x)
+    sol.x = x
+    pub = public(sol.x)
+    # Jacobian in public coordinates: mu_s = mu_c + d_mu
+    if split:
+        T = np.eye(len(inames))
+        ic, idm = inames.index("mu_c"), inames.index("d_mu")
+        T[idm, ic] = 1.0            # d mu_s / d mu_c
+        Jp = J @ np.linalg.inv(T)   # residual sensitivities to (…, mu_c, mu_s, …) with mu_c, mu_s independent
+    else:
+        Jp = J
+    plo = {k: (lo[k] if k != "mu_s" or split else ilo["mu_s"]) for k in free}
+    phi = {k: (hi[k] if k != "mu_c" or split else ihi["mu_c"]) for k in free}
+    st = _stats(Jp, sol.fun, free, pub, plo, phi, confidence)
+    if split:  # the constraint mu_c <= mu_s is the bound d_mu >= 0
+        dm = pub["mu_s"] - pub["mu_c"]
+        if dm <= 1e-9 * max(1.0, pub["mu_s"]):
+            st["at_bound"]["mu_s"] = st["at_bound"]["mu_c"] = True
+    res = FitResult(names=free, estimate=pub, se=st["se"], ci_low=st["ci_low"], ci_high=st["ci_high"],
+                    corr=st["corr"], cov=st["cov"], at_bound=st["at_bound"],
+                    residual_rms=float(np.sqrt(np.mean(sol.fun ** 2))), n=len(mu), dof=st["dof"],
+                    confidence=confidence, cond=st["cond"], success=bool(sol.success), message=str(sol.message),
+                    nfev=int(sol.nfev), extra={"start": x0})
+    return res, model(sol.x)
+
+
+def fit_sigma1(mu, z, zdot, vr, p: LuGreParams, bounds=(0.0, 100.0), confidence: float = 0.95) -> FitResult:
+    """Stage 2 (module doc): ``sigma1`` [s/m] by linear least squares of ``mu - sigma0 z - sigma2 vr = sigma1 dz/dt``.
+
+    ``z`` [m], ``zdot`` [m/s], ``vr`` [m/s] come from the tire model driven by the measured kinematics.
+    """
+    mu, z, zdot, vr = (np.asarray(a, dtype=float) for a in (mu, z, zdot, vr))
+    y = mu - p.sigma0 * z - p.sigma2 * vr
+    den = float(zdot @ zdot)
+    s1 = float(zdot @ y) / den if den > 0 else 0.0
+    s1 = min(max(s1, bounds[0]), bounds[1])
+    resid = s1 * zdot - y
+    st = _stats(zdot[:, None], resid, ["sigma1"], {"sigma1": s1}, {"sigma1": bounds[0]}, {"sigma1": bounds[1]},
+                confidence)
+    return FitResult(names=["sigma1"], estimate={"sigma1": s1}, se=st["se"], ci_low=st["ci_low"],
+                     ci_high=st["ci_high"], corr=st["corr"], cov=st["cov"], at_bound=st["at_bound"],
+                     residual_rms=float(np.sqrt(np.mean(resid ** 2))), n=len(mu), dof=st["dof"],
+                     confidence=confidence, cond=st["cond"], success=den > 0,
+                     message="linear least squares" if den > 0 else "dz/dt is zero: sigma1 not identifiable", nfev=1)

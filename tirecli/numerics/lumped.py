@@ -1,0 +1,235 @@
+"""ROS2 stepper of the quarter car with the averaged lumped LuGre tire (FM eqs. (8)-(10); lugre.md §4, §7).
+
+State ``y = (v [m/s], omega [rad/s], z [m])``::
+
+    dz/dt = vr - a z,      a = sigma0 |vr| / (theta g(vr)) + kappa0 |r omega| / L
+    mu = sigma0 z + sigma1 dz/dt + sigma2 vr,      F = mu F_n
+    m dv/dt = F,           J domega/dt = -r F - sigma_w omega + u
+
+with ``kappa0`` a constant or ``kappa0(Z)`` of FM eq. (10) (then ``a`` depends on ``x = L/Z``).
+Everything is plain scalar Python (a 5 s braking takes a few hundred steps; numpy calls would
+cost more than the arithmetic). The Jacobian is exact, including ``d a/d vr``: in sliding the
+bristle rate barely responds to ``vr`` (``1 - z da/dvr ~ 0``), and a frozen-``a`` Jacobian would
+over-damp the wheel mode. At ``vr = 0`` the derivative of ``|vr|`` is taken as 0; at
+``r omega = 0`` the ``kappa`` term vanishes (no division by ``omega`` anywhere).
+"""
+from __future__ import annotations
+
+import math
+
+from tirecli.models.lugre import LuGreParams
+from tirecli.models.vehicle import QuarterCarParams
+from tirecli.numerics.ros2 import GAMMA, LOCKED, PRESCRIBED
+
+_X_SERIES = 1e-4
+
+
+def kappa0_and_slope(x: float) -> tuple[float, float]:
+    """``kappa0(x)`` of FM eq. (10) and ``d kappa0/dx`` at one ``x = L/Z >= 0`` [-].
+
+    ``kappa0 = (1 - e^-x)/h(x)``, ``h = 1 - (1 - e^-x)/x``; series ``2 - x/3 + x^2/18`` near 0,
+    ``kappa0 -> 1`` for ``x -> inf``.
+    """
+    if x < _X_SERIES:
+        return 2.0 - x / 3.0 + x * x / 18.0, -1.0 / 3.0 + x / 9.0
+    if x > 1e12:
+        return 1.0, 0.0
+    E = math.exp(-x)
+    q = -math.expm1(-x)
+    hx = 1.0 - q / x
+    hp = (q - x * E) / (x * x)
+    return q / hx, (E * hx - q * hp) / (hx * hx)
+
+
+class LumpedStepper:
+    """Quarter car (or tire alone, prescribed ``v``, ``omega``) with the lumped LuGre tire.
+
+    Parameters
+    ----------
+    p : LuGreParams
+        Tire (``sigma_w`` of the wheel bearing included).
+    car : QuarterCarParams
+        Radius, quarter mass, wheel inertia, normal load.
+    kappa0 : float or "Z"
+        Constant lumped coefficient or ``"Z"`` for FM eq. (10).
+    torque : callable
+        ``torque(t) -> u`` [N m], signed wheel torque (> 0 drives, < 0 brakes); the braking part
+        ``T_b = max(-u, 0)`` cannot turn the wheel backwards.
+    theta : callable
+        ``theta(t)`` [-], adhesion in the FM convention (``g -> theta g``).
+    v_of_t, omega_of_t : callable or None
+        Prescribed vehicle and wheel speeds [m/s], [rad/s] (open loop).
+    tol : float
+        Error tolerance (m/s for speeds, friction units for ``z``).
+    """
+
+    y_names = ("v", "omega", "z")
+    out_names = ("vr", "mu", "zdot", "torque", "brake_torque", "theta", "kappa0", "locked", "dv", "domega")
+
+    def __init__(self, p: LuGreParams, car: QuarterCarParams, kappa0, torque, theta,
+                 v_of_t=None, omega_of_t=None, tol: float = 1e-4):
+        self.p, self.car = p, car
+        self.kappa0 = kappa0
+        self.torque, self.theta = torque, theta
+        self.v_of_t, self.omega_of_t = v_of_t, omega_of_t
+        self.tol = tol
+        self._build()
+
+    def _build(self):  # noqa: C901 - one closure per hot function, constants bound as cells
+        p, car = self.p, self.car
+        s0, s1, s2 = p.sigma0, p.sigma1, p.sigma2
+        mc, dmu, vs, L, al = p.mu_c, p.mu_s - p.mu_c, p.v_s, p.L, p.alpha
+        sw = p.sigma_w
+        r, m, J, Fn = car.r, car.m, car.J, car.F_n
+        Fm, rFJ = Fn / m, r * Fn / J
+        zmode = self.kappa0 == "Z"
+        K0 = 2.0 if zmode else float(self.kappa0)
+        U0, TH0 = self.torque, self.theta
+        cache = [None, 0.0, 1.0]  # (t, u, theta) of the last evaluation: a step's end is the next start
+
+        def inputs(t):
+            if t == cache[0]:
+                return cache[1], cache[2]
+            u, th = U0(t), TH0(t)
+            cache[0], cache[1], cache[2] = t, u, th
+            return u, th
+        V, W = self.v_of_t, self.omega_of_t
+        exp, expm1 = math.exp, math.expm1
+        # error scales: speeds in m/s, z in friction units (sigma0 z)
+        iv, iw, iz = 1.0 / self.tol, r / self.tol, s0 / self.tol
+
+        def core(v, w, z, th):
+            """a, da/dvr-factors and friction at one state (shared by the stage evaluations)."""
+            c = r * w if w > 0.0 else -r * w
+            vr = r * w - v
+            avr = vr if vr > 0.0 else -vr
+            qa = avr / vs
+            if al != 1.0:
+                qa = qa * qa if al == 2.0 else qa ** al
+            e = exp(-qa)
+            g = th * (mc + dmu * e)
+            b = s0 * avr / g
+            if zmode and c > 0.0:
+                x = b * L / c
+                if x < _X_SERIES:
+                    k0, k0p = 2.0 - x / 3.0 + x * x / 18.0, -1.0 / 3.0 + x / 9.0
+                elif x > 1e12:
+                    k0, k0p = 1.0, 0.0
+                else:  # kappa0_and_slope, inlined
+                    E = exp(-x)
+                    q = -expm1(-x)
+                    hx = 1.0 - q / x
+                    k0 = q / hx
+                    k0p = (E * hx - q * (q - x * E) / (x * x)) / (hx * hx)
+            else:
+                x, k0, k0p = 0.0, (1.0 if zmode else K0), 0.0
+            a = b + k0 * c / L
+            zd = vr - a * z
+            mu = s0 * z + s1 * zd + s2 * vr
+            return c, vr, avr, qa, e, g, b, x, k0, k0p, a, zd, mu
+
+        def rhs(t, v, w, z, u, th, mode):
+            c, vr, avr, qa, e, g, b, x, k0, k0p, a, zd, mu = core(v, w, z, th)
+            F = mu * Fn
+            if mode == PRESCRIBED:
+                return 0.0, 0.0, zd
+            fw = 0.0 if mode == LOCKED else (-r * F - sw * w + u) / J
+            return F / m, fw, zd
+
+        def start(t, y, mode):
+            v, w, z = y
+            u, th = inputs(t)
+            if mode == PRESCRIBED:
+                v, w = V(t), W(t)
+            c, vr, avr, qa, e, g, b, x, k0, k0p, a, zd, mu = core(v, w, z, th)
+            F = mu * Fn
+            sg = 1.0 if vr > 0.0 else (-1.0 if vr < 0.0 else 0.0)
+            dbdvr = (s0 * sg / g) * (1.0 + th * dmu * e * al * qa / g)
+            if zmode:
+                dadb = 1.0 + k0p
+                dadc = (k0 - x * k0p) / L
+            else:
+                dadb, dadc = 1.0, k0 / L
+            dzvr = 1.0 - z * dbdvr * dadb
+            dzc = -z * dadc
+            dzth = z * (b / th) * dadb          # -z da/dtheta, da/dtheta = -(b/theta) da/db
+            ws = 1.0 if w >= 0.0 else -1.0
+            Jzv, Jzw, Jzz = -dzvr, r * (dzvr + ws * dzc), -a
+            dmv = -(s1 * dzvr + s2)
+            dmw = r * (s1 * (dzvr + ws * dzc) + s2)
+            dmz = s0 - s1 * a
+            dmth = s1 * dzth
+            if mode == PRESCRIBED:
+                fv = fw = 0.0
+            else:
+                fv = F / m
+                fw = 0.0 if mode == LOCKED else (-r * F - sw * w + u) / J
+            jac = (Fm * dmv, Fm * dmw, Fm * dmz, -rFJ * dmv, -rFJ * dmw - sw / J, -rFJ * dmz,
+                   Jzv, Jzw, Jzz, Fm * dmth, -rFJ * dmth, dzth)
+            return (t, v, w, z, u, th, mode, fv, fw, zd, jac, vr, mu, F, k0)
+
+        def attempt(E, h, left=False):
+            t, v, w, z, u0, th0, mode, fv, fw, fz, jac, *_ = E
+            Jvv, Jvw, Jvz, Jwv, Jww, Jwz, Jzv, Jzw, Jzz, Jvth, Jwth, Jzth = jac
+            t1 = t + h
+            # a step ending on a breakpoint sees the inputs' left limits there (steps in u, theta)
+            u1, th1 = (U0(t1 - 1e-9 * h), TH0(t1 - 1e-9 * h)) if left else inputs(t1)
+            ud, thd = (u1 - u0) / h, (th1 - th0) / h
+            gh = GAMMA * h
+            ftv, ftw, ftz = Jvth * thd, (Jwth * thd + ud / J), Jzth * thd
+            dz = 1.0 - gh * Jzz
+            cz = gh / dz
+            if mode == PRESCRIBED:
+                # v, omega are pseudo-states with the secant slopes as right-hand side and no
+                # Jacobian row: k1 = slope, k2 = -slope (their ROS2 update is then exact)
+                fv = (V(t1) - v) / h
+                fw = (W(t1) - w) / h
+
+                def solve(rv, rw, rz):
+                    return rv, rw, (rz + gh * (Jzv * rv + Jzw * rw)) / dz
+                ftv = ftw = 0.0
+            else:
+                # eliminate z: kz = (rz + gh (Jzv kv + Jzw kw)) / dz
+                a11 = 1.0 - gh * Jvv - gh * Jvz * cz * Jzv
+                a12 = -gh * Jvw - gh * Jvz * cz * Jzw
+                if mode == LOCKED:
+                    def solve(rv, rw, rz):
+                        kv = (rv + gh * Jvz * rz / dz) / a11
+                        return kv, 0.0, (rz + gh * Jzv * kv) / dz
+                else:
+                    a21 = -gh * Jwv - gh * Jwz * cz * Jzv
+                    a22 = 1.0 - gh * Jww - gh * Jwz * cz * Jzw
+                    det = a11 * a22 - a12 * a21
+
+                    def solve(rv, rw, rz):
+                        b1 = rv + gh * Jvz * rz / dz
+                        b2 = rw + gh * Jwz * rz / dz
+                        kv = (b1 * a22 - a12 * b2) / det
+                        kw = (a11 * b2 - a21 * b1) / det
+                        return kv, kw, (rz + gh * (Jzv * kv + Jzw * kw)) / dz
+            k1v, k1w, k1z = solve(fv + gh * ftv, fw + gh * ftw, fz + gh * ftz)
+            f2v, f2w, f2z = rhs(t1, v + h * k1v, w + h * k1w, z + h * k1z, u1, th1, mode)
+            if mode == PRESCRIBED:
+                f2v, f2w = fv, fw
+            k2v, k2w, k2z = solve(f2v - 2.0 * k1v - gh * ftv, f2w - 2.0 * k1w - gh * ftw,
+                                  f2z - 2.0 * k1z - gh * ftz)
+            ev = abs(k1v + k2v) * iv
+            ew = abs(k1w + k2w) * iw
+            ez = abs(k1z + k2z) * iz
+            err = 0.5 * h * max(ev, ew, ez)
+            return [v + h * (1.5 * k1v + 0.5 * k2v), w + h * (1.5 * k1w + 0.5 * k2w),
+                    z + h * (1.5 * k1z + 0.5 * k2z)], err
+
+        def holds(E):
+            # locked wheel: the brake holds while the tire torque -r F does not exceed T_b
+            u, F = E[4], E[13]
+            return u < 0.0 and -r * F <= -u
+
+        def outputs(E):
+            t, v, w, z, u, th, mode, fv, fw, zd, jac, vr, mu, F, k0 = E
+            tb = -u if u < 0.0 else 0.0
+            if mode == LOCKED:
+                u = r * F  # brake reaction torque holding the wheel
+            return (vr, mu, zd, u, tb, th, k0, 1.0 if mode == LOCKED else 0.0, fv, fw)
+
+        self.start, self.attempt, self.holds, self.outputs = start, attempt, holds, outputs

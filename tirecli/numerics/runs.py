@@ -1,0 +1,159 @@
+"""Entry points of the transient runs: the quarter car driven by a torque, or the tire driven by kinematics.
+
+Both pick the stepper of the model variant (:class:`~tirecli.models.variants.FrictionVariant`):
+lumped (:mod:`tirecli.numerics.lumped`) or distributed (:mod:`tirecli.numerics.characteristics`),
+and integrate with :func:`tirecli.numerics.ros2.integrate`.
+"""
+from __future__ import annotations
+
+import bisect
+from dataclasses import dataclass
+
+import numpy as np
+
+from tirecli.conventions import slip_from_speeds
+from tirecli.models.lugre import LuGreParams
+from tirecli.models.lugre_pde import patch_reduction
+from tirecli.models.profiles import Constant
+from tirecli.models.variants import FrictionVariant
+from tirecli.models.vehicle import QuarterCarParams
+from tirecli.numerics.ros2 import Trajectory, integrate
+
+#: Default local error tolerance per model (m/s for speeds, friction units for the tire states).
+#: Measured on the FM braking: lumped 1e-3 gives max |dmu| 6e-4 (in the first milliseconds),
+#: |ds| 6e-5; distributed 3e-4 gives |dmu| 3e-4, |ds| 2e-4 and constant-slip runs settle within
+#: 1e-5 of FM eq. (4) (benchmarks/bench_transient.py, tests/test_transient_numerics.py).
+DEFAULT_TOL = {"lumped": 1e-3, "distributed": 3e-4}
+
+
+@dataclass(frozen=True)
+class SolverOptions:
+    """Time-stepping options.
+
+    Attributes
+    ----------
+    tol : float or None
+        Local error tolerance (None: :data:`DEFAULT_TOL` of the model).
+    h_max : float
+        Largest step [s].
+    v_stop : float
+        Stop speed [m/s] of coupled runs (module doc of :mod:`tirecli.numerics.ros2`).
+    """
+
+    tol: float | None = None
+    h_max: float = 0.05
+    v_stop: float = 0.1
+
+    def tol_for(self, variant: FrictionVariant) -> float:
+        return self.tol if self.tol is not None else DEFAULT_TOL[variant.model]
+
+
+def _stepper(variant, p, car, torque, theta, v_of_t=None, omega_of_t=None, tol=1e-3):
+    if variant.model == "lumped":
+        from tirecli.numerics.lumped import LumpedStepper
+
+        return LumpedStepper(p, car, variant.lumped_kappa0(p), torque, theta, v_of_t, omega_of_t, tol)
+    from tirecli.numerics.characteristics import CharacteristicsStepper
+
+    red = patch_reduction(variant.load, variant.lam, variant.u, variant.f)
+    return CharacteristicsStepper(p, car, red, torque, theta, v_of_t, omega_of_t, tol)
+
+
+def _initial_state(variant, stepper, v0, omega0):
+    return [float(v0), float(omega0)] + [0.0] * (len(stepper.y_names) - 2)
+
+
+def quarter_car(variant: FrictionVariant, p: LuGreParams, car: QuarterCarParams, torque, theta,
+                v0: float, omega0: float, t_end: float, options: SolverOptions = SolverOptions(),
+                sample_times=()) -> Trajectory:
+    """Quarter-car run (lugre.md §7) from ``z = 0`` at ``(v0 [m/s], omega0 [rad/s])`` to ``t_end`` [s].
+
+    ``torque`` and ``theta`` are profiles (:mod:`tirecli.models.profiles`): the signed wheel
+    torque ``u`` [N m] (its braking part cannot reverse the wheel) and the adhesion (FM
+    convention). The run stops early when ``v`` falls to ``options.v_stop``. ``sample_times``
+    [s] become step ends, so the solution is exact (not interpolated) there.
+    """
+    tol = options.tol_for(variant)
+    st = _stepper(variant, p, car, torque.at, theta.at, tol=tol)
+    tr = integrate(st, _initial_state(variant, st, v0, omega0), 0.0, t_end,
+                   tuple(torque.breakpoints()) + tuple(theta.breakpoints()) + tuple(sample_times), tol=tol,
+                   h_max=options.h_max, v_stop=options.v_stop)
+    return _finish(tr, car)
+
+
+def open_loop(variant: FrictionVariant, p: LuGreParams, car: QuarterCarParams, v_profile, omega_profile, theta,
+              t_end: float, options: SolverOptions = SolverOptions()) -> Trajectory:
+    """The tire alone driven by prescribed ``v(t)`` [m/s] and ``omega(t)`` [rad/s] (FM Figs. 7-8), from ``z = 0``."""
+    tol = options.tol_for(variant)
+    zero = Constant(0.0)
+    st = _stepper(variant, p, car, zero.at, theta.at, v_profile.at, omega_profile.at, tol=tol)
+    bps = tuple(v_profile.breakpoints()) + tuple(omega_profile.breakpoints()) + tuple(theta.breakpoints())
+    tr = integrate(st, _initial_state(variant, st, v_profile.at(0.0), omega_profile.at(0.0)), 0.0, t_end, bps,
+                   tol=tol, h_max=options.h_max, prescribed=True)
+    tr.out["torque"][:] = np.nan
+    tr.out["brake_torque"][:] = np.nan
+    return _finish(tr, car)
+
+
+class HermiteProfile:
+    """Cubic Hermite profile through ``(t_i, y_i, dy_i)``: the dense output of a run (fourth-order accurate).
+
+    Has the profile interface of :mod:`tirecli.models.profiles` (``__call__``, ``at``,
+    ``breakpoints``, ``record``); constant outside ``[t_0, t_n]``. It is smooth (C^1) between the
+    given ``breakpoints`` (the kinks of the run's inputs), so a run it drives need not stop at
+    every node.
+    """
+
+    def __init__(self, t, y, dy, source: str = "", breakpoints=()):
+        self.t = [float(x) for x in t]
+        self.y = [float(x) for x in y]
+        self.dy = [float(x) for x in dy]
+        self.source = source
+        self._bps = tuple(float(b) for b in breakpoints)
+
+    def at(self, t: float) -> float:
+        tt = self.t
+        if t <= tt[0]:
+            return self.y[0]
+        if t >= tt[-1]:
+            return self.y[-1]
+        i = bisect.bisect_right(tt, t) - 1
+        h = tt[i + 1] - tt[i]
+        s = (t - tt[i]) / h
+        s2 = s * s
+        s3 = s2 * s
+        return ((2 * s3 - 3 * s2 + 1) * self.y[i] + (s3 - 2 * s2 + s) * h * self.dy[i]
+                + (-2 * s3 + 3 * s2) * self.y[i + 1] + (s3 - s2) * h * self.dy[i + 1])
+
+    def __call__(self, t):
+        if np.ndim(t):
+            return np.array([self.at(float(x)) for x in np.ravel(t)]).reshape(np.shape(t))
+        return self.at(float(t))
+
+    def breakpoints(self) -> tuple:
+        return self._bps
+
+    def record(self) -> dict:
+        return {"kind": "run", "source": self.source, "points": len(self.t)}
+
+
+def kinematics_of(tr: Trajectory, source: str = "", breakpoints=()):
+    """Profiles ``(v(t) [m/s], omega(t) [rad/s])`` of a coupled run (cubic Hermite through its steps), to drive another model.
+
+    ``breakpoints``: the kinks of the run's inputs (and any times the driven run must hit exactly);
+    wheel lock/unlock times are added.
+    """
+    bps = tuple(breakpoints) + tuple(t for pair in tr.events["lock"] for t in pair if t is not None)
+    return (HermiteProfile(tr.t, tr.y[:, 0], tr.out["dv"], source, bps),
+            HermiteProfile(tr.t, tr.y[:, 1], tr.out["domega"], source, bps))
+
+
+def _finish(tr: Trajectory, car: QuarterCarParams) -> Trajectory:
+    v, omega = tr.y[:, 0], tr.y[:, 1]
+    tr.out["slip"] = slip_from_speeds(v, omega, car.r)
+    tr.out["romega"] = car.r * omega
+    if "zbar" not in tr.out:
+        tr.out["zbar"] = tr.y[:, 2].copy()
+    # travelled distance [m]: trapezoid over the accepted steps
+    tr.out["distance"] = np.concatenate(([0.0], np.cumsum(0.5 * (v[1:] + v[:-1]) * np.diff(tr.t))))
+    return tr

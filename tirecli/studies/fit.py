@@ -1,0 +1,378 @@
+"""Identification of the LuGre parameters from braking data (FM §4.3; lugre.md §8).
+
+Config (``tirecli fit CONFIG``)::
+
+    study: fit
+    tire: canudas2003-table1        # starting values and fixed parameters (L; alpha unless fitted)
+    data:
+      csv: braking.csv              # columns t [s], v [m/s], s [-] (or romega [m/s]), mu [-]
+      # simulate: fm-fig4           # ... or the samples of a simulate config (built-in name or file)
+      # frame: measured             # which of its frames (measured, measured_clean)
+      # cases: ["braking #2"]       # run only these cases of it
+      map: {slip_ratio: s}          # rename file columns {FILE_COLUMN: NAME}
+      where: {braking: 2}           # keep rows whose column equals the value
+      window: {start: 0, end: 2.6}  # [s], steady-state fit only (post-release samples are biased)
+      min_abs_slip: 0.005           # steady-state fit only
+    fit:
+      parameters: [sigma0, sigma2, mu_c, mu_s, v_s]   # add alpha to fit the Stribeck exponent
+      initial: {sigma0: 150}        # default: the tire set
+      bounds: {v_s: [0.5, 20]}      # default: identify.DEFAULT_BOUNDS
+      confidence: 0.95
+      sigma1: {model: {model: lumped, kappa0: Z}, bounds: [0, 100]}   # or false
+      name: fitted-braking          # name of the fitted set
+    figures: [fit-steady, fit-transient]
+
+Stage 1 fits FM eq. (4) to the ``(s, v, mu)`` samples; stage 2 fits ``sigma1`` to ``mu(t)`` with
+the tire model driven by the measured ``v(t)``, ``s(t)`` over the whole selection (see
+:mod:`tirecli.numerics.identify`). Output: ``fitted.yaml``, a parameter set every command accepts
+(``tire: {set: fitted.yaml}``), and frames ``parameters``, ``correlation``, ``samples``, ``transient``.
+"""
+from __future__ import annotations
+
+import json
+from dataclasses import replace
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+
+from tirecli.config.loader import Config, load_config
+from tirecli.config.schema import AnyOf, Bool, ListOf, Map, Num, Raw, Spec, Str, collect
+from tirecli.errors import ConfigError, DataError
+from tirecli.io.yamlio import dump_yaml
+from tirecli.numerics import identify, runs
+from tirecli.models.profiles import Constant, Table
+from tirecli.studies.base import StudyResult, builtin_config, builtin_config_names, common_fields, register_study
+from tirecli.studies.sweep import VARIANT, make_variant
+
+DEFAULT_VEHICLE = "canudas2003-obs-quarter-car"
+#: Fewest samples per fitted parameter.
+MIN_SAMPLES_PER_PARAMETER = 3
+
+
+def _data_post(v, path, ctx):
+    if (v["csv"] is None) == (v["simulate"] is None):
+        ctx.fail(path, "give exactly one data source: csv (a file) or simulate (a simulate config)")
+    w = v["window"]
+    if w and w["start"] is not None and w["end"] is not None and w["end"] <= w["start"]:
+        ctx.fail(path + ("window", "end"), "must be after start")
+
+
+class _Nullable(Spec):
+    """``null`` or a value of ``inner`` (lets ``--data`` switch the source off with ``data.simulate=null``)."""
+
+    def __init__(self, inner, default=None, doc=""):
+        super().__init__(doc=doc, default=default)
+        self.inner = inner
+
+    def accepts(self, value):
+        return value is None or self.inner.accepts(value)
+
+    def check(self, value, path, ctx):
+        return None if value is None else self.inner.check(value, path, ctx)
+
+
+WINDOW = Map(fields={"start": Num(unit="s", default=None, doc="first time"),
+                     "end": Num(unit="s", default=None, doc="last time")}, default=None)
+
+DATA = Map(fields={
+    "csv": _Nullable(Str(), doc="CSV file: columns t [s], v [m/s], s [-] (or romega [m/s]), mu [-]"),
+    "simulate": _Nullable(Str(), doc="simulate config (built-in name or file) whose samples are the data"),
+    "frame": Str(default="measured", doc="frame of the simulate result (measured, measured_clean, ...)"),
+    "cases": ListOf(item=Str(), default=None, doc="run only these cases of the simulate config"),
+    "map": Map(open_keys=Str(), default=None, doc="rename file columns {FILE_COLUMN: NAME}"),
+    "where": Map(open_keys=AnyOf(options=(Num(), Str())), default=None, doc="keep rows with column == value"),
+    "window": WINDOW,
+    "min_abs_slip": Num(unit="-", ge=0, lt=1, default=0.005, doc="drop samples with smaller |s| (steady fit)"),
+}, post=_data_post)
+
+
+def _fit_post(v, path, ctx):
+    for key in ("initial", "bounds"):
+        for k in (v[key] or {}):
+            allowed = identify.STEADY_PARAMETERS + (("sigma1",) if key == "bounds" else ())
+            if k not in allowed:
+                ctx.fail(path + (key, k), f"unknown parameter (expected one of: {', '.join(allowed)})")
+    for k, b in (v["bounds"] or {}).items():
+        if len(b) != 2 or b[0] >= b[1]:
+            ctx.fail(path + ("bounds", k), "expected [low, high] with low < high")
+
+
+SIGMA1_DEFAULT = {"model": None, "bounds": [0.0, 100.0], "window": None}
+SIGMA1 = Map(fields={
+    "model": AnyOf(options=VARIANT.options, default=None,
+                   what="a tire model variant (default lumped kappa0 Z)"),
+    "bounds": ListOf(item=Num(unit="s/m", ge=0), min_len=2, max_len=2, default=[0.0, 100.0], doc="[low, high]"),
+    "window": WINDOW,
+})
+
+FIT = Map(fields={
+    "parameters": ListOf(item=Str(choices=identify.STEADY_PARAMETERS),
+                         default=["sigma0", "sigma2", "mu_c", "mu_s", "v_s"], doc="steady-state parameters to fit"),
+    "initial": Map(open_keys=Num(), default=None, doc="starting values (default: the tire set)"),
+    "bounds": Map(open_keys=ListOf(item=Num(), min_len=1), default=None, doc="{name: [low, high]}"),
+    "confidence": Num(unit="-", gt=0, lt=1, default=0.95, doc="level of the confidence intervals"),
+    "sigma1": AnyOf(options=(Bool(), SIGMA1), default={}, what="false, or {model, bounds, window}"),
+    "name": Str(default="fitted", doc="name of the fitted parameter set"),
+}, post=_fit_post, default={"parameters": ["sigma0", "sigma2", "mu_c", "mu_s", "v_s"], "initial": None, "bounds": None,
+                            "confidence": 0.95, "sigma1": {}, "name": "fitted"})
+
+SPEC = Map(fields=common_fields() | {
+    "tire": Raw(doc="LuGre set with the starting values and the fixed parameters"),
+    "vehicle": Raw(default=None, doc=f"quarter-car set (rolling radius for omega; default {DEFAULT_VEHICLE})"),
+    "data": DATA,
+    "fit": FIT,
+})
+
+
+# --------------------------------------------------------------------------- data
+
+
+def _simulate_frame(d: dict, base_dir: Path):
+    """Run a simulate config (only ``cases``) and return the frame ``d['frame']`` and whether it is synthetic."""
+    from tirecli.studies.simulate import run_simulate
+
+    ref = d["simulate"]
+    if ref in builtin_config_names() and not ref.endswith((".yaml", ".yml")):
+        sim = builtin_config(ref)
+    else:
+        p = Path(ref)
+        sim = load_config(p if p.is_absolute() else base_dir / p)
+    if d["cases"]:
+        keep = set(d["cases"])
+        raw_cases = sim.data.get("cases") or []
+        labels = [c.get("label") if isinstance(c, dict) else None for c in raw_cases]
+        missing = keep - set(lab for lab in labels if lab)
+        if missing:
+            raise DataError(f"{sim.label}: no case(s) labelled {', '.join(map(repr, sorted(missing)))}")
+        sim.data["cases"] = [c for c, lab in zip(raw_cases, labels) if lab in keep]
+        sim.data.pop("open_loop", None)
+        meas = sim.data.get("measurement")
+        if isinstance(meas, dict) and meas.get("cases"):
+            idx = [i for i, lab in enumerate(meas["cases"]) if lab in keep]
+            meas["cases"] = [meas["cases"][i] for i in idx]
+            if meas.get("record_starts"):
+                meas["record_starts"] = [meas["record_starts"][i] for i in idx]
+    res = run_simulate(sim)
+    if d["frame"] not in res.data:
+        raise DataError(f"{sim.label}: no frame {d['frame']!r} (frames: {', '.join(res.data)})")
+    return res.data[d["frame"]].copy(), res.synthetic, f"{d['frame']} of simulate config {sim.label}"
+
+
+def load_samples(d: dict, base_dir: Path) -> dict:
+    """The selected samples: ``t, v, s, mu`` arrays (plus source description and synthetic flag)."""
+    from tirecli.io.data import frame_columns, leading_comments, read_table, rename_columns
+    from tirecli.io.output import SYNTHETIC_NOTE
+
+    if d["csv"] is not None:
+        path = Path(d["csv"])
+        if not path.is_absolute():
+            path = base_dir / path
+        frame = read_table(path)
+        synthetic = any("SYNTHETIC" in c.upper() for c in leading_comments(path))
+        source, where_name = str(path), str(path)
+    else:
+        frame, synthetic, source = _simulate_frame(d, base_dir)
+        where_name = source
+    frame = rename_columns(frame, d["map"], where_name)
+    for col, val in (d["where"] or {}).items():
+        if col not in frame.columns:
+            raise DataError(f"{where_name}: data.where: no column {col!r} (columns: {', '.join(map(str, frame.columns))})")
+        frame = frame[frame[col].astype(str) == str(val)] if isinstance(val, str) else frame[frame[col] == val]
+        if frame.empty:
+            raise DataError(f"{where_name}: data.where: no row has {col} == {val!r}")
+    has_s = "s" in frame.columns
+    cols = frame_columns(frame, ["t", "v", "mu"] + (["s"] if has_s else []), where_name, increasing="t",
+                         optional=() if has_s else ("romega",))
+    if not has_s:
+        if "romega" not in cols:
+            raise DataError(f"{where_name}: missing column 's' (slip) and no 'romega' to compute it "
+                            f"(file has: {', '.join(map(str, frame.columns))}; map names with --map FILE_COLUMN=NAME)")
+        from tirecli.conventions import slip_from_speeds
+
+        cols["s"] = slip_from_speeds(cols["v"], cols["romega"], 1.0)
+    if np.any(cols["v"] < 0):
+        raise DataError(f"{where_name}: column 'v' row {int(np.argmax(cols['v'] < 0)) + 1}: negative speed")
+    if np.any(np.abs(cols["s"]) > 1):
+        raise DataError(f"{where_name}: column 's' row {int(np.argmax(np.abs(cols['s']) > 1)) + 1}: |slip| > 1")
+    return {"t": cols["t"], "v": cols["v"], "s": cols["s"], "mu": cols["mu"], "source": source,
+            "synthetic": synthetic, "note": SYNTHETIC_NOTE if synthetic else ""}
+
+
+def _window_mask(t, w):
+    m = np.ones_like(t, dtype=bool)
+    if w:
+        if w["start"] is not None:
+            m &= t >= w["start"] - 1e-12
+        if w["end"] is not None:
+            m &= t <= w["end"] + 1e-12
+    return m
+
+
+# --------------------------------------------------------------------------- plan / run
+
+
+def plan(config: Config):
+    """Check a fit config completely (without reading data); returns ``(checked, tire, vehicle)``."""
+    checked, tire, vehicle = collect(lambda: config.checked(SPEC), lambda: config.group("tire", "lugre"),
+                                     lambda: config.group("vehicle", "quarter_car", DEFAULT_VEHICLE))
+    tire.model()
+    vehicle.model()
+    d = checked["data"]
+    if d["simulate"] is not None and d["simulate"] not in builtin_config_names():
+        p = Path(d["simulate"])
+        if not (p if p.is_absolute() else config.base_dir / p).is_file():
+            raise ConfigError(config.origins.problem(("data", "simulate"),
+                                                     f"no built-in simulate config or file {d['simulate']!r} "
+                                                     f"(built-in: {', '.join(builtin_config_names())})"))
+    return checked, tire, vehicle
+
+
+def fitted_set(name: str, start_set, p, steady: identify.FitResult, s1: identify.FitResult | None, source: str,
+               synthetic: bool) -> dict:
+    """A parameter-set document (kind lugre) of the fitted values, with estimates and intervals as notes."""
+    values = {}
+    fits = {**{k: steady for k in steady.names}, **({"sigma1": s1} if s1 is not None else {})}
+    for key in ("sigma0", "sigma1", "sigma2", "mu_c", "mu_s", "v_s", "L", "alpha", "kappa0", "sigma_w"):
+        val = float(getattr(p, key))
+        if key in fits:
+            f = fits[key]
+            lvl = int(round(100 * f.confidence))
+            note = (f"fitted: {f.estimate[key]:.6g} +/- {f.se[key]:.3g} (SE), {lvl}% CI [{f.ci_low[key]:.6g}, "
+                    f"{f.ci_high[key]:.6g}]" + ("; on a bound" if f.at_bound[key] else ""))
+            values[key] = {"value": val, "note": note}
+        elif key in start_set.assumed:
+            values[key] = {"value": val, "assumed": f"not identified; from {start_set.name}: {start_set.assumed[key]}"}
+        else:
+            values[key] = {"value": val, "note": f"not identified (fixed, from {start_set.name})"}
+    label = "SYNTHETIC data" if synthetic else "data"
+    return {
+        "name": name, "kind": "lugre",
+        "title": f"LuGre tire identified by tirecli fit from {label}: {source}",
+        "citation": "tirecli fit (procedure of FM §4.3: steady-state least squares of FM eq. 4, then sigma1 from the "
+                    f"transient); {label} {source}",
+        "values": values,
+    }
+
+
+@register_study("fit", check=plan)
+def run_fit(config: Config, progress=None) -> StudyResult:
+    """Run a fit config (see module doc)."""
+    checked, tire, vehicle = plan(config)
+    start, car = tire.model(), vehicle.model()
+    d, fc = checked["data"], checked["fit"]
+    data = load_samples(d, config.base_dir)
+    t, v, s, mu = data["t"], data["v"], data["s"], data["mu"]
+    sel = _window_mask(t, d["window"]) & (np.abs(s) > d["min_abs_slip"]) & (v > 0)
+    free = [k for k in identify.STEADY_PARAMETERS if k in fc["parameters"]]
+    need = MIN_SAMPLES_PER_PARAMETER * len(free) + 1
+    if int(sel.sum()) < need:
+        raise DataError(f"{data['source']}: too few samples for the steady-state fit: {int(sel.sum())} after the "
+                        f"window and |s| > {d['min_abs_slip']:g} (of {len(t)}); need at least {need} for "
+                        f"{len(free)} parameters")
+    bounds = {k: tuple(b) for k, b in (fc["bounds"] or {}).items()}
+    steady, p_fit = identify.fit_steady_state(s[sel], v[sel], mu[sel], start, free, bounds, fc["initial"],
+                                              fc["confidence"])
+    from tirecli.models.lugre import mu_ss_uniform
+
+    rw = identify.romega_of(s, v)
+    mu_model = mu_ss_uniform(rw - v, rw, p_fit)
+    frames = {}
+    s1 = None
+    transient = None
+    s1cfg = fc["sigma1"]
+    if s1cfg is not False:
+        s1cfg = {**SIGMA1_DEFAULT, **(s1cfg if isinstance(s1cfg, dict) else {})}
+        variant = _variant(s1cfg["model"])
+        wm = _window_mask(t, s1cfg["window"])
+        if wm.sum() < 3:
+            raise DataError(f"{data['source']}: too few samples in fit.sigma1.window ({int(wm.sum())})")
+        tt, vv, ss, mm = t[wm], v[wm], s[wm], mu[wm]
+        t0 = tt[0]
+        tab_t = tuple(tt - t0)
+        vp = Table(tab_t, tuple(vv))
+        wp = Table(tab_t, tuple(identify.romega_of(ss, vv) / car.r))
+        tr = runs.open_loop(variant, p_fit, car, vp, wp, Constant(1.0), float(tab_t[-1]),
+                            runs.SolverOptions(tol=1e-4))
+        idx = np.clip(np.searchsorted(tr.t, np.asarray(tab_t) - 1e-12), 0, len(tr.t) - 1)
+        z, zd, vr = tr.out["zbar"][idx], tr.out["zdot"][idx], tr.out["vr"][idx]
+        s1 = identify.fit_sigma1(mm, z, zd, vr, p_fit, tuple(s1cfg["bounds"]), fc["confidence"])
+        p_fit = replace(p_fit, sigma1=s1.estimate["sigma1"])
+        transient = pd.DataFrame({"t": tt, "v": vv, "s": ss, "mu": mm,
+                                  "mu_model": p_fit.sigma0 * z + p_fit.sigma1 * zd + p_fit.sigma2 * vr,
+                                  "mu_steady": mu_model[wm], "z": z, "zdot": zd})
+        transient["residual"] = transient["mu_model"] - transient["mu"]
+        frames["transient"] = transient
+    rows = []
+    for f in [steady] + ([s1] if s1 is not None else []):
+        for k in f.names:
+            rows.append({"parameter": k, "estimate": f.estimate[k], "se": f.se[k], "ci_low": f.ci_low[k],
+                         "ci_high": f.ci_high[k], "unit": identify.UNITS.get(k, "-"), "at_bound": f.at_bound[k],
+                         "start": (fc["initial"] or {}).get(k, getattr(start, k)),
+                         "stage": "steady state (FM eq. 4)" if f is steady else "transient (sigma1)"})
+    frames["parameters"] = pd.DataFrame(rows)
+    corr = pd.DataFrame(steady.corr, columns=steady.names)
+    corr.insert(0, "parameter", steady.names)
+    frames["correlation"] = corr
+    frames["samples"] = pd.DataFrame({"t": t, "v": v, "s": s, "mu": mu, "used": sel.astype(int),
+                                      "mu_model": mu_model, "residual": mu_model - mu})
+    set_doc = fitted_set(fc["name"], tire, p_fit, steady, s1, data["source"], data["synthetic"])
+    meta = {
+        "title": checked["title"],
+        "data": {"source": data["source"], "samples": int(len(t)), "used_steady": int(sel.sum()),
+                 "window": d["window"], "min_abs_slip": d["min_abs_slip"], "where": d["where"],
+                 "synthetic": data["synthetic"]},
+        "steady_state": steady.record(),
+        "sigma1": s1.record() if s1 is not None else None,
+        "sigma1_model": _variant(s1cfg["model"]).record() if s1 is not None else None,
+        "fixed": {k: getattr(start, k) for k in ("L", "alpha", "sigma1", "kappa0", "sigma_w") if k not in free},
+        "fitted_set": "fitted.yaml",
+    }
+    from tirecli.parameters.sets import ParameterSet
+
+    fitted_ps = ParameterSet(name=fc["name"], kind="lugre",
+                             values={k: v["value"] for k, v in set_doc["values"].items()},
+                             source={k: "tirecli fit" for k in set_doc["values"]},
+                             assumed={k: v["assumed"] for k, v in set_doc["values"].items() if "assumed" in v},
+                             notes={k: v["note"] for k, v in set_doc["values"].items() if "note" in v},
+                             title=set_doc["title"], citation=set_doc["citation"])
+    return StudyResult(
+        study="fit", config=config, parameter_sets={"start": tire, "fitted": fitted_ps, "vehicle": vehicle},
+        data=frames, meta=meta, figures=checked["figures"] or ["fit-steady", "fit-transient"],
+        payload={"start": start, "fitted": p_fit, "table2": _table2(), "steady": steady, "sigma1": s1, "samples": data, "used": sel,
+                 "car": car, "checked": checked},
+        synthetic=data["synthetic"], files={"fitted.yaml": dump_yaml(set_doc)},
+    )
+
+
+def _table2():
+    from tirecli.parameters.sets import load_builtin
+
+    return load_builtin("canudas2003-table2").model()
+
+
+def _variant(raw):
+    """The stage-2 tire model: a checked variant entry, or the default lumped kappa0(Z)."""
+    from tirecli.models.variants import FrictionVariant
+
+    if isinstance(raw, str) or (isinstance(raw, dict) and "load" in raw):
+        return make_variant(raw)
+    return FrictionVariant(model="lumped", kappa0="Z")
+
+
+def overrides_for(data: str | None, maps: list[str] | None) -> list[str]:
+    """``--set`` overrides from ``tirecli fit --data CSV --map FILE_COLUMN=NAME``."""
+    out = []
+    if data:
+        out += [f"data.csv={json.dumps(str(Path(data).resolve()))}", "data.simulate=null"]
+    if maps:
+        mapping = {}
+        for m in maps:
+            if "=" not in m:
+                from tirecli.errors import UsageError
+
+                raise UsageError(f"--map {m!r}: expected FILE_COLUMN=NAME, e.g. --map slip_ratio=s")
+            a, _, b = m.partition("=")
+            mapping[a.strip()] = b.strip()
+        out.append(f"data.map={json.dumps(mapping)}")
+    return out

@@ -1,0 +1,457 @@
+"""Observer study: estimate road adhesion and vehicle speed from the wheel speed (OBS Fig. 2).
+
+Config (``tirecli observe CONFIG``)::
+
+    study: observe
+    tire: canudas2003-table1              # lumped LuGre, constant kappa = kappa0/L (OBS: 10 1/m)
+    vehicle: canudas2003-obs-quarter-car
+    observer: canudas2003-obs-gains       # k1, k2, k3, gamma, alpha (kind: observer)
+    scenario:
+      duration: 20                        # [s]
+      theta_convention: obs               # values of theta below: obs (1 dry, > 1 less grip) or fm
+      theta: {initial: 1, changes: [{at: 5, to: 1.6667, shape: step}, ...]}
+      torque: {initial: 350, changes: [{at: 7, duration: 1, to: -250}, ...]}   # [N m]
+      v0: 20                              # [m/s]
+      slip0: 0                            # initial slip (0: pure rolling)
+      z0: 0                               # initial bristle deflection [m]
+      assumed: "why these scenario values are assumed"    # flagged in every output
+    estimate: {v_error: 0, z: 0, theta: 1}               # observer's initial state
+    measurement: {rate: 1000, noise: {std: 0.01, seed: 1}, encoder: {teeth: 48, method: period}}
+    numerics: {method: fast, step: 0.0025}               # or method: reference (Radau)
+    metrics: {phases: [0, 5, 10, 15, 20], crossing_margin: 0.5, settle_tolerance: 0.05,
+              excitation_threshold: 0.05, min_excitation: 0.5}
+    cases:                                # optional variants, each overriding parts of the above
+      - {label: "+0.1 m/s", estimate: {v_error: 0.1}}
+      - {label: "theta known", observer: {gamma: 0}, theta: 1}
+    gain_study: {gain: gamma, values: [5.0e4, 1.0e5, 2.0e5]}   # optional, instead of cases
+    output: {dt: 0.01}                    # CSV sampling [s]
+    figures: [obs-fig2]
+
+Frames: ``observer`` (long format: ``case, t, theta, theta_hat`` (OBS convention),
+``theta_fm, theta_hat_fm, v, v_hat, omega, omega_meas, vr, vr_hat, slip, z, z_hat, torque``) and
+``metrics`` (per case and phase). Warnings (observability, gain/SPR conditions, excitation,
+forward motion) are listed in ``meta["warnings"]``.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, replace
+
+import numpy as np
+import pandas as pd
+
+from tirecli.config.loader import Config
+from tirecli.config.schema import ListOf, Map, Num, Raw, Str
+from tirecli.conventions import (THETA_CONVENTIONS, slip_from_speeds, theta_fm_from_obs, theta_obs_from_fm,
+                                 to_theta_fm)
+from tirecli.errors import ConfigError
+from tirecli.models.profiles import Table, Transitions, profile_from_checked, profile_spec
+from tirecli.observers import lugre_observer as lo
+from tirecli.observers import metrics as om
+from tirecli.observers.measurement import METHODS, Sensor
+from tirecli.studies.base import StudyResult, common_fields, register_study
+
+GAINS = ("k1", "k2", "k3", "gamma", "alpha")
+DEFAULT_GAINS = "canudas2003-obs-gains"
+DEFAULT_VEHICLE = "canudas2003-obs-quarter-car"
+
+
+def _measurement_post(v, path, ctx):
+    if v["rate"] is None and (v["noise"] is not None or v["encoder"] is not None):
+        ctx.fail(path, "noise and encoder quantisation need a sampling 'rate' [Hz] (the measurement is held between samples)")
+
+
+MEASUREMENT = Map(fields={
+    "rate": Num(unit="Hz", gt=0, default=None, doc="sampling rate with zero-order hold; omit for the ideal continuous measurement"),
+    "noise": Map(fields={"std": Num(unit="rad/s", ge=0, doc="standard deviation of the Gaussian noise"),
+                         "seed": Num(unit="-", integer=True, ge=0, default=0, doc="noise seed")}, default=None),
+    "encoder": Map(fields={"teeth": Num(unit="-", integer=True, ge=1, doc="encoder teeth per revolution"),
+                           "method": Str(choices=METHODS, default="period",
+                                         doc="count: edges per sample period; period: time of the last tooth interval"),
+                           "clock": Num(unit="Hz", gt=0, default=None, doc="timer that time-stamps the edges (period method)")},
+                   default=None),
+}, post=_measurement_post, default=None)
+
+
+def _estimate(required: bool) -> Map:
+    d = (lambda x: x) if required else (lambda x: None)  # noqa: E731
+    return Map(fields={
+        "v_error": Num(unit="m/s", default=d(0.0), doc="initial speed estimate error v_hat(0) - v(0)"),
+        "z": Num(unit="m", default=d(0.0), doc="initial deflection estimate z_hat(0)"),
+        "theta": Num(unit="-", gt=0, default=d(1.0), doc="initial adhesion estimate theta_hat(0) (scenario.theta_convention)"),
+    }, default=None)
+
+
+THETA_PROFILE = profile_spec("-", gt=0)
+TORQUE_PROFILE = profile_spec("N m")
+
+SCENARIO = Map(fields={
+    "duration": Num(unit="s", gt=0, le=3600, doc="simulated time"),
+    "theta_convention": Str(choices=THETA_CONVENTIONS, default="obs", doc="convention of the theta values"),
+    "theta": THETA_PROFILE,
+    "torque": TORQUE_PROFILE,
+    "v0": Num(unit="m/s", gt=0, doc="initial vehicle speed"),
+    "slip0": Num(unit="-", gt=-1, lt=1, default=0.0, doc="initial slip (0: pure rolling)"),
+    "z0": Num(unit="m", default=0.0, doc="initial bristle deflection"),
+    "assumed": Str(default="", doc="why the scenario values are assumed defaults (flagged in outputs)"),
+})
+
+NUMERICS = Map(fields={
+    "method": Str(choices=("fast", "reference"), default="fast",
+                  doc="fast: structured fixed-step scheme; reference: Radau on the full system (slow)"),
+    "step": Num(unit="s", gt=0, le=0.05, default=2.5e-3, doc="largest step of the fast scheme"),
+    "rtol": Num(unit="-", gt=0, lt=1, default=1e-8, doc="relative tolerance of the reference"),
+}, default=None)
+
+METRICS = Map(fields={
+    "phases": ListOf(item=Num(unit="s", ge=0), min_len=2, default=None, doc="phase boundaries (default: quarters)"),
+    "crossing_margin": Num(unit="s", ge=0, default=0.5, doc="excluded window around each v_r zero crossing"),
+    "settle_tolerance": Num(unit="-", gt=0, default=0.05, doc="band of |theta_hat - theta| for the settling time"),
+    "excitation_threshold": Num(unit="m/s", ge=0, default=0.05, doc="|v_r| counted as excitation"),
+    "min_excitation": Num(unit="-", ge=0, le=1, default=0.5, doc="warn below this share of excited time"),
+}, default=None)
+
+GAIN_OVERRIDES = Map(fields={k: Num(unit="", default=None) for k in GAINS}, default=None)
+
+CASE = Map(fields={
+    "label": Str(doc="name of the case in legends and the CSV"),
+    "estimate": _estimate(required=False),
+    "observer": GAIN_OVERRIDES,
+    "measurement": MEASUREMENT,
+    "theta": replace(THETA_PROFILE, default=None, doc="adhesion profile of this case"),
+    "torque": replace(TORQUE_PROFILE, default=None, doc="torque profile of this case"),
+})
+
+GAIN_STUDY = Map(fields={
+    "gain": Str(choices=GAINS, doc="the gain that varies"),
+    "values": ListOf(item=Num(unit=""), min_len=2, doc="its values"),
+}, default=None)
+
+SPEC = Map(fields=common_fields() | {
+    "tire": Raw(doc="LuGre parameter set (lumped, constant kappa0)"),
+    "vehicle": Raw(default=None, doc="quarter-car parameter set"),
+    "observer": Raw(default=None, doc="observer gains (kind observer)"),
+    "scenario": SCENARIO,
+    "estimate": _estimate(required=True),
+    "measurement": MEASUREMENT,
+    "numerics": NUMERICS,
+    "metrics": METRICS,
+    "cases": ListOf(item=CASE, default=None, doc="variants of the run"),
+    "gain_study": GAIN_STUDY,
+    "output": Map(fields={"dt": Num(unit="s", gt=0, default=0.01, doc="CSV sampling interval")}, default=None),
+})
+
+
+# --------------------------------------------------------------------------- plan
+
+
+@dataclass
+class Case:
+    """One simulation of the study."""
+
+    label: str
+    gains: lo.ObserverGains
+    scenario: object          # tirecli.numerics.observer_integrator.Scenario
+    sensor: Sensor
+    theta_profile: object
+    changes: list             # start times of the adhesion changes (settling)
+
+
+def profile_changes(profile) -> list[float]:
+    """Start times [s] of the level changes of a profile (for the settling metric)."""
+    if isinstance(profile, Transitions):
+        return [c.at for c in profile.changes]
+    if isinstance(profile, Table):
+        t, y = profile.t, profile.y
+        return [t[i - 1] if t[i] > t[i - 1] else t[i] for i in range(1, len(t)) if y[i] != y[i - 1]]
+    return []
+
+
+def _sensor(m: dict | None) -> Sensor:
+    if not m or m.get("rate") is None:
+        return Sensor()
+    noise, enc = m.get("noise") or {}, m.get("encoder") or {}
+    return Sensor(rate=m["rate"], noise_std=noise.get("std", 0.0), seed=noise.get("seed", 0),
+                  teeth=enc.get("teeth"), method=enc.get("method", "period"), clock=enc.get("clock"))
+
+
+def _theta_fm_fn(profile, convention):
+    """``theta_fm(t)`` of a profile given in ``convention`` (scalar calls use the profile's fast ``at``)."""
+    def theta_fm(t):
+        if np.ndim(t) == 0 and hasattr(profile, "at"):
+            return float(to_theta_fm(profile.at(float(t)), convention))
+        return to_theta_fm(profile(t), convention)
+    return theta_fm
+
+
+def _make_case(label, gains, checked, theta_raw, torque_raw, est, meas, config, r) -> Case:
+    from tirecli.numerics.observer_integrator import Scenario
+
+    sc = checked["scenario"]
+    base = config.base_dir
+    theta_p = profile_from_checked(theta_raw, base)
+    torque_p = profile_from_checked(torque_raw, base)
+    conv = sc["theta_convention"]
+    v0 = sc["v0"]
+    s0 = sc["slip0"]
+    # initial wheel speed from the slip (lugre.md §1): braking r w = v (1 + s), driving v = r w (1 - s)
+    romega0 = v0 * (1.0 + s0) if s0 <= 0 else v0 / (1.0 - s0)
+    theta_hat0_obs = float(theta_obs_from_fm(to_theta_fm(est["theta"], conv)))
+    theta0 = float(theta_obs_from_fm(to_theta_fm(theta_p(0.0), conv)))
+    changes = profile_changes(theta_p)
+    if abs(theta_hat0_obs - theta0) > 1e-12 or est["v_error"] != 0.0:
+        changes = [0.0] + [c for c in changes if c > 0.0]
+    scenario = Scenario(duration=sc["duration"], torque=torque_p, theta_fm=_theta_fm_fn(theta_p, conv), v0=v0,
+                        omega0=romega0 / r, z0=sc["z0"], v_hat0=v0 + est["v_error"], z_hat0=est["z"],
+                        theta_hat0=theta_hat0_obs,
+                        breakpoints=tuple(sorted(set(theta_p.breakpoints()) | set(torque_p.breakpoints()))))
+    return Case(label=label, gains=gains, scenario=scenario, sensor=_sensor(meas), theta_profile=theta_p,
+                changes=sorted({c for c in changes if c < sc["duration"]}))
+
+
+@dataclass
+class Plan:
+    checked: dict
+    tire: object
+    vehicle: object
+    gain_set: object
+    plant: lo.ObserverPlant
+    cases: list
+    numerics: dict
+    metrics: dict
+
+
+def plan(config: Config) -> Plan:
+    """Check an observe config completely (schema, parameter sets, profiles, cases) without running it."""
+    checked = config.checked(SPEC)
+    tire = config.group("tire", "lugre")
+    vehicle = config.group("vehicle", "quarter_car", DEFAULT_VEHICLE)
+    gain_set = config.group("observer", "observer", DEFAULT_GAINS)
+    plant = lo.ObserverPlant(tire=tire.model(), car=vehicle.model())
+    gains = gain_set.model()
+    sc = checked["scenario"]
+    est = checked["estimate"] or {"v_error": 0.0, "z": 0.0, "theta": 1.0}
+    meas = checked["measurement"]
+    cases_raw, gstudy = checked["cases"], checked["gain_study"]
+    if cases_raw and gstudy:
+        raise ConfigError(config.origins.problem(("gain_study",), "use either 'cases' or 'gain_study', not both"))
+    cases = []
+    r = plant.car.r
+    if gstudy:
+        for val in gstudy["values"]:
+            g = gains.replace(**{gstudy["gain"]: float(val)})
+            cases.append(_make_case(f"{gstudy['gain']} = {val:g}", g, checked, sc["theta"], sc["torque"], est, meas, config, r))
+    elif cases_raw:
+        labels = [c["label"] for c in cases_raw]
+        if len(set(labels)) != len(labels):
+            raise ConfigError(config.origins.problem(("cases",), "two cases share a label; give each a distinct 'label'"))
+        for c in cases_raw:
+            g = gains.replace(**{k: v for k, v in (c["observer"] or {}).items() if v is not None})
+            e = {**est, **{k: v for k, v in (c["estimate"] or {}).items() if v is not None}}
+            cases.append(_make_case(c["label"], g, checked, c["theta"] if c["theta"] is not None else sc["theta"],
+                                    c["torque"] if c["torque"] is not None else sc["torque"], e,
+                                    c["measurement"] if c["measurement"] is not None else meas, config, r))
+    else:
+        cases.append(_make_case("nominal", gains, checked, sc["theta"], sc["torque"], est, meas, config, r))
+    numerics = checked["numerics"] or {"method": "fast", "step": 2.5e-3, "rtol": 1e-8}
+    met = checked["metrics"] or {}
+    dur = sc["duration"]
+    metrics = {
+        "phases": met.get("phases") or [dur * k / 4 for k in range(5)],
+        "crossing_margin": met.get("crossing_margin", 0.5),
+        "settle_tolerance": met.get("settle_tolerance", 0.05),
+        "excitation_threshold": met.get("excitation_threshold", 0.05),
+        "min_excitation": met.get("min_excitation", 0.5),
+    }
+    ph = metrics["phases"]
+    if any(b <= a for a, b in zip(ph, ph[1:])) or ph[-1] > dur + 1e-9:
+        raise ConfigError(config.origins.problem(("metrics", "phases"),
+                                                 f"phase boundaries must increase and end by the duration ({dur:g} s)"))
+    return Plan(checked, tire, vehicle, gain_set, plant, cases, numerics, metrics)
+
+
+# --------------------------------------------------------------------------- run
+
+
+def simulate_case(plan_: Plan, case: Case):
+    """Run one case with the configured integrator; returns a Trajectory."""
+    from tirecli.numerics import observer_integrator as oi
+
+    if plan_.numerics["method"] == "reference":
+        return oi.simulate_reference(plan_.plant, case.gains, case.scenario, case.sensor, rtol=plan_.numerics["rtol"],
+                                     atol=plan_.numerics["rtol"] * 1e-2)
+    return oi.simulate_fast(plan_.plant, case.gains, case.scenario, case.sensor, step=plan_.numerics["step"])
+
+
+def case_metrics(plant: lo.ObserverPlant, tr, case: Case, m: dict) -> dict:
+    """Metrics of one run (observer.md §7-§8; see :mod:`tirecli.observers.metrics`)."""
+    r = plant.car.r
+    vr = r * tr.omega - tr.v
+    err = tr.theta_hat - tr.theta
+    crossings = om.zero_crossings(tr.t, vr)
+    slip = slip_from_speeds(tr.v, tr.omega, r)
+    return {
+        "crossings_s": crossings.tolist(),
+        "phases": om.phase_errors(tr.t, err, m["phases"], crossings, m["crossing_margin"]),
+        "all_excl_crossings": om.phase_errors(tr.t, err, [tr.t[0], tr.t[-1]], crossings, m["crossing_margin"])[0],
+        "settling": om.settle_times(tr.t, err, case.changes, m["settle_tolerance"]),
+        "max_abs_v_error": float(np.max(np.abs(tr.v_hat - tr.v))),
+        "final_v_error": float(tr.v_hat[-1] - tr.v[-1]),
+        "excitation_share": om.excitation_share(tr.t, vr, m["excitation_threshold"]),
+        "slip_range": [float(slip.min()), float(slip.max())],
+        "v_range": [float(tr.v.min()), float(tr.v.max())],
+        "theta_hat_final": float(tr.theta_hat[-1]),
+    }
+
+
+def design_record(plant: lo.ObserverPlant, gains: lo.ObserverGains, tr=None) -> dict:
+    """Design facts of a gain set (observer.md §4-§6), JSON-ready."""
+    obs = lo.observability(plant)
+    tf = lo.transfer_function(plant, gains)
+    rec = {
+        "gains": gains.as_dict(),
+        "observability": {"det": obs["det"], "det_closed_form": obs["det_closed_form"], "factor": obs["factor"],
+                          "rank": obs["rank"]},
+        "error_poles_1_s": [complex(p).real if abs(complex(p).imag) < 1e-9 * abs(p) else str(complex(p))
+                            for p in lo.error_poles(plant, gains)],
+        "slow_pole_estimate_1_s": lo.slow_pole_estimate(plant, gains),
+        "fast_rate_1_s": float(plant.fast_rate(gains, 1.0)),
+        "transfer_function": {k: tf[k] for k in ("k_c", "a1", "a0", "b2", "b1", "b0")}
+        | {"re_coeffs": list(tf["re_coeffs"]), "zeros": [float(np.real(z)) for z in tf["zeros"]]},
+        "conditions": [c.record() for c in lo.design_conditions(plant, gains)],
+        "k3_threshold_m": plant.car.J * plant.tire.sigma0 / (plant.car.r * plant.car.F_n * plant.tire.sigma1 ** 2),
+    }
+    if tr is not None:
+        vr = plant.car.r * tr.omega - tr.v
+        lip = lo.lipschitz_sizes(plant, float(np.max(np.abs(vr))), float(np.max(np.abs(tr.omega))),
+                                 float(np.max(np.abs(tr.z))))
+        pm = lo.passivity_margin(plant, gains)
+        theta_max = float(np.max(tr.theta))
+        rec["lipschitz"] = lip | {"vr_max": float(np.max(np.abs(vr))), "omega_max": float(np.max(np.abs(tr.omega))),
+                                  "z_max": float(np.max(np.abs(tr.z)))}
+        rec["passivity"] = {"lambda_min_q": pm["lambda_min_q"],
+                            "alpha_bound_17_m": lo.alpha_bound(pm["lambda_min_q"], theta_max, lip["L_phi"], lip["L_psi"]),
+                            "note": "sufficient bound (17); OBS's alpha is a practical tuning value (observer.md §6)"}
+    return rec
+
+
+def _frame(plant, tr, label, dt_out) -> pd.DataFrame:
+    r = plant.car.r
+    keep = _decimate(tr.t, dt_out)
+    t = tr.t[keep]
+    v, w, y = tr.v[keep], tr.omega[keep], tr.y[keep]
+    vh = tr.v_hat[keep]
+    return pd.DataFrame({
+        "case": label, "t": t,
+        "theta": tr.theta[keep], "theta_hat": tr.theta_hat[keep],
+        "theta_fm": theta_fm_from_obs(tr.theta[keep]), "theta_hat_fm": _safe_inv(tr.theta_hat[keep]),
+        "v": v, "v_hat": vh, "omega": w, "omega_meas": y,
+        "vr": r * w - v, "vr_hat": r * y - vh, "slip": slip_from_speeds(v, w, r),
+        "z": tr.z[keep], "z_hat": tr.z_hat[keep], "torque": tr.torque[keep],
+    })
+
+
+def _safe_inv(x):
+    x = np.asarray(x, dtype=float)
+    with np.errstate(divide="ignore"):
+        return np.where(x != 0.0, 1.0 / np.where(x != 0.0, x, 1.0), np.nan)
+
+
+def _decimate(t, dt):
+    """Indices of ``t`` nearest to a ``dt`` grid (first and last kept)."""
+    if dt <= 0 or len(t) < 3:
+        return np.arange(len(t))
+    target = np.arange(t[0], t[-1] + 0.5 * dt, dt)
+    idx = np.unique(np.clip(np.searchsorted(t, target - 1e-9), 0, len(t) - 1))
+    return np.unique(np.concatenate([idx, [len(t) - 1]]))
+
+
+def _warnings(case: Case, design: dict, met: dict, m: dict, tr) -> list[str]:
+    out = []
+    for c in design["conditions"]:
+        if not c["ok"]:
+            out.append(f"{case.label}: design condition '{c['id']}' fails: {c['requirement']} "
+                       f"(value {c['value']:.4g}); {c['meaning']}")
+    if met["excitation_share"] < m["min_excitation"]:
+        out.append(f"{case.label}: excitation: |v_r| > {m['excitation_threshold']:g} m/s only "
+                   f"{100 * met['excitation_share']:.0f}% of the time (< {100 * m['min_excitation']:.0f}%): theta is "
+                   "not observable while v_r = 0 (A4, observer.md §8)")
+    if np.any(tr.v < 0) or np.any(tr.omega < 0):
+        out.append(f"{case.label}: the vehicle or the wheel reverses; the model assumes forward motion")
+    return out
+
+
+@register_study("observe", check=plan)
+def run_observe(config: Config, progress=None) -> StudyResult:
+    """Run an observe config (see module doc)."""
+    p = plan(config)
+    checked = p.checked
+    sc = checked["scenario"]
+    dt_out = (checked["output"] or {}).get("dt", 0.01)
+    frames, rows, runs, warnings, trajs = [], [], [], [], []
+    designs = {}
+    if progress is not None:
+        progress.start(len(p.cases), "observe")
+    for k, case in enumerate(p.cases):
+        tr = simulate_case(p, case)
+        trajs.append(tr)
+        key = tuple(case.gains.as_dict().values())
+        if key not in designs:
+            designs[key] = design_record(p.plant, case.gains, tr if k == 0 else None)
+        met = case_metrics(p.plant, tr, case, p.metrics)
+        warnings += _warnings(case, designs[key], met, p.metrics, tr)
+        frames.append(_frame(p.plant, tr, case.label, dt_out))
+        for ph in met["phases"]:
+            rows.append({"case": case.label, "phase_start": ph["start"], "phase_end": ph["end"], "rms": ph["rms"],
+                         "max": ph["max"], "rms_excl_crossings": ph["rms_excl"], "max_excl_crossings": ph["max_excl"]})
+        runs.append({"label": case.label, "gains": case.gains.as_dict(), "measurement": case.sensor.record(),
+                     "theta_hat0_obs": case.scenario.theta_hat0, "v_hat0": case.scenario.vhat0,
+                     "integrator": tr.method, "integrator_info": tr.info, "metrics": met,
+                     "theta_profile": case.theta_profile.record()})
+        if progress is not None:
+            progress.advance(1)
+    if progress is not None:
+        progress.close()
+    synthetic = any(c.sensor.synthetic for c in p.cases)
+    assumed = [f"scenario: {sc['assumed']}"] if sc["assumed"] else []
+    gstudy = checked["gain_study"]
+    data = {"observer": pd.concat(frames, ignore_index=True), "metrics": pd.DataFrame(rows)}
+    if gstudy:
+        data["gain_study"] = pd.DataFrame({
+            "gain": gstudy["gain"], "value": gstudy["values"],
+            "settle_time_s": [_first_settle(r["metrics"]["settling"]) for r in runs],
+            "rms_excl_crossings": [r["metrics"]["all_excl_crossings"]["rms_excl"] for r in runs],
+            "max_abs_v_error": [r["metrics"]["max_abs_v_error"] for r in runs],
+        })
+    default_fig = "obs-gain-study" if gstudy else "obs-fig2"
+    return StudyResult(
+        study="observe",
+        config=config,
+        parameter_sets={"tire": p.tire, "vehicle": p.vehicle, "observer": p.gain_set},
+        data=data,
+        meta={
+            "title": checked["title"],
+            "theta_convention": "theta and theta_hat columns: OBS convention (theta multiplies sigma0 |vr|/g; 1 dry, "
+                                "larger = less grip); theta_fm = 1/theta_obs (fraction of dry grip)",
+            "theta_convention_input": sc["theta_convention"],
+            "plant": "quarter car, lumped LuGre with constant kappa = kappa0/L = "
+                     f"{p.plant.kappa:g} 1/m, sigma2 in the vehicle equation only (OBS (3)-(5))",
+            "assumed": assumed,
+            "numerics": p.numerics,
+            "metric_settings": p.metrics,
+            "design": list(designs.values()),
+            "runs": runs,
+            "warnings": warnings,
+            "gain_study": gstudy,
+        },
+        figures=checked["figures"] or [default_fig],
+        payload={"plant": p.plant, "cases": p.cases, "trajectories": trajs, "runs": runs, "designs": designs,
+                 "metrics": p.metrics},
+        synthetic=synthetic,
+    )
+
+
+def _first_settle(settling: list) -> float:
+    """Settling time [s] after the first adhesion change (nan if it never settles)."""
+    for s in settling:
+        return float("nan") if s["time"] is None else s["time"]
+    return float("nan")

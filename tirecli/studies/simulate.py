@@ -1,0 +1,572 @@
+"""Transient runs: the quarter car braking/driving with lumped or distributed LuGre tires, and the tire alone.
+
+Config (``tirecli simulate CONFIG``)::
+
+    study: simulate
+    tire: canudas2003-table2                 # LuGre set (name, file, or {set: ..., overrides})
+    vehicle: canudas2003-obs-quarter-car     # quarter-car set (default) [assumed for FM, lugre.md §7]
+    initial: {v: 20, slip: 0}                # or {v: 20, omega: 80}; the bristles start undeformed
+    input:                                   # exactly one of torque / brake_torque / pressure
+      brake_torque: {initial: 0, changes: [{at: 0.5, duration: 1.5, to: 1000, shape: linear},
+                                           {at: 2.0, duration: 0.6, to: 0, shape: linear}]}
+      # torque: PROFILE         signed wheel torque [N m] (> 0 drives, < 0 brakes)
+      # pressure: PROFILE       brake pressure [bar], brake torque = pressure_gain * pressure
+      pressure_gain: 20                      # [N m/bar] (figures.md FM Fig. 4) [assumed]
+      theta: 1.0                             # adhesion profile, FM convention unless theta_convention: obs
+    t_end: 5.0                               # [s]
+    stop: {v_min: 0.1}                       # the run ends when v falls to v_min [m/s]
+    solver: {tol: null, h_max: 0.05}         # null: 1e-3 lumped, 3e-4 distributed
+    cases:                                   # model variants, run side by side
+      - {model: lumped, kappa0: 1}
+      - {model: lumped, kappa0: Z}
+      - {model: distributed, load: uniform, label: PDE}
+      - {model: lumped, kappa0: 2, drive: {case: PDE}}          # open loop, driven by another case
+      - {model: lumped, kappa0: Z, drive: {csv: run.csv, map: {slip: s}}}   # ... by measured t, v, s
+      - {model: distributed, drive: {v: 20, slip: {expr: "-0.1*(t > 0.01)"}}}   # ... by formulas
+    open_loop: {models: [{model: lumped, kappa0: 1}]}   # every model driven by every coupled case
+    measurement: {rate: 100, noise: {speed: 0.05, pressure: 0.5}, seed: 2003}  # synthetic samples
+    output: {dt: 0.001}                      # time step of data/timeseries.csv (0: solver steps)
+
+A case may override ``input``, ``initial`` and ``solver``. Profiles are those of
+:mod:`tirecli.models.profiles` (number, table, transitions, CSV, formula). Brake torque never turns
+the wheel backwards: the wheel locks and stays locked while the brake can hold the tire torque
+(lugre.md §7). Frames: ``timeseries`` (``case, mode, t, v, omega, romega, slip, vr, mu, torque,
+brake_torque, pressure, theta, zbar, zdot, kappa0, locked, distance``), ``events`` (one row per
+case) and, with ``measurement``, ``measured`` / ``measured_clean`` (synthetic samples ``t, pressure,
+torque, v, romega, s, mu`` with and without noise).
+"""
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+
+from tirecli.config.loader import Config
+from tirecli.config.schema import AnyOf, ListOf, Map, Num, Raw, Str, collect
+from tirecli.conventions import THETA_CONVENTIONS, omega_from_slip, slip_from_speeds
+from tirecli.errors import ConfigError, DataError
+from tirecli.models.profiles import Constant, Table, profile_from_checked, profile_spec
+from tirecli.models.variants import MODELS, FrictionVariant
+from tirecli.numerics import runs
+from tirecli.studies.base import StudyResult, common_fields, register_study
+from tirecli.studies.sweep import VARIANT, make_variant
+
+DEFAULT_VEHICLE = "canudas2003-obs-quarter-car"
+TORQUE_KEYS = ("torque", "brake_torque", "pressure")
+#: Brake pressure to torque (figures.md FM Fig. 4): torque = 20 N m/bar * pressure [assumed].
+DEFAULT_PRESSURE_GAIN = 20.0
+
+
+def _optional(spec):
+    spec.default = None
+    return spec
+
+
+def _input_fields(defaults: bool) -> dict:
+    return {
+        "torque": _optional(profile_spec("N m")),
+        "brake_torque": _optional(profile_spec("N m", lo=0.0)),
+        "pressure": _optional(profile_spec("bar", lo=0.0)),
+        "pressure_gain": Num(unit="N m/bar", gt=0, default=DEFAULT_PRESSURE_GAIN if defaults else None,
+                             doc="brake torque per unit pressure [assumed 20, figures.md]"),
+        "theta": _optional(profile_spec("-", gt=0.0)) if not defaults else
+        _with_default(profile_spec("-", gt=0.0), 1.0),
+        "theta_convention": Str(choices=THETA_CONVENTIONS, default="fm" if defaults else None,
+                                doc="fm (g -> theta g, 1 = dry) or obs (1/theta_fm)"),
+    }
+
+
+def _with_default(spec, value):
+    spec.default = value
+    return spec
+
+
+def _input_post(v, path, ctx):
+    given = [k for k in TORQUE_KEYS if v.get(k) is not None]
+    if len(given) > 1:
+        ctx.fail(path + (given[1],), f"give one of {', '.join(TORQUE_KEYS)}, not both {given[0]} and {given[1]}")
+
+
+INPUT = Map(fields=_input_fields(True), post=_input_post)
+DEFAULT_INPUT = {"torque": None, "brake_torque": None, "pressure": None, "pressure_gain": DEFAULT_PRESSURE_GAIN,
+                 "theta": 1.0, "theta_convention": "fm"}
+INPUT_OVERRIDE = Map(fields=_input_fields(False), post=_input_post)
+
+INITIAL_FIELDS = {
+    "v": Num(unit="m/s", gt=0, doc="initial vehicle speed"),
+    "slip": Num(unit="-", ge=-1, lt=1, default=0.0, doc="initial slip (omega from it)"),
+    "omega": Num(unit="rad/s", ge=0, default=None, doc="initial wheel speed (instead of slip)"),
+}
+INITIAL = Map(fields={**INITIAL_FIELDS, "v": Num(unit="m/s", gt=0, default=20.0, doc="initial vehicle speed")})
+INITIAL_OVERRIDE = Map(fields={k: _optional(Num(**{**s.__dict__})) for k, s in INITIAL_FIELDS.items()})
+
+SOLVER = Map(fields={
+    "tol": Num(unit="-", gt=0, lt=0.1, default=None,
+               doc="local error tolerance (m/s, friction units); null: 1e-3 lumped, 3e-4 distributed"),
+    "h_max": Num(unit="s", gt=0, le=0.5, default=0.05, doc="largest time step"),
+})
+SOLVER_OVERRIDE = Map(fields={k: _optional(Num(**{**s.__dict__})) for k, s in SOLVER.fields.items()})
+
+
+def _drive_post(v, path, ctx):
+    kinds = [k for k in ("case", "csv") if v[k] is not None] + (["profiles"] if v["v"] is not None else [])
+    if len(kinds) != 1:
+        ctx.fail(path, "drive by exactly one of: case (another case's run), csv (a file), or v with slip/omega/romega profiles")
+        return
+    if kinds == ["profiles"]:
+        second = [k for k in ("slip", "omega", "romega") if v[k] is not None]
+        if len(second) != 1:
+            ctx.fail(path, "with v, give exactly one of slip, omega, romega")
+    elif any(v[k] is not None for k in ("slip", "omega", "romega")):
+        ctx.fail(path, "slip/omega/romega profiles go with v, not with case or csv")
+
+
+DRIVE = Map(fields={
+    "case": Str(default=None, doc="label of a coupled case whose v(t), omega(t) drive this one"),
+    "csv": Str(default=None, doc="CSV file of the kinematics (relative to the config)"),
+    "map": Map(open_keys=Str(), default=None,
+               doc="rename file columns: {FILE_COLUMN: NAME}; names t [s], v [m/s] and s [-] (or romega [m/s], omega [rad/s])"),
+    "v": _optional(profile_spec("m/s", lo=0.0)),
+    "slip": _optional(profile_spec("-", lo=-1.0, hi=1.0)),
+    "omega": _optional(profile_spec("rad/s", lo=0.0)),
+    "romega": _optional(profile_spec("m/s", lo=0.0)),
+}, post=_drive_post)
+
+_VARIANT_MAP = VARIANT.options[1]
+
+
+def _case_post(v, path, ctx):
+    _VARIANT_MAP.post(v, path, ctx)
+
+
+CASE = AnyOf(options=(
+    Str(choices=MODELS),
+    Map(fields={**_VARIANT_MAP.fields,
+                "input": _optional(INPUT_OVERRIDE),
+                "initial": _optional(INITIAL_OVERRIDE),
+                "solver": _optional(SOLVER_OVERRIDE),
+                "drive": _optional(DRIVE)}, post=_case_post),
+), what="a model name (distributed, lumped) or a mapping {model, load, kappa0, label, input, initial, drive, solver}")
+
+MEASUREMENT = Map(fields={
+    "rate": Num(unit="Hz", gt=0, le=100_000, default=100.0, doc="sampling rate"),
+    "noise": Map(fields={
+        "speed": Num(unit="m/s", ge=0, default=0.05, doc="std. dev. on v and r*omega"),
+        "pressure": Num(unit="bar", ge=0, default=0.5, doc="std. dev. on the brake pressure"),
+        "mu": Num(unit="-", ge=0, default=0.0, doc="std. dev. on the measured friction F_x/F_z"),
+    }, default={"speed": 0.05, "pressure": 0.5, "mu": 0.0}),
+    "seed": Num(unit="-", integer=True, ge=0, default=2003, doc="random seed of the noise"),
+    "cases": ListOf(item=Str(), default=None, doc="labels of the coupled cases to sample (default: all)"),
+    "record_starts": ListOf(item=Num(unit="s", ge=0), default=None,
+                            doc="start time of each sampled case in one record (FM: 80, 97, 115 s)"),
+})
+
+SPEC = Map(fields=common_fields() | {
+    "tire": Raw(doc="LuGre parameter set: a name, a file, or {set: ..., overrides}"),
+    "vehicle": Raw(default=None, doc=f"quarter-car parameter set (default {DEFAULT_VEHICLE})"),
+    "initial": _with_default(INITIAL, {"v": 20.0, "slip": 0.0, "omega": None}),
+    "input": _with_default(INPUT, None),
+    "t_end": Num(unit="s", gt=0, le=3600, default=5.0, doc="end time"),
+    "stop": Map(fields={"v_min": Num(unit="m/s", ge=0, default=0.1, doc="stop speed")}, default={"v_min": 0.1}),
+    "solver": _with_default(SOLVER, {"tol": None, "h_max": 0.05}),
+    "cases": ListOf(item=CASE, default=["distributed"], doc="model variants"),
+    "open_loop": Map(fields={"models": ListOf(item=VARIANT, doc="tire models driven by each coupled case"),
+                             "cases": ListOf(item=Str(), default=None, doc="coupled cases that drive them (default: all)")},
+                     default=None),
+    "measurement": _with_default(MEASUREMENT, None),
+    "output": Map(fields={"dt": Num(unit="s", ge=0, default=0.001, doc="output time step (0: solver steps)")},
+                  default={"dt": 0.001}),
+})
+
+
+# --------------------------------------------------------------------------- plan
+
+
+class _Reciprocal:
+    """A profile's reciprocal (theta given in the OBS convention: theta_fm = 1/theta_obs)."""
+
+    def __init__(self, prof):
+        self.prof = prof
+
+    def __call__(self, t):
+        return 1.0 / np.asarray(self.prof(t), dtype=float) if np.ndim(t) else 1.0 / self.prof(t)
+
+    def at(self, t):
+        return 1.0 / self.prof.at(t)
+
+    def breakpoints(self):
+        return self.prof.breakpoints()
+
+    def record(self):
+        return {"kind": "reciprocal (theta_obs -> theta_fm)", "of": self.prof.record()}
+
+
+class _Scaled:
+    """``factor * profile`` (brake torque from pressure, signed torque from brake torque)."""
+
+    def __init__(self, prof, factor, what):
+        self.prof, self.factor, self.what = prof, float(factor), what
+
+    def __call__(self, t):
+        return self.factor * np.asarray(self.prof(t), dtype=float) if np.ndim(t) else self.factor * self.prof(t)
+
+    def at(self, t):
+        return self.factor * self.prof.at(t) + 0.0  # no negative zero
+
+    def breakpoints(self):
+        return self.prof.breakpoints()
+
+    def record(self):
+        return {"kind": self.what, "factor": self.factor, "of": self.prof.record()}
+
+
+class Case:
+    """One planned run: variant, inputs, initial state, solver options, open-loop drive."""
+
+    def __init__(self, variant, label, torque=None, pressure=None, theta=None, v0=None, omega0=None,
+                 solver=None, drive=None, drive_case=None, mode="coupled", driven_by=""):
+        self.variant, self.label = variant, label
+        self.torque, self.pressure, self.theta = torque, pressure, theta
+        self.v0, self.omega0 = v0, omega0
+        self.solver = solver
+        self.drive, self.drive_case = drive, drive_case
+        self.mode, self.driven_by = mode, driven_by
+
+    def record(self) -> dict:
+        rec = {"label": self.label, "mode": self.mode, "variant": self.variant.record(),
+               "solver": {"tol": self.solver.tol_for(self.variant), "h_max": self.solver.h_max,
+                          "v_stop": self.solver.v_stop}}
+        if self.mode == "coupled":
+            rec.update({"v0": self.v0, "omega0": self.omega0, "torque": self.torque.record(),
+                        "theta_fm": self.theta.record()})
+        else:
+            rec["driven_by"] = self.driven_by
+            if self.drive is not None:
+                rec["kinematics"] = {"v": self.drive[0].record(), "omega": self.drive[1].record()}
+        return rec
+
+
+def _merge_input(base: dict, over: dict | None) -> dict:
+    if not over:
+        return base
+    out = dict(base)
+    if any(over.get(k) is not None for k in TORQUE_KEYS):
+        for k in TORQUE_KEYS:
+            out[k] = over.get(k)
+    for k in ("pressure_gain", "theta", "theta_convention"):
+        if over.get(k) is not None:
+            out[k] = over[k]
+    return out
+
+
+def _inputs(inp: dict, base_dir):
+    """(signed torque profile, pressure profile or None, theta_fm profile) from a checked input block."""
+    gain = inp["pressure_gain"]
+    pressure = None
+    if inp.get("torque") is not None:
+        torque = profile_from_checked(inp["torque"], base_dir)
+    elif inp.get("brake_torque") is not None:
+        torque = _Scaled(profile_from_checked(inp["brake_torque"], base_dir), -1.0, "brake torque (u = -T_b)")
+    elif inp.get("pressure") is not None:
+        pressure = profile_from_checked(inp["pressure"], base_dir)
+        torque = _Scaled(pressure, -gain, f"brake pressure (u = -{gain:g} N m/bar * p)")
+    else:
+        torque = Constant(0.0)
+    theta = profile_from_checked(inp["theta"], base_dir)
+    if inp["theta_convention"] == "obs":
+        theta = _Reciprocal(theta)
+    return torque, pressure, theta
+
+
+def _drive_profiles(drive: dict, base_dir, r: float, where: str):
+    """Kinematics profiles ``(v, omega)`` of an open-loop drive given by CSV or profiles."""
+    if drive["csv"] is not None:
+        from tirecli.io.data import read_columns
+
+        path = Path(drive["csv"])
+        if not path.is_absolute():
+            path = Path(base_dir) / path
+        data = read_columns(path, ["t", "v"], increasing="t", optional=["s", "romega", "omega"],
+                            rename=drive["map"])
+        t, v = data["t"], data["v"]
+        if "s" in data:
+            omega = omega_from_slip(data["s"], v, r)
+        elif "romega" in data:
+            omega = data["romega"] / r
+        elif "omega" in data:
+            omega = data["omega"]
+        else:
+            raise DataError(f"{path}: {where}: needs a slip column 's', or 'romega' [m/s], or 'omega' [rad/s] "
+                            "(rename columns with drive.map: {FILE_COLUMN: NAME})")
+        if not np.all(np.isfinite(omega)):
+            raise DataError(f"{path}: {where}: slip of 1 at a positive speed has no finite wheel speed")
+        if np.any(v < 0) or np.any(omega < 0):
+            raise DataError(f"{path}: {where}: speeds must not be negative (forward motion)")
+        src = str(path)
+        return Table(tuple(t), tuple(v), source=src), Table(tuple(t), tuple(omega), source=src)
+    vp = profile_from_checked(drive["v"], base_dir)
+    if drive["omega"] is not None:
+        return vp, profile_from_checked(drive["omega"], base_dir)
+    if drive["romega"] is not None:
+        return vp, _Scaled(profile_from_checked(drive["romega"], base_dir), 1.0 / r, "romega / r")
+    sp = profile_from_checked(drive["slip"], base_dir)
+    return vp, _SlipOmega(vp, sp, r)
+
+
+class _SlipOmega:
+    """``omega(t)`` from prescribed ``v(t)`` and slip ``s(t)`` (conventions.omega_from_slip)."""
+
+    def __init__(self, vp, sp, r):
+        self.vp, self.sp, self.r = vp, sp, r
+
+    def __call__(self, t):
+        return omega_from_slip(self.sp(t), self.vp(t), self.r)
+
+    def at(self, t):
+        s = self.sp.at(t)
+        v = self.vp.at(t)
+        return (v * (1.0 + s) if s <= 0.0 else v / (1.0 - s)) / self.r
+
+    def breakpoints(self):
+        return tuple(self.vp.breakpoints()) + tuple(self.sp.breakpoints())
+
+    def record(self):
+        return {"kind": "omega from v and slip", "v": self.vp.record(), "slip": self.sp.record()}
+
+
+def plan(config: Config):
+    """Check a simulate config completely; returns ``(checked, tire set, vehicle set, cases)``."""
+    checked, tire, vehicle = collect(lambda: config.checked(SPEC), lambda: config.group("tire", "lugre"),
+                                     lambda: config.group("vehicle", "quarter_car", DEFAULT_VEHICLE))
+    p, car = tire.model(), vehicle.model()
+    base_dir = config.base_dir
+    gsolver = checked["solver"]
+    cases = []
+    problems = []
+    for i, raw in enumerate(checked["cases"]):
+        path = ("cases", i)
+        variant = make_variant(raw)
+        extra = raw if isinstance(raw, dict) else {}
+        inp = _merge_input(checked["input"] or DEFAULT_INPUT, extra.get("input"))
+        torque, pressure, theta = _inputs(inp, base_dir)
+        init = dict(checked["initial"])
+        over = extra.get("initial") or {}
+        if over.get("v") is not None:
+            init["v"] = over["v"]
+        if over.get("slip") is not None or over.get("omega") is not None:
+            init["slip"], init["omega"] = over.get("slip") or 0.0, over.get("omega")
+        v0 = init["v"]
+        omega0 = init["omega"] if init["omega"] is not None else float(omega_from_slip(init["slip"], v0, car.r))
+        if not np.isfinite(omega0):
+            problems.append(config.origins.problem(path + ("initial",), "slip 1 at a positive speed has no finite wheel speed"))
+        sol = {**gsolver, **{k: v for k, v in (extra.get("solver") or {}).items() if v is not None}}
+        options = runs.SolverOptions(tol=sol["tol"], h_max=sol["h_max"], v_stop=checked["stop"]["v_min"])
+        drive = extra.get("drive")
+        case = Case(variant, variant.label, torque, pressure, theta, v0, omega0, options)
+        if drive is not None:
+            case.mode = "open-loop"
+            if drive["case"] is not None:
+                case.drive_case = drive["case"]
+                case.driven_by = drive["case"]
+            else:
+                try:
+                    case.drive = _drive_profiles(drive, base_dir, car.r, f"cases[{i}].drive")
+                except DataError as err:
+                    raise DataError(f"{config.label}: cases[{i}].drive: {err}") from None
+                case.driven_by = "csv" if drive["csv"] is not None else "profiles"
+        cases.append(case)
+    labels = [c.label for c in cases]
+    for i, c in enumerate(cases):
+        if labels.count(c.label) > 1:
+            problems.append(config.origins.problem(("cases", i), f"two cases share the label {c.label!r}; give each a distinct 'label'"))
+            break
+    coupled = [c.label for c in cases if c.mode == "coupled"]
+    for i, c in enumerate(cases):
+        if c.drive_case is not None and c.drive_case not in coupled:
+            problems.append(config.origins.problem(("cases", i, "drive", "case"),
+                                                   f"no coupled case labelled {c.drive_case!r} (coupled cases: {', '.join(coupled) or 'none'})"))
+    ol = checked["open_loop"]
+    if ol is not None:
+        for j, lab in enumerate(ol["cases"] or []):
+            if lab not in coupled:
+                problems.append(config.origins.problem(("open_loop", "cases", j), f"no coupled case labelled {lab!r}"))
+    meas = checked["measurement"]
+    if meas is not None:
+        for j, lab in enumerate(meas["cases"] or []):
+            if lab not in coupled:
+                problems.append(config.origins.problem(("measurement", "cases", j), f"no coupled case labelled {lab!r}"))
+        n = len(meas["cases"] or coupled)
+        if meas["record_starts"] is not None and len(meas["record_starts"]) != n:
+            problems.append(config.origins.problem(("measurement", "record_starts"),
+                                                   f"expected one start time per sampled case ({n}), got {len(meas['record_starts'])}"))
+    if problems:
+        raise ConfigError(problems)
+    if ol is not None:
+        drivers = ol["cases"] or coupled
+        for raw in ol["models"]:
+            variant = make_variant(raw)
+            for lab in drivers:
+                base = next(c for c in cases if c.label == lab)
+                cases.append(Case(variant, f"{variant.label} | {lab}", theta=base.theta, solver=base.solver,
+                                  drive_case=lab, mode="open-loop", driven_by=lab))
+                cases[-1].solver = runs.SolverOptions(tol=gsolver["tol"], h_max=gsolver["h_max"],
+                                                      v_stop=checked["stop"]["v_min"])
+    return checked, tire, vehicle, cases
+
+
+# --------------------------------------------------------------------------- run
+
+
+def _sample_times(meas, t_end):
+    if meas is None:
+        return ()
+    dt = 1.0 / meas["rate"]
+    n = int(np.floor(t_end / dt + 1e-9))
+    return tuple(np.round(np.arange(n + 1) * dt, 12))
+
+
+def _events(tr, case: Case) -> dict:
+    s, mu = tr.out["slip"], tr.out["mu"]
+    i = int(np.argmax(np.abs(s)))
+    j = int(np.argmax(np.abs(mu)))
+    stop = tr.events["stop"]
+    locks = [[a, b] for a, b in tr.events["lock"]]
+    ev = {
+        "case": case.label, "mode": case.mode, "model": case.variant.default_label(),
+        "t_final": float(tr.t[-1]), "end": tr.events["reason"],
+        "peak_abs_slip": float(abs(s[i])), "t_peak_abs_slip": float(tr.t[i]),
+        "min_slip": float(s.min()), "peak_abs_mu": float(abs(mu[j])), "t_peak_abs_mu": float(tr.t[j]),
+        "wheel_lock": locks, "locked_at_end": bool(tr.out["locked"][-1] > 0.5),
+        "stop_time": stop, "stopping_distance": float(tr.out["distance"][-1]) if stop is not None else None,
+        "distance": float(tr.out["distance"][-1]), "v_final": float(tr.y[-1, 0]),
+        "steps": tr.stats["steps"], "rejected_steps": tr.stats["rejected"],
+    }
+    return ev
+
+
+def _frame(tr, case: Case, dt: float, r: float, gain: float) -> pd.DataFrame:
+    t = tr.t
+    if dt > 0:
+        n = int(np.floor(t[-1] / dt + 1e-9))
+        tg = np.round(np.arange(n + 1) * dt, 12)
+        if tg[-1] < t[-1] - 1e-12:
+            tg = np.append(tg, t[-1])
+    else:
+        tg = t
+    cols = {"v": tr.y[:, 0], "omega": tr.y[:, 1]}
+    cols.update({k: tr.out[k] for k in ("romega", "slip", "vr", "mu", "torque", "brake_torque", "theta", "zbar",
+                                        "zdot", "kappa0", "distance")})
+    out = {"case": case.label, "mode": case.mode, "model": case.variant.default_label(), "t": tg}
+    for k, y in cols.items():
+        out[k] = np.interp(tg, t, y) if dt > 0 else y
+    locked = tr.out["locked"]
+    out["locked"] = (locked[np.clip(np.searchsorted(t, tg, side="right") - 1, 0, len(t) - 1)] > 0.5).astype(int)
+    out["pressure"] = out["brake_torque"] / gain
+    out["slip"] = slip_from_speeds(out["v"], out["omega"], r)  # exact function of the interpolated speeds
+    order = ["case", "mode", "model", "t", "v", "omega", "romega", "slip", "vr", "mu", "torque", "brake_torque",
+             "pressure", "theta", "zbar", "zdot", "kappa0", "locked", "distance"]
+    return pd.DataFrame({k: out[k] for k in order})
+
+
+def _measure(trs: dict, labels: list, meas: dict, r: float, gain: float):
+    """Synthetic samples of the coupled runs: (noisy, clean) frames ``t, pressure, torque, v, romega, s, mu``."""
+    rng = np.random.default_rng(int(meas["seed"]))
+    dt = 1.0 / meas["rate"]
+    starts = meas["record_starts"] or [0.0] * len(labels)
+    noisy, clean = [], []
+    for k, (lab, t0) in enumerate(zip(labels, starts)):
+        tr = trs[lab]
+        n = int(np.floor(tr.t[-1] / dt + 1e-9))
+        ts = np.round(np.arange(n + 1) * dt, 12)
+        v = np.interp(ts, tr.t, tr.y[:, 0])
+        rw = np.interp(ts, tr.t, tr.out["romega"])
+        mu = np.interp(ts, tr.t, tr.out["mu"])
+        torque = np.interp(ts, tr.t, tr.out["torque"])
+        pres = np.interp(ts, tr.t, tr.out["brake_torque"]) / gain
+        base = {"braking": k + 1, "case": lab, "t": ts, "t_record": ts + t0}
+        clean.append(pd.DataFrame({**base, "pressure": pres, "torque": torque + 0.0, "v": v, "romega": rw,
+                                   "s": slip_from_speeds(v, rw / r, r), "mu": mu}))
+        nz = meas["noise"]
+        vn = v + rng.normal(0.0, nz["speed"], ts.size) if nz["speed"] > 0 else v
+        rwn = rw + rng.normal(0.0, nz["speed"], ts.size) if nz["speed"] > 0 else rw
+        pn = pres + rng.normal(0.0, nz["pressure"], ts.size) if nz["pressure"] > 0 else pres
+        mun = mu + rng.normal(0.0, nz["mu"], ts.size) if nz["mu"] > 0 else mu
+        vn, rwn = np.maximum(vn, 0.0), np.maximum(rwn, 0.0)
+        noisy.append(pd.DataFrame({**base, "pressure": pn, "torque": -gain * pn, "v": vn, "romega": rwn,
+                                   "s": slip_from_speeds(vn, rwn / r, r), "mu": mun}))
+    return pd.concat(noisy, ignore_index=True), pd.concat(clean, ignore_index=True)
+
+
+def run_cases(cases, p, car, t_end, sample_times=(), progress=None) -> dict:
+    """Run every case (coupled first, then the open-loop ones they drive); ``label -> Trajectory``."""
+    trs = {}
+    if progress is not None:
+        progress.start(len(cases), "simulate")
+    for c in sorted(cases, key=lambda c: c.mode != "coupled"):
+        if c.mode == "coupled":
+            trs[c.label] = runs.quarter_car(c.variant, p, car, c.torque, c.theta, c.v0, c.omega0, t_end, c.solver,
+                                            sample_times)
+        else:
+            if c.drive_case is not None:
+                drv = trs[c.drive_case]
+                dcase = next(d for d in cases if d.label == c.drive_case)
+                bps = tuple(dcase.torque.breakpoints()) + tuple(dcase.theta.breakpoints()) + tuple(sample_times)
+                vp, wp = runs.kinematics_of(drv, c.drive_case, bps)
+                c.drive = (vp, wp)
+                te = float(drv.t[-1])
+            else:
+                vp, wp = c.drive
+                bps = [b for b in tuple(vp.breakpoints()) + tuple(wp.breakpoints())]
+                te = min(t_end, max(bps)) if isinstance(vp, Table) and bps else t_end
+            trs[c.label] = runs.open_loop(c.variant, p, car, vp, wp, c.theta or Constant(1.0), te, c.solver)
+        if progress is not None:
+            progress.advance(1)
+    if progress is not None:
+        progress.close()
+    return trs
+
+
+@register_study("simulate", check=plan)
+def run_simulate(config: Config, progress=None) -> StudyResult:
+    """Run a simulate config (see module doc)."""
+    checked, tire, vehicle, cases = plan(config)
+    p, car = tire.model(), vehicle.model()
+    meas = checked["measurement"]
+    t_end = checked["t_end"]
+    gain = (checked["input"] or {}).get("pressure_gain") or DEFAULT_PRESSURE_GAIN
+    trs = run_cases(cases, p, car, t_end, _sample_times(meas, t_end), progress)
+    frames = [_frame(trs[c.label], c, checked["output"]["dt"], car.r, gain) for c in cases]
+    events = [_events(trs[c.label], c) for c in cases]
+    data = {"timeseries": pd.concat(frames, ignore_index=True),
+            "events": pd.DataFrame([{k: (str(v) if isinstance(v, list) else v) for k, v in e.items()} for e in events])}
+    synthetic = False
+    if meas is not None:
+        labels = meas["cases"] or [c.label for c in cases if c.mode == "coupled"]
+        data["measured"], data["measured_clean"] = _measure(trs, labels, meas, car.r, gain)
+        synthetic = True
+    figures = checked["figures"] or ["transient-histories", "transient-mu-slip", "transient-overlay"]
+    meta = {
+        "title": checked["title"],
+        "cases": [c.record() for c in cases],
+        "events": events,
+        "stop_condition": f"a run ends at t_end = {t_end:g} s, or when the vehicle speed falls to v_min = "
+                          f"{checked['stop']['v_min']:g} m/s (the quarter car has no model of a vehicle at rest)",
+        "wheel_lock": "brake torque never reverses the wheel: omega = 0 is held while |r F| <= T_b (lugre.md §7)",
+        "pressure_gain_N_m_per_bar": gain,
+        "theta_stored": "fm (g -> theta*g; theta_obs = 1/theta)",
+        "solver": "adaptive ROS2 (tirecli.numerics.ros2); distributed model exact along characteristics",
+        "timeseries_dt_s": checked["output"]["dt"],
+    }
+    if meas is not None:
+        meta["measurement"] = {**meas, "note": "synthetic samples of the simulated runs (seeded noise), not measured data"}
+    inp = checked["input"] or {}
+    uses_pressure = inp.get("pressure") is not None or meas is not None or any(c.pressure is not None for c in cases)
+    if uses_pressure and (inp.get("pressure_gain") in (None, DEFAULT_PRESSURE_GAIN)):
+        meta["assumed"] = [f"input.pressure_gain = {DEFAULT_PRESSURE_GAIN:g} N m/bar: brake torque per unit pressure "
+                           "(figures.md FM Fig. 4) [assumed]; override with --set input.pressure_gain=VALUE"]
+    return StudyResult(
+        study="simulate", config=config, parameter_sets={"tire": tire, "vehicle": vehicle}, data=data, meta=meta,
+        figures=figures, payload={"params": p, "car": car, "cases": cases, "runs": trs, "checked": checked},
+        synthetic=synthetic,
+    )
