@@ -157,3 +157,12 @@ def test_parameter_set_file_errors(cli, tmp_path):
     p.write_text(p.read_text().replace("mu_c: 0.9", "mu_c: 0.7"))
     code, out, err = cli("params", "validate", p)
     assert code == 0 and "valid lugre parameter set 'mine'" in out
+
+
+def test_omitted_grid_takes_its_default_grid(cli, tmp_path):
+    import pandas as pd
+
+    code, err, _ = run_sweep(cli, tmp_path, "study: sweep\ntire: canudas2003-table1\nsweep: {speeds: [20]}\n")
+    assert code == 0, err
+    df = pd.read_csv(tmp_path / "out" / "data" / "sweep.csv")
+    assert len(df) == 1001 and df["slip"].min() == -1.0 and df["slip"].max() == 0.0

@@ -67,6 +67,10 @@ class Spec:
         """Whether ``value`` has the right type for this spec (ranges aside); used by AnyOf."""
         return True
 
+    def default_value(self) -> Any:
+        """The value an omitted optional key takes (in the same form as a checked value)."""
+        return self.default
+
     def describe(self) -> str:
         return self.doc
 
@@ -250,7 +254,7 @@ class Map(Spec):
                 ctx.fail(path, f"missing required key {key!r}" + (f" ({what})" if what else ""))
                 out[key] = MISSING
             else:
-                out[key] = spec.default
+                out[key] = spec.default_value()
         if self.post is not None and len(ctx.problems) == n0:
             self.post(out, path, ctx)
         return out
@@ -301,6 +305,14 @@ class Grid(Spec):
 
     def accepts(self, value) -> bool:
         return isinstance(value, (dict, list, int, float)) and not isinstance(value, bool)
+
+    def default_value(self):
+        if isinstance(self.default, dict):  # {start, stop, num} -> the grid, as check() returns it
+            import numpy as np
+
+            d = self.default
+            return [float(x) for x in np.linspace(d["start"], d["stop"], d["num"])]
+        return self.default
 
     def check(self, value, path, ctx):
         num = Num(unit=self.unit, ge=self.ge, le=self.le, gt=self.gt)
