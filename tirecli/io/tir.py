@@ -283,16 +283,9 @@ def parse_tir(data: bytes | str, file: str = "<input>") -> TirDocument:
 
 def read_tir(path: str | Path) -> TirDocument:
     """Read and parse a ``.tir`` file (see :func:`parse_tir`); missing or unreadable files are ConfigErrors."""
-    path = Path(path)
-    try:
-        data = path.read_bytes()
-    except FileNotFoundError:
-        raise ConfigError(Problem(str(path), None, "", "file not found")) from None
-    except IsADirectoryError:
-        raise ConfigError(Problem(str(path), None, "", "is a directory, expected a .tir file")) from None
-    except OSError as exc:
-        raise ConfigError(Problem(str(path), None, "", f"cannot read: {exc.strerror}")) from None
-    return parse_tir(data, str(path))
+    from tirecli.io.files import read_input_bytes
+
+    return parse_tir(read_input_bytes(path, "a .tir file"), str(path))
 
 
 # --------------------------------------------------------------------------- writing

@@ -126,15 +126,10 @@ def parse_yaml(text: str, file: str = "<input>") -> tuple[Any, Origins]:
 
 def load_yaml(path: str | Path) -> tuple[Any, Origins]:
     """Read and parse a YAML file (see :func:`parse_yaml`); a missing file is a ConfigError."""
+    from tirecli.io.files import read_input_bytes
+
     path = Path(path)
-    try:
-        raw = path.read_bytes()
-    except FileNotFoundError:
-        raise ConfigError(Problem(str(path), None, "", "file not found")) from None
-    except IsADirectoryError:
-        raise ConfigError(Problem(str(path), None, "", "is a directory, expected a YAML file")) from None
-    except OSError as exc:
-        raise ConfigError(Problem(str(path), None, "", f"cannot read: {exc.strerror}")) from None
+    raw = read_input_bytes(path, "a YAML file")
     try:
         text = raw.decode("utf-8")
     except UnicodeDecodeError as exc:

@@ -220,8 +220,13 @@ def observability(plant: ObserverPlant) -> dict:
     t, c = plant.tire, plant.car
     factor = c.F_n * t.sigma1 * t.sigma2 - c.m * t.sigma0
     closed = c.r * c.F_n ** 2 * t.sigma0 / (c.J ** 3 * c.m ** 2) * factor
-    # rank on the row-scaled matrix (the rows differ by orders of magnitude)
-    scaled = O / np.maximum(np.linalg.norm(O, axis=1, keepdims=True), 1e-300)
+    # An entry no larger than the rounding error of the products that formed it is zero: the
+    # bound is the same products taken in absolute values. Then the rank of the row-scaled
+    # matrix (the rows differ by orders of magnitude).
+    aA, aC = np.abs(A), np.abs(C)
+    bound = np.vstack([aC, aC @ aA, aC @ aA @ aA])
+    O_clean = np.where(np.abs(O) <= 64 * np.finfo(float).eps * bound, 0.0, O)
+    scaled = O_clean / np.maximum(np.linalg.norm(O_clean, axis=1, keepdims=True), 1e-300)
     rank = int(np.linalg.matrix_rank(scaled, tol=1e-9))
     return {"matrix": O, "det": float(np.linalg.det(O)), "det_closed_form": float(closed),
             "factor": float(factor), "rank": rank}
