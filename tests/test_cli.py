@@ -111,3 +111,28 @@ def test_figures_list(cli):
     assert code == 0
     for fid in ("fm-fig1-left", "fm-fig1-right", "obs-fig1", "fm-fig6-surface", "fm-table1"):
         assert fid in out
+
+
+def test_every_study_module_registers_its_name():
+    import importlib
+
+    from tirecli.studies.base import STUDIES, STUDY_MODULES, load_all_studies
+
+    for name, module in STUDY_MODULES.items():
+        importlib.import_module(module)
+        assert name in STUDIES, f"{module} does not register study {name!r}"
+    assert set(load_all_studies()) == set(STUDY_MODULES)
+
+
+def test_lugre_sweep_loads_only_what_it_needs(tmp_path):
+    # start-up time: a LuGre sweep imports neither the other studies nor their figures nor the MF engine
+    code = ("import sys; from tirecli.cli.main import main; "
+            f"rc = main(['--quiet', 'sweep', {str(EXAMPLES / 'fm-fig1-left.yaml')!r}, '--out', {str(tmp_path)!r}]); "
+            "print(sorted(m for m in sys.modules if m.startswith('tirecli'))); sys.exit(rc)")
+    res = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True)
+    assert res.returncode == 0, res.stderr
+    loaded = res.stdout.strip().splitlines()[-1]
+    assert "tirecli.figures.steady" in loaded and "tirecli.studies.sweep" in loaded
+    for unwanted in ("tirecli.studies.simulate", "tirecli.studies.observe", "tirecli.figures.transient",
+                     "tirecli.figures.magic_formula", "tirecli.models.magic_formula"):
+        assert unwanted not in loaded

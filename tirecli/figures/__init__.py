@@ -1,6 +1,5 @@
-"""Figure functions, registered in :mod:`tirecli.figures.registry` on import."""
-from tirecli.figures import steady  # noqa: F401
-from tirecli.figures import transient  # noqa: F401
-from tirecli.figures import identification  # noqa: F401
-from tirecli.figures import observer  # noqa: F401
-from tirecli.figures import magic_formula  # noqa: F401
+"""Figure functions, registered in :mod:`tirecli.figures.registry` when their module is imported.
+
+:data:`tirecli.figures.registry.FIGURE_MODULES` lists the modules; ``registry.get`` imports them
+in order until the figure is found, ``registry.load_all`` imports them all.
+"""

@@ -1,9 +1,7 @@
 """Studies: combine models, numerics and parameter sets into runs (no file I/O, no plotting).
 
-Importing this package registers every study in :data:`tirecli.studies.base.STUDIES`.
+Each study module registers itself in :data:`tirecli.studies.base.STUDIES` when imported;
+:data:`tirecli.studies.base.STUDY_MODULES` names the module of each study, so a command imports
+only the study it runs (start-up time) and :func:`tirecli.studies.base.load_all_studies` imports
+them all.
 """
-from tirecli.studies import sweep  # noqa: F401
-from tirecli.studies import simulate  # noqa: F401
-from tirecli.studies import fit  # noqa: F401
-from tirecli.studies import observe  # noqa: F401
-from tirecli.studies import mf_golden  # noqa: F401

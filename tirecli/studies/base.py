@@ -113,6 +113,30 @@ StudyFn = Callable[..., StudyResult]
 STUDIES: dict[str, StudyFn] = {}
 CHECKERS: dict[str, Callable] = {}
 
+#: The module that registers each study (imported on demand: a command loads only its own).
+STUDY_MODULES: dict[str, str] = {
+    "sweep": "tirecli.studies.sweep",
+    "simulate": "tirecli.studies.simulate",
+    "fit": "tirecli.studies.fit",
+    "observe": "tirecli.studies.observe",
+    "mf-golden": "tirecli.studies.mf_golden",
+}
+
+
+def load_study(name: str) -> None:
+    """Import the module registering study ``name`` (one of :data:`STUDY_MODULES`)."""
+    import importlib
+
+    if name not in STUDIES:
+        importlib.import_module(STUDY_MODULES[name])
+
+
+def load_all_studies() -> dict[str, StudyFn]:
+    """Import every study module; returns :data:`STUDIES`."""
+    for name in STUDY_MODULES:
+        load_study(name)
+    return STUDIES
+
 
 def register_study(name: str, check: Callable | None = None):
     """Decorator: register ``fn(config, progress=None) -> StudyResult`` under ``name``.
@@ -133,9 +157,9 @@ def study_name(config: Config, expected: str | None = None) -> str:
     """The ``study:`` of a config (checked against ``expected`` when the command implies one)."""
     raw = config.data.get("study", expected)
     if raw is None:
-        raise ConfigError(config.origins.problem((), f"missing required key 'study' (one of: {', '.join(sorted(STUDIES))})"))
+        raise ConfigError(config.origins.problem((), f"missing required key 'study' (one of: {', '.join(sorted(STUDY_MODULES))})"))
     ctx = Context(config.origins)
-    name = Str(choices=tuple(sorted(STUDIES))).check(raw, ("study",), ctx)
+    name = Str(choices=tuple(sorted(STUDY_MODULES))).check(raw, ("study",), ctx)
     ctx.raise_if_any()
     if expected is not None and name != expected:
         raise ConfigError(config.origins.problem(("study",), f"this config is for 'tirecli {name}', not 'tirecli {expected}'"))
@@ -143,18 +167,16 @@ def study_name(config: Config, expected: str | None = None) -> str:
 
 
 def run_study(config: Config, expected: str | None = None, progress=None) -> StudyResult:
-    """Run the study a config names (importing all study modules first)."""
-    import tirecli.studies  # noqa: F401  (registers the studies)
-
+    """Run the study a config names (importing its module first)."""
     name = study_name(config, expected)
+    load_study(name)
     return STUDIES[name](config, progress=progress)
 
 
 def check_study(config: Config) -> str:
     """Validate a config without running it; returns the study name."""
-    import tirecli.studies  # noqa: F401
-
     name = study_name(config)
+    load_study(name)
     CHECKERS[name](config)
     return name
 
@@ -191,5 +213,5 @@ def common_fields() -> dict:
     }
 
 
-__all__ = ["Check", "StudyResult", "register_study", "run_study", "builtin_config", "builtin_config_names",
+__all__ = ["Check", "StudyResult", "register_study", "run_study", "load_study", "load_all_studies", "STUDY_MODULES", "builtin_config", "builtin_config_names",
            "ParameterSet", "STUDIES"]
