@@ -149,6 +149,11 @@ def test_gain_study_frame():
     assert list(gs["value"]) == [1e5, 4e5]
     assert gs["settle_time_s"].iloc[1] < gs["settle_time_s"].iloc[0]
     assert set(res.data["observer"]["case"]) == {"gamma = 100000", "gamma = 400000"}
+    # the convergence-time panel's gain axis carries the gain's unit (gamma [s/m], parameter kind 'observer')
+    from tirecli.figures.registry import REGISTRY
+
+    fig = REGISTRY["obs-gain-study"].draw(res)
+    assert fig.axes[1].get_xlabel() == "gamma [s/m]"
 
 
 # --------------------------------------------------------------------------- command
@@ -166,6 +171,18 @@ def test_observe_command(cli, tmp_path):
     head = (tmp_path / "data" / "observer.csv").read_text().splitlines()[0].split(",")
     assert head[:4] == ["case", "t", "theta", "theta_hat"]
     assert "warning:" not in err
+    # the whole-run row of the metrics table is told apart from the phase rows
+    assert "  all 0-8 " in out
+    # the figure's caption (what is shown, parameters, [assumed] scenario) travels with the run
+    assert "[assumed]" in run["outputs"]["captions"]["obs-fig2"]
+
+
+def test_report_strict_fails_when_speed_error_study_drifts(cli, tmp_path, monkeypatch):
+    """The speed-error study is registered with its spec checks: --strict fails when one drifts."""
+    monkeypatch.setattr(om, "decay_rate", lambda *a, **k: 0.0)  # a drifted slow-mode rate
+    code, out, err = cli("report", "--out", tmp_path, "--only", "obs-speed-error", "--strict")
+    assert code == 1 and "obs-speed-error/slow-mode-rate" in out + err
+    assert json.loads((tmp_path / "summary.json").read_text())["n_failed"] == 1
 
 
 def test_observe_warns_on_bad_gains_but_succeeds(cli, tmp_path):

@@ -19,8 +19,10 @@ def metrics_table(result) -> list[str]:
         m = run["metrics"]
         lines.append(f"case {run['label']!r} ({run['integrator']}):")
         lines.append(f"  {'phase [s]':<14}{'rms':>10}{'max':>10}{'rms excl':>10}{'max excl':>10}   |theta_hat - theta|, OBS convention")
-        for ph in m["phases"] + [m["all_excl_crossings"]]:
+        for k, ph in enumerate(m["phases"] + [m["all_excl_crossings"]]):
             name = f"{ph['start']:g}-{ph['end']:g}"
+            if k == len(m["phases"]):
+                name = f"all {name}"     # the whole run, not one more phase
             lines.append(f"  {name:<14}{_fmt(ph['rms']):>10}{_fmt(ph['max']):>10}{_fmt(ph['rms_excl']):>10}{_fmt(ph['max_excl']):>10}")
         cr = ", ".join(f"{t:.3f}" for t in m["crossings_s"]) or "none"
         lines.append(f"  v_r zero crossings [s]: {cr} (excluded: +-{result.meta['metric_settings']['crossing_margin']:g} s)")

@@ -305,7 +305,10 @@ def draw_obs_gain_study(result):
         b.set_xscale("log")
     tol = result.payload["metrics"]["settle_tolerance"]
     finish(a, "time t [s]", "theta (OBS) [-]", "(a) adhesion estimate", loc="lower right")
-    finish(b, f"{gain}", "settling time [s]", f"(b) time to |theta_hat - theta| < {tol:g} after the first change",
+    from tirecli.parameters.kinds import KINDS
+
+    unit = KINDS["observer"].fields[gain].unit
+    finish(b, f"{gain} [{unit}]" if unit else gain, "settling time [s]", f"(b) time to |theta_hat - theta| < {tol:g} after the first change",
            legend=False)
     _mark_synthetic(result, fig)
     return fig

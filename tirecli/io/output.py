@@ -204,7 +204,7 @@ def write_result(out: str | Path, result, figures: dict, checks: list, command: 
     checks : list
         :class:`tirecli.studies.base.Check` objects evaluated on the result.
     """
-    from tirecli.figures.registry import Table
+    from tirecli.figures.registry import REGISTRY, Table
 
     out = prepare_dir(out)
     comments = [SYNTHETIC_NOTE] if result.synthetic else []
@@ -236,6 +236,8 @@ def write_result(out: str | Path, result, figures: dict, checks: list, command: 
             "data": [str(p.relative_to(out)) for p in data_paths],
             "figures": [str(p.relative_to(out)) for p in fig_paths],
             "files": [str(p.relative_to(out)) for p in file_paths],
+            # what each figure shows, its parameters and assumptions (as in ``tirecli report``)
+            "captions": {fid: REGISTRY[fid].caption for fid in figures if fid in REGISTRY},
         },
         "wall_time_s": round(wall_time, 4),
         "environment": environment(),
