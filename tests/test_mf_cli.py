@@ -198,6 +198,9 @@ def test_mf_eval_side_mirrors(cli, tmp_path):
     ("kappa,alpha,gamma,fz,p\n0,0,0,4000,-5\n", "column 'p' row 1: pressure must be > 0"),
     ("", "empty file"),
     (b"\x00\x01\x02binary", "binary file"),
+    # more fields than header names: pandas would shift the columns (kappa read from alpha ...)
+    ("kappa,alpha,gamma,fz\n0.1,0.05,0,4000,7\n", "row 1 has 5 fields but the header names 4 columns"),
+    ("kappa,alpha,gamma,fz,fz\n0,0,0,4000,4000\n", "column(s) 'fz' appear more than once"),
 ])
 def test_mf_eval_rejects_bad_points(cli, tmp_path, content, expected):
     pts = tmp_path / "p.csv"
