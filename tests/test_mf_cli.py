@@ -49,6 +49,7 @@ def test_tir_show_builtin_and_pressure(cli):
     ("empty.tir", "empty file"),
     ("binary.tir", "binary file"),
     ("truncated.tir", "may be truncated"),
+    ("truncated-late.tir", "truncated-late.tir:251: the file may be truncated"),
     ("missing-section.tir", "PCY1: missing required coefficient"),
     ("bad-number.tir", "bad-number.tir:197: PCY1: cannot read the value '1.47.59'"),
     ("bad-unit-angle.tir", "bad-unit-angle.tir:9: ANGLE"),
