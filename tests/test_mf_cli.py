@@ -88,8 +88,14 @@ def _with(tmp_path, replace, name="t.tir"):
      "excludes the nominal load"),
 ])
 def test_tir_check_errors_exit_1(cli, tmp_path, replace, expected):
-    code, out, err = cli("tir", "check", _with(tmp_path, replace))
+    path = _with(tmp_path, replace)
+    code, out, err = cli("tir", "check", path)
     assert code == 1 and expected in out and "error(s)" in out
+    # every finding names the file and the line of its (first) coefficient: file:line: KEY: ...
+    line = next(x for x in out.splitlines() if expected in x)
+    key = line.split(": ")[2].replace("..", "/").split("/")[0]
+    lineno = next(i for i, t in enumerate(path.read_text().splitlines(), 1) if t.split("=")[0].strip() == key)
+    assert line.startswith(f"error: {path}:{lineno}: "), line
 
 
 def test_tir_check_clean_and_warnings_exit_0(cli):
