@@ -49,6 +49,7 @@ def test_tir_show_builtin_and_pressure(cli):
     ("empty.tir", "empty file"),
     ("binary.tir", "binary file"),
     ("truncated.tir", "may be truncated"),
+    ("truncated-late.tir", "truncated-late.tir:251: the file may be truncated"),
     ("missing-section.tir", "PCY1: missing required coefficient"),
     ("bad-number.tir", "bad-number.tir:197: PCY1: cannot read the value '1.47.59'"),
     ("bad-unit-angle.tir", "bad-unit-angle.tir:9: ANGLE"),
@@ -87,8 +88,14 @@ def _with(tmp_path, replace, name="t.tir"):
      "excludes the nominal load"),
 ])
 def test_tir_check_errors_exit_1(cli, tmp_path, replace, expected):
-    code, out, err = cli("tir", "check", _with(tmp_path, replace))
+    path = _with(tmp_path, replace)
+    code, out, err = cli("tir", "check", path)
     assert code == 1 and expected in out and "error(s)" in out
+    # every finding names the file and the line of its (first) coefficient: file:line: KEY: ...
+    line = next(x for x in out.splitlines() if expected in x)
+    key = line.split(": ")[2].replace("..", "/").split("/")[0]
+    lineno = next(i for i, t in enumerate(path.read_text().splitlines(), 1) if t.split("=")[0].strip() == key)
+    assert line.startswith(f"error: {path}:{lineno}: "), line
 
 
 def test_tir_check_clean_and_warnings_exit_0(cli):
@@ -198,6 +205,9 @@ def test_mf_eval_side_mirrors(cli, tmp_path):
     ("kappa,alpha,gamma,fz,p\n0,0,0,4000,-5\n", "column 'p' row 1: pressure must be > 0"),
     ("", "empty file"),
     (b"\x00\x01\x02binary", "binary file"),
+    # more fields than header names: pandas would shift the columns (kappa read from alpha ...)
+    ("kappa,alpha,gamma,fz\n0.1,0.05,0,4000,7\n", "row 1 has 5 fields but the header names 4 columns"),
+    ("kappa,alpha,gamma,fz,fz\n0,0,0,4000,4000\n", "column(s) 'fz' appear more than once"),
 ])
 def test_mf_eval_rejects_bad_points(cli, tmp_path, content, expected):
     pts = tmp_path / "p.csv"

@@ -189,6 +189,7 @@ def test_unknown_unit_and_degrees():
     ("empty.tir", "empty file"),
     ("binary.tir", "binary file"),
     ("truncated.tir", "may be truncated"),
+    ("truncated-late.tir", "truncated-late.tir:251: the file may be truncated"),
     ("missing-section.tir", "[LATERAL_COEFFICIENTS] is missing"),
     ("bad-number.tir", "bad-number.tir:197: PCY1: cannot read the value '1.47.59'"),
     ("bad-unit-angle.tir", "bad-unit-angle.tir:9: ANGLE"),
@@ -197,6 +198,21 @@ def test_malformed_corpus(name, expected):
     with pytest.raises(ConfigError) as exc:
         read_tire_data(DATA / "malformed" / name)
     assert expected in str(exc.value)
+
+
+def test_truncated_after_the_required_keys_is_an_error(tmp_path):
+    """A file cut in the middle of a line after every required key (here in [ALIGNING_COEFFICIENTS],
+    inside QBZ1) must not evaluate with zeros for the rest: issue 6, truncated file -> clear error."""
+    raw = (DATA / "MagicFormula61_Parameters.tir").read_bytes()
+    cut = raw[:raw.index(b"QBZ1") + 35]  # "QBZ1 = 12.59" of 12.5909
+    assert not cut.endswith((b"\n", b"\r"))
+    with pytest.raises(ConfigError) as exc:
+        tire_data(tirio.parse_tir(cut, "cut.tir"))
+    text = str(exc.value)
+    assert "cut.tir:" in text and "may be truncated" in text and "QBZ2" in text
+    # the same keys with a final line break: a (short) complete file, defaults with a warning
+    td = tire_data(tirio.parse_tir(cut + b"\r\n", "short.tir"))
+    assert "QBZ2" in td.defaulted
 
 
 def test_junk_without_nul_bytes_and_missing_file(tmp_path):

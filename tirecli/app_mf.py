@@ -113,6 +113,19 @@ def tir_show(ref: str) -> str:
     return "\n".join(lines)
 
 
+def _finding_place(doc: tirio.TirDocument, keys: str) -> str:
+    """``file:line: `` of the first coefficient named in a finding's key (``PEX1..PEX4``,
+    ``KPUMIN/KPUMAX``), so every problem reads ``file:line: KEY: what is wrong`` (issue 6); the
+    file alone when none of the keys is written in it (a default)."""
+    import re
+
+    for key in re.split(r"\.\.|/|,\s*", keys):
+        found = doc.find(key.strip()) if key.strip() else []
+        if found:
+            return f"{doc.file}:{found[0][1].line}: "
+    return f"{doc.file}: "
+
+
 def tir_check(ref: str) -> tuple[str, int]:
     """Coefficient sanity of a tyre file: ``(report, number of errors)``; RunError if any error."""
     from tirecli.models.magic_formula.check import check_coefficients
@@ -122,7 +135,7 @@ def tir_check(ref: str) -> tuple[str, int]:
     findings = check_coefficients(td.tire(label))
     lines = [f"{label}: {VERSION_NAMES[td.version]}"]
     lines += [f"warning: {w}" for w in td.warnings]
-    lines += [str(f) for f in findings]
+    lines += [f"{f.level}: {_finding_place(doc, f.key)}{f.key}: {f.message}" for f in findings]
     n_err = sum(f.level == "error" for f in findings)
     n_warn = len(td.warnings) + sum(f.level == "warning" for f in findings)
     lines.append(f"{n_err} error(s), {n_warn} warning(s)")

@@ -32,8 +32,28 @@ def read_table(path: str | Path):
         raise DataError(f"{path}: empty file (expected a header line and data rows)") from None
     except (pd.errors.ParserError, UnicodeDecodeError) as exc:
         raise DataError(f"{path}: cannot read as CSV ({str(exc).splitlines()[0]})") from None
+    if not isinstance(frame.index, pd.RangeIndex):
+        # pandas takes a leading column as the index when the data rows have more fields than
+        # the header: the columns would be silently shifted by one
+        raise DataError(f"{path}: row 1 has {len(frame.columns) + 1} fields but the header names "
+                        f"{len(frame.columns)} columns ({', '.join(map(str, frame.columns))})")
     frame.columns = [str(c).strip() for c in frame.columns]
+    header = _header_names(raw)
+    dupes = sorted({c for c in header if header.count(c) > 1})
+    if dupes:
+        raise DataError(f"{path}: column(s) {', '.join(map(repr, dupes))} appear more than once in the header")
     return frame
+
+
+def _header_names(raw: bytes) -> list[str]:
+    """Column names of the header line (the first line that is neither blank nor a ``#`` comment),
+    as written (pandas renames a repeated name ``fz`` to ``fz.1``)."""
+    import csv
+
+    for line in raw.decode("utf-8", "replace").splitlines():
+        if line.strip() and not line.lstrip().startswith("#"):
+            return [c.strip() for c in next(csv.reader([line]))]
+    return []
 
 
 def numeric_column(frame, name: str, path, finite: bool = True) -> np.ndarray:

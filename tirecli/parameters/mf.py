@@ -275,6 +275,14 @@ def tire_data(doc: tirio.TirDocument) -> TireData:
         present = f"[{sect}] is missing" if sect not in doc.sections else f"not in [{sect}]"
         problems.append(Problem(doc.file, None, key, f"missing required coefficient ({CATALOGUE[key].meaning}; "
                                                      f"{present}){hint}"))
+    if doc.ends_mid_line and defaulted and not missing:
+        # a file cut in the middle of a line (no final line break) that also lacks coefficients
+        # is a truncated file, not a tyre to evaluate with zeros (issue 6: truncated -> error)
+        shown = ", ".join(defaulted[:6]) + (f" and {len(defaulted) - 6} more" if len(defaulted) > 6 else "")
+        problems.append(doc.problem(doc.last_line, "", f"the file may be truncated: it ends in the middle of line "
+                                                       f"{doc.last_line} and {len(defaulted)} model coefficient(s) "
+                                                       f"are not in it ({shown}); if the file is complete, end "
+                                                       f"it with a line break"))
     _value_checks(doc, coef, fam, version, lines, problems, warnings)
     if problems:
         raise ConfigError(problems)
