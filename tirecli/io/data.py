@@ -99,6 +99,20 @@ def rename_columns(frame, rename: dict | None, path):
     return frame.rename(columns=rename)
 
 
+def select_rows(frame, where: dict | None, path, key: str = "where"):
+    """Keep the rows whose column equals the value, for each ``{column: value}`` of ``where``.
+
+    DataError (naming ``key``, e.g. ``data.where``) if a column is absent or no row is left.
+    """
+    for col, val in (where or {}).items():
+        if col not in frame.columns:
+            raise DataError(f"{path}: {key}: no column {col!r} (columns: {', '.join(map(str, frame.columns))})")
+        frame = frame[frame[col].astype(str) == str(val)] if isinstance(val, str) else frame[frame[col] == val]
+        if frame.empty:
+            raise DataError(f"{path}: {key}: no row has {col} == {val!r}")
+    return frame
+
+
 def leading_comments(path: str | Path, limit: int = 20) -> list[str]:
     """The ``#`` comment lines at the top of a CSV (e.g. tirecli's ``# SYNTHETIC DATA ...`` label)."""
     out = []
