@@ -312,3 +312,30 @@ def test_fit_map_errors(cli, tmp_path, braking_csv):
 def test_examples_of_fm_figures_exist():
     for n in ("fm-fig4", "fm-fig6", "fm-fig7", "fm-fig8"):
         assert (EXAMPLES / f"{n}.yaml").exists()
+
+
+def test_overlay_differences_only_runs_driven_the_same_way(tmp_path):
+    """transient-overlay: a coupled case is differenced against the first case with the same inputs (a model
+    difference), never against a run with another torque; open-loop cases against their driver."""
+    from tirecli.config.loader import load_config
+    from tirecli.figures.transient import draw_overlay, overlay_base
+    from tirecli.studies.simulate import run_simulate
+
+    cfg = tmp_path / "ov.yaml"
+    cfg.write_text("""\
+study: simulate
+tire: canudas2003-table2
+input: {brake_torque: {table: {t: [0, 0.1, 0.3], value: [0, 0, 800]}}}
+t_end: 0.3
+cases:
+  - {model: lumped, kappa0: 1, label: A, input: {brake_torque: 500}}
+  - {model: distributed, label: B}
+  - {model: lumped, kappa0: Z, label: C}
+  - {model: lumped, kappa0: 2, label: D, drive: {case: B}}
+  - {model: lumped, kappa0: 2, label: E, input: {pressure: 10}}
+""")
+    res = run_simulate(load_config(cfg))
+    cases = res.payload["cases"]
+    assert [overlay_base(cases, c) for c in cases] == [None, None, "B", "B", None]
+    fig = draw_overlay(res)
+    assert len(fig.axes[1].lines) == 2 and len(fig.axes[2].lines) == 2
