@@ -274,9 +274,12 @@ def test_fit_reads_tirecli_measured_csv_with_case_labels(cli, tmp_path, braking_
     cfg = tmp_path / "fit.yaml"
     cfg.write_text("study: fit\ntire: {set: canudas2003-table1, alpha: 2}\n"
                    f"data: {{csv: {data}, window: {{start: 0, end: 2.6}}, where: {{case: 'braking #2'}}}}\n"
-                   "fit: {sigma1: false}\n")
+                   "fit: {sigma1: false}\nfigures: [fm-table2, fit-steady]\n")
     code, out, err = cli("fit", cfg, "--out", tmp_path / "o", "--map", "time=t", "--map", "slip_ratio=s")
     assert code == 0, err
+    # synthetic input: every CSV written, the Table 2 figure included, says so
+    for f in [*(tmp_path / "o" / "data").glob("*.csv"), tmp_path / "o" / "figures" / "fm-table2.csv"]:
+        assert f.read_text().startswith("# SYNTHETIC DATA"), f
     st = json.loads((tmp_path / "o" / "run.json").read_text())["meta"]["steady_state"]
     assert st["parameters"]["sigma0"]["estimate"] == pytest.approx(178.0, rel=0.02)
     assert st["parameters"]["mu_s"]["estimate"] == pytest.approx(1.5, rel=0.02)
