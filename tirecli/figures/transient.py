@@ -140,20 +140,46 @@ def draw_mu_slip(result):
     return fig
 
 
+def _input_key(case) -> str:
+    """What a run is driven by (initial state and inputs, or prescribed kinematics), as comparable text."""
+    import json
+
+    rec = case.record()
+    return json.dumps({k: rec.get(k) for k in ("mode", "v0", "omega0", "torque", "theta_fm", "kinematics")},
+                      sort_keys=True, default=str)
+
+
+def overlay_base(cases, case):
+    """Label of the run ``case`` is compared with in the overlay, or None.
+
+    An open-loop case: the run that drives it. Otherwise the first earlier case driven the same way
+    (same initial state and inputs, or the same prescribed kinematics): a pure model difference.
+    """
+    if case.drive_case is not None:
+        return case.drive_case
+    key = _input_key(case)
+    for other in cases:
+        if other is case:
+            return None
+        if other.drive_case is None and _input_key(other) == key:
+            return other.label
+    return None
+
+
 @register("transient-overlay", paper="generic", label="simulate", title="Model against model",
           caption="Friction mu(t) of every case; below, the differences in mu and slip: each open-loop case minus the "
-                  "run that drives it (same kinematics, so a pure model difference), each other case minus the first "
-                  "coupled case (the reference), on the solver steps of the case.")
+                  "run that drives it (same kinematics), each other case minus the first case driven the same way "
+                  "(same initial state and inputs): pure model differences, on the solver steps of the case. Cases "
+                  "with inputs of their own have no difference curve.")
 def draw_overlay(result):
     require(result, "simulate", "transient-overlay")
     cases = result.payload["cases"]
-    ref = next((c for c in cases if c.mode == "coupled"), cases[0])
     fig, (a, b, c) = new_figure(nrows=3, width=7.0, height=8.0, sharex=True)
     for i, case in enumerate(cases):
         tr = run_of(result, case.label)
         st = _style(i, case)
         a.plot(tr.t, tr.out["mu"], **st, label=case.label)
-        base = case.drive_case if case.drive_case is not None else (None if case is ref else ref.label)
+        base = overlay_base(cases, case)
         if base is None:
             continue
         tb = run_of(result, base)
@@ -161,10 +187,13 @@ def draw_overlay(result):
         mu = np.interp(t, tr.t, tr.out["mu"])
         b.plot(t, mu - np.interp(t, tb.t, tb.out["mu"]), **st)
         c.plot(t, np.interp(t, tr.t, tr.out["slip"]) - np.interp(t, tb.t, tb.out["slip"]), **st)
+    if not b.lines:
+        b.text(0.5, 0.5, "no two cases share inputs: nothing to difference", transform=b.transAxes, ha="center",
+               va="center", color="0.4")
     finish(a, "", "mu [-]", _wrap(result.meta.get("title") or "Model overlay"), legend=False)
     finish(b, "", "mu - mu(base) [-]", legend=False)
     finish(c, "time t [s]", "s - s(base) [-]", legend=False)
-    b.set_title(f"base: the driving run (open loop), else {ref.label}", fontsize=9)
+    b.set_title("base: the driving run (open loop), else the first case with the same inputs", fontsize=9)
     _case_legend(fig, a)
     _mark(fig, result)
     return fig

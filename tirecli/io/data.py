@@ -1,11 +1,13 @@
 """Reading tabular input data (CSV): columns by name, checked, with clear errors.
 
-Lines starting with ``#`` are comments (tirecli's own CSVs use them to label synthetic data).
+Lines starting with ``#`` are comments (tirecli's own CSVs use them to label synthetic data); a
+``#`` inside a cell is data (tirecli's case labels read ``braking #1``).
 Every problem is a :class:`~tirecli.errors.DataError` (exit code 2) naming the file, the
 column and the row (1-based data row, i.e. not counting the header).
 """
 from __future__ import annotations
 
+import io
 from pathlib import Path
 
 import numpy as np
@@ -27,7 +29,11 @@ def read_table(path: str | Path):
     if b"\x00" in raw[:4096]:
         raise DataError(f"{path}: binary file, expected CSV text")
     try:
-        frame = pd.read_csv(path, comment="#", skipinitialspace=True)
+        # whole-line comments only: pandas' comment="#" would also cut a row at a "#" inside a
+        # cell (tirecli's own case labels are "braking #1", ...) and leave NaN in the rest of it
+        text = raw.decode("utf-8-sig")
+        body = "".join(line for line in text.splitlines(keepends=True) if not line.lstrip().startswith("#"))
+        frame = pd.read_csv(io.StringIO(body), skipinitialspace=True)
     except pd.errors.EmptyDataError:
         raise DataError(f"{path}: empty file (expected a header line and data rows)") from None
     except (pd.errors.ParserError, UnicodeDecodeError) as exc:
@@ -111,6 +117,20 @@ def rename_columns(frame, rename: dict | None, path):
         raise DataError(f"{path}: mapped column(s) {', '.join(map(repr, missing_src))} not in the file "
                         f"(columns: {', '.join(map(str, frame.columns))})")
     return frame.rename(columns=rename)
+
+
+def select_rows(frame, where: dict | None, path, key: str = "where"):
+    """Keep the rows whose column equals the value, for each ``{column: value}`` of ``where``.
+
+    DataError (naming ``key``, e.g. ``data.where``) if a column is absent or no row is left.
+    """
+    for col, val in (where or {}).items():
+        if col not in frame.columns:
+            raise DataError(f"{path}: {key}: no column {col!r} (columns: {', '.join(map(str, frame.columns))})")
+        frame = frame[frame[col].astype(str) == str(val)] if isinstance(val, str) else frame[frame[col] == val]
+        if frame.empty:
+            raise DataError(f"{path}: {key}: no row has {col} == {val!r}")
+    return frame
 
 
 def leading_comments(path: str | Path, limit: int = 20) -> list[str]:

@@ -216,7 +216,8 @@ def write_result(out: str | Path, result, figures: dict, checks: list, command: 
         if isinstance(fig, Table):
             import pandas as pd
 
-            fig_paths.append(write_csv(out / "figures" / f"{fid}.csv", pd.DataFrame(fig.rows, columns=fig.columns)))
+            fig_paths.append(write_csv(out / "figures" / f"{fid}.csv", pd.DataFrame(fig.rows, columns=fig.columns),
+                                       comments))
         else:
             fig_paths += save_figure(fig, out / "figures", fid)
     file_paths = [write_text(out / name, text) for name, text in getattr(result, "files", {}).items()]

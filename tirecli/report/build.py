@@ -102,7 +102,8 @@ def build_report(out: str | Path, only=None, progress=None) -> dict:
 
             card["table"] = {"columns": fig.columns, "rows": fig.rows, "notes": fig.notes}
             card["files"] = [str(output.write_csv(out / "figures" / f"{f.id}.csv",
-                                                  pd.DataFrame(fig.rows, columns=fig.columns)).relative_to(out))]
+                                                  pd.DataFrame(fig.rows, columns=fig.columns),
+                                                  [output.SYNTHETIC_NOTE] if res.synthetic else []).relative_to(out))]
         elif fig is not None:
             paths = output.save_figure(fig, out / "figures", f.id)
             card["files"] = [str(p.relative_to(out)) for p in paths]

@@ -161,7 +161,7 @@ def _simulate_frame(d: dict, base_dir: Path):
 
 def load_samples(d: dict, base_dir: Path) -> dict:
     """The selected samples: ``t, v, s, mu`` arrays (plus source description and synthetic flag)."""
-    from tirecli.io.data import frame_columns, leading_comments, read_table, rename_columns
+    from tirecli.io.data import frame_columns, leading_comments, read_table, rename_columns, select_rows
     from tirecli.io.output import SYNTHETIC_NOTE
 
     if d["csv"] is not None:
@@ -175,12 +175,7 @@ def load_samples(d: dict, base_dir: Path) -> dict:
         frame, synthetic, source = _simulate_frame(d, base_dir)
         where_name = source
     frame = rename_columns(frame, d["map"], where_name)
-    for col, val in (d["where"] or {}).items():
-        if col not in frame.columns:
-            raise DataError(f"{where_name}: data.where: no column {col!r} (columns: {', '.join(map(str, frame.columns))})")
-        frame = frame[frame[col].astype(str) == str(val)] if isinstance(val, str) else frame[frame[col] == val]
-        if frame.empty:
-            raise DataError(f"{where_name}: data.where: no row has {col} == {val!r}")
+    frame = select_rows(frame, d["where"], where_name, "data.where")
     has_s = "s" in frame.columns
     cols = frame_columns(frame, ["t", "v", "mu"] + (["s"] if has_s else []), where_name, increasing="t",
                          optional=() if has_s else ("romega",))

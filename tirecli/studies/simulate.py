@@ -120,6 +120,8 @@ def _drive_post(v, path, ctx):
             ctx.fail(path, "with v, give exactly one of slip, omega, romega")
     elif any(v[k] is not None for k in ("slip", "omega", "romega")):
         ctx.fail(path, "slip/omega/romega profiles go with v, not with case or csv")
+    if v["where"] is not None and v["csv"] is None:
+        ctx.fail(path + ("where",), "where selects rows of a csv drive: give csv too")
 
 
 DRIVE = Map(fields={
@@ -127,6 +129,8 @@ DRIVE = Map(fields={
     "csv": Str(default=None, doc="CSV file of the kinematics (relative to the config)"),
     "map": Map(open_keys=Str(), default=None,
                doc="rename file columns: {FILE_COLUMN: NAME}; names t [s], v [m/s] and s [-] (or romega [m/s], omega [rad/s])"),
+    "where": Map(open_keys=AnyOf(options=(Num(), Str())), default=None,
+                 doc="keep the CSV rows with column == value, e.g. {case: 'braking #2'}"),
     "v": _optional(profile_spec("m/s", lo=0.0)),
     "slip": _optional(profile_spec("-", lo=-1.0, hi=1.0)),
     "omega": _optional(profile_spec("rad/s", lo=0.0)),
@@ -282,13 +286,14 @@ def _inputs(inp: dict, base_dir):
 def _drive_profiles(drive: dict, base_dir, r: float, where: str):
     """Kinematics profiles ``(v, omega)`` of an open-loop drive given by CSV or profiles."""
     if drive["csv"] is not None:
-        from tirecli.io.data import read_columns
+        from tirecli.io.data import frame_columns, read_table, rename_columns, select_rows
 
         path = Path(drive["csv"])
         if not path.is_absolute():
             path = Path(base_dir) / path
-        data = read_columns(path, ["t", "v"], increasing="t", optional=["s", "romega", "omega"],
-                            rename=drive["map"])
+        frame = select_rows(rename_columns(read_table(path), drive["map"], path), drive["where"], path,
+                            f"{where}.where")
+        data = frame_columns(frame, ["t", "v"], path, increasing="t", optional=["s", "romega", "omega"])
         t, v = data["t"], data["v"]
         if "s" in data:
             omega = omega_from_slip(data["s"], v, r)
