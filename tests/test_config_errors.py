@@ -72,6 +72,27 @@ def test_several_problems_reported_at_once(cli, tmp_path):
     assert "sweep.speeds[0]" in err and "tire.sigma0" in err
 
 
+def test_every_problem_of_a_parameter_group_at_once(cli, tmp_path):
+    # a set with overrides: a bad value, mu_c > mu_s against the set's mu_s, two unknown keys
+    text = GOOD.replace("tire: canudas2003-table1", """tire:
+  set: canudas2003-table1
+  sigma0: -3
+  mu_c: 2.0
+  sigma_0: 1
+  foo: 1""")
+    code, err, path = run_sweep(cli, tmp_path, text)
+    assert code == 2 and "Traceback" not in err
+    for where in (f"{path}:4: tire.sigma0: out of range: must be > 0",
+                  f"{path}:5: tire.mu_c: out of range: must be <= mu_s (1.55), got 2",
+                  f"{path}:6: tire.sigma_0: unknown key; did you mean 'sigma0'?",
+                  f"{path}:7: tire.foo: unknown key"):
+        assert any(line.startswith("error: " + where) for line in err.splitlines()), (where, err)
+    # a faulty mu_s override does not fall back to the set's value for the mu_c rule
+    text = GOOD.replace("tire: canudas2003-table1", "tire: {set: canudas2003-table1, mu_s: abc, mu_c: 1.6}")
+    code, err, path = run_sweep(cli, tmp_path, text)
+    assert code == 2 and "tire.mu_s: expected a number" in err and "must be <= mu_s" not in err
+
+
 def test_malformed_yaml_names_the_line(cli, tmp_path):
     code, err, path = run_sweep(cli, tmp_path, "study: sweep\ntire: [1, 2\nsweep: {}\n")
     assert code == 2 and f"{path}:" in err and "malformed YAML" in err
@@ -151,6 +172,8 @@ def test_parameter_set_file_errors(cli, tmp_path):
     code, out, err = cli("params", "validate", p)
     assert code == 2
     assert f"{p}:13: values.sigma3: unknown key" in err
+    # the cross-field rule is reported together with the other problem
+    assert f"{p}:8: values.mu_c: out of range: must be <= mu_s (0.8)" in err
     p.write_text(p.read_text().replace("  sigma3: 2\n", ""))
     code, out, err = cli("params", "validate", p)
     assert code == 2 and "values.mu_c: out of range: must be <= mu_s" in err

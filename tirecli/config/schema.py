@@ -220,11 +220,15 @@ class AnyOf(Spec):
 class Map(Spec):
     """A mapping with known keys; unknown keys are errors with a did-you-mean.
 
-    ``post`` is called with the checked dict for cross-field rules (e.g. ``mu_c <= mu_s``).
+    ``post`` is called with the checked dict for cross-field rules (e.g. ``mu_c <= mu_s``),
+    normally only when the map itself had no problem. With ``post_partial`` it is also called
+    when other keys were faulty (so every problem of a file is reported at once); such a
+    ``post`` must skip rules whose values are ``MISSING``.
     """
 
     fields: dict = field(default_factory=dict)
     post: Callable | None = None
+    post_partial: bool = False
     open_keys: Spec | None = None  # spec for arbitrary extra keys, if allowed
 
     def accepts(self, value) -> bool:
@@ -255,7 +259,7 @@ class Map(Spec):
                 out[key] = MISSING
             else:
                 out[key] = spec.default_value()
-        if self.post is not None and len(ctx.problems) == n0:
+        if self.post is not None and (self.post_partial or len(ctx.problems) == n0):
             self.post(out, path, ctx)
         return out
 

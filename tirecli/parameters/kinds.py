@@ -9,7 +9,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Callable
 
-from tirecli.config.schema import Context, Map, Num
+from tirecli.config.schema import MISSING, Context, Map, Num
 
 
 @dataclass(frozen=True)
@@ -26,6 +26,9 @@ class Kind:
         Parameter name -> :class:`~tirecli.config.schema.Num` (unit, range, doc, equation).
     post : callable or None
         Cross-field check ``post(values, path, ctx)``.
+    post_partial : bool
+        Run ``post`` even when other values of the set are faulty (it must then skip
+        values that are ``MISSING``), so all problems of a file are reported together.
     model : str
         ``"module:Class"`` of the model's parameter object, built from the checked values
         (imported lazily).
@@ -35,6 +38,7 @@ class Kind:
     title: str
     fields: dict
     post: Callable | None = None
+    post_partial: bool = False
     model: str = ""
 
     def build(self, values: dict):
@@ -49,7 +53,7 @@ class Kind:
         fields = self.fields
         if partial:
             fields = {k: Num(**{**f.__dict__, "default": None}) for k, f in fields.items()}
-        return Map(fields=fields, post=None if partial else self.post)
+        return Map(fields=fields, post=None if partial else self.post, post_partial=self.post_partial)
 
 
 KINDS: dict[str, Kind] = {}
@@ -62,6 +66,9 @@ def register_kind(kind: Kind) -> Kind:
 
 
 def _lugre_post(values: dict, path, ctx: Context) -> None:
+    # called even when other values are faulty (Map.post_partial): skip if either is MISSING
+    if any(values.get(k, MISSING) in (MISSING, None) for k in ("mu_c", "mu_s")):
+        return
     if values["mu_c"] > values["mu_s"]:
         ctx.fail(path + ("mu_c",), f"out of range: must be <= mu_s ({values['mu_s']:g}), got {values['mu_c']:g}")
 
@@ -84,6 +91,7 @@ LUGRE = register_kind(Kind(
                        doc="rotational viscous friction of the wheel", eq="OBS eq. (4)"),
     },
     post=_lugre_post,
+    post_partial=True,
     model="tirecli.models.lugre:LuGreParams",
 ))
 

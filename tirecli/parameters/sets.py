@@ -251,40 +251,65 @@ def resolve_group(raw: Any, origins: Origins, path: tuple, kind: str, base_dir: 
         raw = {"set": raw}
     if not isinstance(raw, dict):
         raise ConfigError(origins.problem(path, f"expected a parameter-set name or a mapping of {kind} parameters"))
-    over = {k: v for k, v in raw.items() if k != "set"}
-    for key in over:
-        if key not in kdef.fields:
-            hint = difflib.get_close_matches(key, list(kdef.fields), n=1, cutoff=0.6)
-            dym = f"; did you mean {hint[0]!r}?" if hint else ""
-            names = list(kdef.fields)
-            listing = ", ".join(names) if len(names) <= 24 else f"a {kind} parameter name ({len(names)} known)"
-            raise ConfigError(origins.problem(path + (key,), f"unknown key{dym} (expected 'set' or {'one of: ' if len(names) <= 24 else ''}{listing})"))
+    # Gather every problem of the group (unknown keys, bad values, mu_c <= mu_s across set and
+    # overrides) before raising, so one run reports them all.
+    problems: list = []
+    over = {}
+    for key, v in raw.items():
+        if key == "set":
+            continue
+        if key in kdef.fields:
+            over[key] = v
+            continue
+        hint = difflib.get_close_matches(key, list(kdef.fields), n=1, cutoff=0.6)
+        dym = f"; did you mean {hint[0]!r}?" if hint else ""
+        names = list(kdef.fields)
+        listing = ", ".join(names) if len(names) <= 24 else f"a {kind} parameter name ({len(names)} known)"
+        problems.append(origins.problem(path + (key,), f"unknown key{dym} (expected 'set' or {'one of: ' if len(names) <= 24 else ''}{listing})"))
     if "set" in raw:
         if not isinstance(raw["set"], str):
-            raise ConfigError(origins.problem(path + ("set",), "expected a built-in set name or a file path"))
+            raise ConfigError(problems + [origins.problem(path + ("set",), "expected a built-in set name or a file path")])
         try:
             base = load_set(raw["set"], base_dir)
         except ConfigError as err:
-            raise ConfigError([Problem(*origins.of(path + ("set",)), _key(path + ("set",)), p.message)
-                               if p.file == "<built-in sets>" else p for p in err.problems]) from None
+            raise ConfigError(problems + [Problem(*origins.of(path + ("set",)), _key(path + ("set",)), p.message)
+                                          if p.file == "<built-in sets>" else p for p in err.problems]) from None
         if base.kind != kind:
-            raise ConfigError(origins.problem(path + ("set",), f"set {raw['set']!r} is of kind {base.kind!r}, expected {kind!r}"))
-        over_vals, _, _ = _unwrap_values(over, origins, path)
-        over_vals = _check_values(kdef, over_vals, origins, path, partial=True)
+            raise ConfigError(problems + [origins.problem(path + ("set",), f"set {raw['set']!r} is of kind {base.kind!r}, expected {kind!r}")])
+        try:
+            over_vals, _, _ = _unwrap_values(over, origins, path)
+        except ConfigError as err:
+            raise ConfigError(problems + err.problems) from None
+        ctx = Context(origins)
+        checked = kdef.spec(partial=True).check(over_vals, path, ctx)
+        problems += ctx.problems
+        failed = {k for k, v in checked.items() if v is MISSING}
+        over_vals = {k: v for k, v in checked.items() if v is not None and v is not MISSING}
         values = {**base.values, **over_vals}
-        # check the merged set (e.g. mu_c <= mu_s across set and override)
+        # cross-field rules on the merged set (e.g. mu_c <= mu_s across set and override); a
+        # faulty override stays MISSING rather than falling back to the set's value
         merged = Origins(default_file=origins.default_file)
         merged.where.update({(k,): origins.of(path + (k,)) for k in over_vals})
         for k in base.values:
             if k not in over_vals:
                 merged.set((k,), f"<set {base.name}>", None)
-        check_document(values, kdef.spec(), _prefixed(merged, origins, path), path)
+        if kdef.post is not None and (kdef.post_partial or not problems):
+            mctx = Context(_prefixed(merged, origins, path))
+            kdef.post({**values, **{k: MISSING for k in failed}}, path, mctx)
+            problems += mctx.problems
+        if problems:
+            raise ConfigError(problems)
         source = {**base.source, **{k: _where(origins, path + (k,)) for k in over_vals}}
         assumed = {k: v for k, v in base.assumed.items() if k not in over_vals}
         return ParameterSet(name=base.name, kind=kind, values=values, source=source, assumed=assumed,
                             notes=base.notes, title=base.title, citation=base.citation, extra=dict(base.extra))
-    vals, assumed, notes = _unwrap_values(over, origins, path)
-    vals = _check_values(kdef, vals, origins, path)
+    try:
+        vals, assumed, notes = _unwrap_values(over, origins, path)
+        vals = _check_values(kdef, vals, origins, path)
+    except ConfigError as err:
+        raise ConfigError(problems + err.problems) from None
+    if problems:
+        raise ConfigError(problems)
     for key, spec in kdef.fields.items():
         if key not in over and not spec.required and spec.default is not None:
             assumed.setdefault(key, f"not given; tirecli default {spec.default:g} {spec.unit}")
