@@ -93,6 +93,19 @@ def test_every_problem_of_a_parameter_group_at_once(cli, tmp_path):
     assert code == 2 and "tire.mu_s: expected a number" in err and "must be <= mu_s" not in err
 
 
+def test_unknown_figure_id_names_file_line_and_key(cli, tmp_path):
+    text = GOOD.replace("speeds: [20]", "speeds: [x]") + "figures: [fm-fig1-lef, sweep-mu-slip, no-such-figure]\n"
+    code, err, path = run_sweep(cli, tmp_path, text)
+    assert code == 2 and "Traceback" not in err
+    lines = err.splitlines()
+    assert f"error: {path}:6: figures[0]: unknown figure 'fm-fig1-lef'; did you mean 'fm-fig1-left'?" in err, err
+    assert any(l.startswith(f"error: {path}:6: figures[2]: unknown figure 'no-such-figure'") for l in lines), err
+    assert f"{path}:5: sweep.speeds[0]" in err  # reported together, before anything runs
+    assert not (tmp_path / "out").exists()
+    code, out, err = cli("params", "validate", path)  # validation catches it too
+    assert code == 2 and "figures[0]: unknown figure" in err
+
+
 def test_malformed_yaml_names_the_line(cli, tmp_path):
     code, err, path = run_sweep(cli, tmp_path, "study: sweep\ntire: [1, 2\nsweep: {}\n")
     assert code == 2 and f"{path}:" in err and "malformed YAML" in err

@@ -201,6 +201,26 @@ def _problem(msg: str):
     return Problem("<built-in configs>", None, "", msg)
 
 
+@dataclass
+class FigureId(Str):
+    """A registered figure id; an unknown one is a config problem at its key and line, with a
+    did-you-mean, found before the study runs (also by ``tirecli params validate``)."""
+
+    def check(self, value, path, ctx):
+        if not isinstance(value, str):
+            return super().check(value, path, ctx)
+        from tirecli.config.schema import MISSING
+        from tirecli.errors import UsageError
+        from tirecli.figures import registry
+
+        try:
+            registry.get(value)
+        except UsageError as err:  # "unknown figure 'x'; did you mean 'y'? (see ...)"
+            ctx.fail(path, str(err))
+            return MISSING
+        return value
+
+
 def common_fields() -> dict:
     """Top-level keys every study config accepts."""
     from tirecli.config.schema import ListOf
@@ -209,7 +229,7 @@ def common_fields() -> dict:
         "study": Str(doc="study to run"),
         "title": Str(default="", doc="title of the run"),
         "description": Str(default="", doc="free description"),
-        "figures": ListOf(item=Str(), default=None, doc="figure ids to draw (tirecli figures list)"),
+        "figures": ListOf(item=FigureId(), default=None, doc="figure ids to draw (tirecli figures list)"),
     }
 
 
