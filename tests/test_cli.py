@@ -136,3 +136,54 @@ def test_lugre_sweep_loads_only_what_it_needs(tmp_path):
     for unwanted in ("tirecli.studies.simulate", "tirecli.studies.observe", "tirecli.figures.transient",
                      "tirecli.figures.magic_formula", "tirecli.models.magic_formula"):
         assert unwanted not in loaded
+
+
+def test_generic_sweep_figure_with_many_curves(tmp_path):
+    """Many (speed, theta) curves: a colour bar for the speeds, line styles for theta, one panel per
+    direction, and a legend that lists the styles rather than every curve (no layout collapse)."""
+    import warnings
+
+    from tirecli.config.loader import config_from_text
+    from tirecli.figures.registry import get
+    from tirecli.studies.base import run_study
+
+    cfg = config_from_text("""\
+study: sweep
+tire: canudas2003-table1
+sweep:
+  slip: {start: -1, stop: 1, num: 101}
+  speeds: {start: 5, stop: 30, num: 11}
+  theta: [1.0, 0.6]
+""", label="<test>")
+    fig = get("sweep-mu-slip").draw(run_study(cfg))
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # e.g. "constrained_layout not applied"
+        fig.draw_without_rendering()
+    panels = [ax for ax in fig.axes if ax.get_label() != "<colorbar>"]
+    assert [ax.get_title().rsplit(" ", 1)[-1] for ax in panels] == ["(braking)", "(driving)"]
+    assert len(fig.axes) == 3                                  # two panels and the colour bar
+    assert all(len(ax.get_lines()) == 22 for ax in panels)      # 11 speeds x 2 theta
+    labels = [t.get_text() for t in panels[0].get_legend().get_texts()]
+    assert labels == ["theta = 1", "theta = 0.6"]
+
+
+def test_progress_covers_evaluation_drawing_and_writing(tmp_path):
+    from tirecli.app import run_config
+
+    class Recorder:
+        def __init__(self):
+            self.phases = []
+
+        def start(self, total, label=""):
+            self.phases.append([label, total, 0, False])
+
+        def advance(self, n=1):
+            self.phases[-1][2] += n
+
+        def close(self):
+            self.phases[-1][3] = True
+
+    rec = Recorder()
+    run_config("sweep", EXAMPLES / "fm-fig1-left.yaml", out=tmp_path, progress=rec)
+    assert [p[0] for p in rec.phases] == ["sweep", "figures", "writing"]
+    assert all(total == done and closed for _, total, done, closed in rec.phases)

@@ -47,6 +47,11 @@ def test_good_config_runs(cli, tmp_path):
     (GOOD.replace("tire: canudas2003-table1", "tire: {set: canudas2003-table1, mu_c: 1.6}"), 2, "tire.mu_c",
      "must be <= mu_s"),
     (GOOD.replace("start: -1", "start: -1.2"), 4, "sweep.slip.start", "must be >= -1 and <= 1"),
+    (GOOD + "  models: [{model: distributed, load: exponential, lambda: -1}]\n", 6, "sweep.models[0].lambda",
+     "must be >= 0"),
+    (GOOD + "  models: [{model: lumped, kappa0: abc}]\n", 6, "sweep.models[0].kappa0",
+     "expected a number > 0 or Z"),
+    (GOOD + "  models: [distributd]\n", 6, "sweep.models[0]", "did you mean 'distributed'"),
     # NaN / inf
     (GOOD.replace("speeds: [20]", "speeds: [.nan]"), 5, "sweep.speeds[0]", "finite"),
     (GOOD.replace("tire: canudas2003-table1", "tire: {set: canudas2003-table1, v_s: .inf}"), 2, "tire.v_s", "finite"),

@@ -178,3 +178,17 @@ def test_fast_uniform_path_equals_reference_formula(table1):
     ref = np.sign(vr) * lugre.stribeck(vr, table1) * h_uniform(lugre.patch_ratio(vr, rw, table1)) + table1.sigma2 * vr
     assert np.max(np.abs(mu_ss_uniform(vr, rw, table1) - ref)) < 1e-15
     assert mu_ss_uniform(-1.0, 19.0, table1).shape == ()
+
+
+def test_exponential_load_with_zero_lambda_is_the_uniform_load(cli, tmp_path):
+    """lugre.md §3.2 allows lambda >= 0: lambda = 0 is the uniform load (eq. 6 -> eq. 4 exactly)."""
+    import pandas as pd
+
+    cfg = tmp_path / "s.yaml"
+    cfg.write_text("study: sweep\ntire: canudas2003-table1\nsweep:\n  slip: {start: -1, stop: 1, num: 41}\n"
+                   "  models: [distributed, {model: distributed, load: exponential, lambda: 0}]\n")
+    code, out, err = cli("sweep", cfg, "--out", tmp_path / "o", "--quiet")
+    assert code == 0, err
+    df = pd.read_csv(tmp_path / "o" / "data" / "sweep.csv")
+    uni, exp0 = (g["mu"].to_numpy() for _, g in df.groupby("model", sort=False))
+    assert np.all(np.isfinite(exp0)) and abs(uni - exp0).max() < 1e-12

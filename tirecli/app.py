@@ -40,16 +40,23 @@ def command_line() -> str:
     return "tirecli " + " ".join(shlex.quote(a) for a in sys.argv[1:])
 
 
-def draw(result: StudyResult, ids=None) -> tuple[dict, list]:
+def draw(result: StudyResult, ids=None, progress=None) -> tuple[dict, list]:
     """Draw the figures ``ids`` (default: the result's) and evaluate their checks."""
     figs, checks = {}, []
-    for fid in ids or result.figures:
+    ids = list(ids or result.figures)
+    if progress is not None:
+        progress.start(len(ids), "figures")
+    for fid in ids:
         fdef = registry.get(fid)
         figs[fid] = fdef.draw(result)
         if fdef.checks is not None:
             for c in fdef.checks(result):
                 c.id = f"{fid}/{c.id}"
                 checks.append(c)
+        if progress is not None:
+            progress.advance(1)
+    if progress is not None:
+        progress.close()
     return figs, checks
 
 
@@ -82,10 +89,10 @@ def run_config(command: str, config_path: str | Path, overrides=(), out: str | P
     t0 = time.perf_counter()
     config = load_config(config_path, overrides)
     result = run_study(config, expected=command, progress=progress)
-    figs, checks = draw(result)
+    figs, checks = draw(result, progress=progress)
     out = Path(out) if out is not None else default_out(config, command)
     wall = time.perf_counter() - t0
-    paths = output.write_result(out, result, figs, checks, command_line(), wall)
+    paths = output.write_result(out, result, figs, checks, command_line(), wall, progress=progress)
     close_figures(figs)
     return RunSummary(result=result, out=out, paths=paths, checks=checks, wall_time=time.perf_counter() - t0)
 

@@ -71,23 +71,83 @@ def _legend_label(parts: dict, varying: set) -> str:
                   "braking solid, driving dashed. The held speed is v when braking and r*omega when driving.")
 def draw_sweep_mu_slip(result):
     df = result.data["sweep"]
-    fig, ax = new_figure()
     keys = ["model", "speed", "theta"]
-    varying = {k for k in keys if df[k].nunique() > 1}
-    for i, ((model, speed, theta), _) in enumerate(df.groupby(keys, sort=False)):
+    varying = [k for k in keys if df[k].nunique() > 1]
+    groups = list(df.groupby(keys, sort=False).groups)
+    title = result.meta.get("title") or "Steady-state friction"
+    if len(groups) > _FEW_CURVES:
+        return _sweep_many_curves(df, groups, varying, title)
+    fig, ax = new_figure()
+    for i, (model, speed, theta) in enumerate(groups):
         for direction, ls in (("braking", "-"), ("driving", "--")):
             s, mu = curve(df, model, speed, theta, direction)
             if len(s) == 0:
                 continue
-            lab = _legend_label({"model": model, "speed": speed, "theta": theta}, varying)
+            lab = _legend_label({"model": model, "speed": speed, "theta": theta}, set(varying))
             if df["direction"].nunique() > 1:
                 lab += f" ({direction})"
             ax.plot(s, mu, ls, color=COLORS[i % len(COLORS)], label=lab)
-    title = result.meta.get("title") or "Steady-state friction"
     finish(ax, "slip |s| [-]", "friction |mu| = |F|/F_n [-]", title)
     ax.set_xlim(left=0)
     ax.set_ylim(bottom=0)
     return fig
+
+
+#: Above this many (model, speed, theta) curves the generic sweep figure colours by a colour map
+#: with a colour bar instead of listing every curve in a legend.
+_FEW_CURVES = 8
+_KEY_LABELS = {"speed": "held speed [m/s]", "theta": "theta (FM convention) [-]", "model": "model"}
+
+
+def _sweep_many_curves(df, groups, varying, title):
+    """The generic sweep figure for many curves: one panel per direction, colour = the key with the
+    most values (colour bar), line style = the other varying keys (a short legend)."""
+    import matplotlib as mpl
+
+    directions = [d for d in ("braking", "driving") if (df["direction"] == d).any()]
+    numeric = [k for k in ("speed", "theta") if k in varying]
+    c_key = max(numeric, key=lambda k: df[k].nunique()) if numeric else "model"
+    others = [k for k in varying if k != c_key]
+    fig, axes = new_figure(ncols=len(directions), width=5.2 * len(directions) + 1.2, sharey=True)
+    axes = np.atleast_1d(axes)
+    if c_key == "model":
+        cvals = list(dict.fromkeys(g[0] for g in groups))
+        colour = {v: mpl.colormaps["viridis"](i / max(len(cvals) - 1, 1)) for i, v in enumerate(cvals)}
+        norm = None
+    else:
+        cvals = sorted({g[keys_index(c_key)] for g in groups})
+        norm = mpl.colors.Normalize(vmin=min(cvals), vmax=max(cvals))
+        colour = {v: mpl.colormaps["viridis"](norm(v)) for v in cvals}
+    combos = list(dict.fromkeys(tuple(g[keys_index(k)] for k in others) for g in groups))
+    style = {c: LINESTYLES[i % len(LINESTYLES)] for i, c in enumerate(combos)}
+    for ax, direction in zip(axes, directions):
+        for g in groups:
+            s, mu = curve(df, *g, direction)
+            if len(s):
+                ax.plot(s, mu, style[tuple(g[keys_index(k)] for k in others)], lw=1.0,
+                        color=colour[g[keys_index(c_key)]])
+        ax.set_xlim(left=0)
+        ax.set_ylim(bottom=0)
+        finish(ax, "slip |s| [-]", "friction |mu| = |F|/F_n [-]" if ax is axes[0] else "",
+               f"{title} ({direction})" if len(directions) > 1 else title, legend=False)
+    if others and len(combos) > 1:
+        shown = combos[: 2 * len(LINESTYLES)]
+        handles = [mpl.lines.Line2D([], [], color="0.3", ls=style[c]) for c in shown]
+        labels = [_legend_label(dict(zip(others, c)), set(others)) for c in shown]
+        if len(combos) > len(shown):
+            handles.append(mpl.lines.Line2D([], [], color="none"))
+            labels.append(f"... {len(combos) - len(shown)} more (see data/sweep.csv)")
+        axes[0].legend(handles, labels, fontsize=7, loc="upper right")
+    if norm is not None:
+        fig.colorbar(mpl.cm.ScalarMappable(norm=norm, cmap="viridis"), ax=list(axes), label=_KEY_LABELS[c_key])
+    else:
+        axes[-1].legend([mpl.lines.Line2D([], [], color=colour[v]) for v in cvals[:10]], cvals[:10], fontsize=7)
+    return fig
+
+
+def keys_index(key: str) -> int:
+    """Position of ``key`` in the (model, speed, theta) group tuples of the generic sweep figure."""
+    return ("model", "speed", "theta").index(key)
 
 
 def _surface(result, title):

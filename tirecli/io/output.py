@@ -194,7 +194,7 @@ def assumed_list(result) -> list[str]:
 
 
 def write_result(out: str | Path, result, figures: dict, checks: list, command: str, wall_time: float,
-                 extra: dict | None = None) -> dict:
+                 extra: dict | None = None, progress=None) -> dict:
     """Write a study result with its drawn figures into ``out``; return the paths written.
 
     Parameters
@@ -203,14 +203,20 @@ def write_result(out: str | Path, result, figures: dict, checks: list, command: 
         Figure id -> matplotlib Figure or :class:`tirecli.figures.registry.Table`.
     checks : list
         :class:`tirecli.studies.base.Check` objects evaluated on the result.
+    progress : object or None
+        Progress reporter (``start``, ``advance``, ``close``), advanced per data file and figure.
     """
     from tirecli.figures.registry import REGISTRY, Table
 
     out = prepare_dir(out)
     comments = [SYNTHETIC_NOTE] if result.synthetic else []
+    if progress is not None:
+        progress.start(len(result.data) + len(figures), "writing")
     data_paths = []
     for name, frame in result.data.items():
         data_paths.append(write_csv(out / "data" / f"{name}.csv", frame, comments))
+        if progress is not None:
+            progress.advance(1)
     fig_paths = []
     for fid, fig in figures.items():
         if isinstance(fig, Table):
@@ -220,6 +226,10 @@ def write_result(out: str | Path, result, figures: dict, checks: list, command: 
                                        comments))
         else:
             fig_paths += save_figure(fig, out / "figures", fid)
+        if progress is not None:
+            progress.advance(1)
+    if progress is not None:
+        progress.close()
     file_paths = [write_text(out / name, text) for name, text in getattr(result, "files", {}).items()]
     record = {
         "tool": "tirecli",

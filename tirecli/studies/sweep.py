@@ -36,7 +36,7 @@ def _variant_post(v: dict, path, ctx: Context) -> None:
     if v["model"] == "distributed" and v["kappa0"] is not None:
         ctx.fail(path + ("kappa0",), "kappa0 applies to lumped models only")
     if v["load"] == "exponential" and v["lambda"] is None:
-        ctx.fail(path, "missing required key 'lambda' for an exponential load (decay [-], > 0)")
+        ctx.fail(path, "missing required key 'lambda' for an exponential load (decay [-], >= 0)")
     if v["load"] != "exponential" and v["lambda"] is not None:
         ctx.fail(path + ("lambda",), "lambda applies to load: exponential only")
     if v["load"] == "tabulated":
@@ -59,7 +59,7 @@ VARIANT = AnyOf(options=(
     Map(fields={
         "model": Str(choices=MODELS, doc="distributed (PDE steady state) or lumped (averaged ODE)"),
         "load": Str(choices=LOADS, default="uniform", doc="normal-load density along the patch"),
-        "lambda": Num(unit="-", gt=0, default=None, doc="exponential load decay", eq="FM eq. (5)"),
+        "lambda": Num(unit="-", ge=0, default=None, doc="exponential load decay (0: uniform)", eq="FM eq. (5)"),
         "kappa0": AnyOf(options=(Num(unit="-", gt=0), Str(choices=("Z",))), default=None,
                         what="a number > 0 or Z (FM eq. (10))"),
         "u": ListOf(item=Num(unit="-", ge=0, le=1), min_len=2, default=None, doc="tabulated load positions zeta/L"),
