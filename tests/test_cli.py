@@ -187,3 +187,18 @@ def test_progress_covers_evaluation_drawing_and_writing(tmp_path):
     run_config("sweep", EXAMPLES / "fm-fig1-left.yaml", out=tmp_path, progress=rec)
     assert [p[0] for p in rec.phases] == ["sweep", "figures", "writing"]
     assert all(total == done and closed for _, total, done, closed in rec.phases)
+
+
+def test_config_assumptions_are_listed_in_run_json(cli, tmp_path):
+    code, out, err = cli("sweep", EXAMPLES / "fm-fig1-left.yaml", "--out", tmp_path, "--quiet",
+                         "--set", "assumed=[my speeds, my road]")
+    assert code == 0, err
+    assumed = json.loads((tmp_path / "run.json").read_text())["assumed"]
+    assert "my speeds" in assumed and "my road" in assumed
+    assert any(a.startswith("tire.alpha:") for a in assumed)      # the parameter set's own stay listed
+
+
+def test_surface_figure_refuses_a_single_speed(cli, tmp_path):
+    code, out, err = cli("sweep", EXAMPLES / "fm-fig1-right.yaml", "--out", tmp_path, "--quiet",
+                         "--set", "figures=[fm-fig6-surface]")
+    assert code == 2 and "at least two speeds" in err

@@ -156,6 +156,11 @@ def _surface(result, title):
     theta = df["theta"].iloc[0]
     d = df[(df["model"] == model) & np.isclose(df["theta"], theta) & (df["direction"] == "braking")]
     piv = d.assign(s=np.abs(d["slip"]), m=np.abs(d["mu"])).pivot_table(index="speed", columns="s", values="m")
+    if min(piv.shape) < 2:
+        from tirecli.errors import UsageError
+
+        raise UsageError("a friction surface needs braking slips and at least two speeds in the sweep "
+                         f"(this one has {piv.shape[0]} speed(s) and {piv.shape[1]} braking slip(s))")
     S, V = np.meshgrid(piv.columns.to_numpy(), piv.index.to_numpy())
     fig = Figure(figsize=(6.6, 5.0))
     ax = fig.add_subplot(projection="3d")
@@ -365,7 +370,8 @@ def _fig6_surface_checks(result):
     checks=_fig6_surface_checks,
 )
 def draw_fm_fig6_surface(result):
-    return _surface(result, "FM Fig. 6: steady-state surface, Table 2, alpha = 2")
+    tire = result.parameter_sets["tire"]
+    return _surface(result, f"FM Fig. 6: steady-state surface, {tire.name}, alpha = {tire.values['alpha']:g}")
 
 
 # --------------------------------------------------------------------------- FM Table 1

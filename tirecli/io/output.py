@@ -181,15 +181,24 @@ def assumed_list(result) -> list[str]:
     """``group.param: reason`` for every value of a result still flagged as assumed.
 
     A study's own assumptions (scenario values the paper does not print) come from
-    ``result.meta["assumed"]`` (a text or a list of texts).
+    ``result.meta["assumed"]`` and the config's top-level ``assumed:`` (each a text or a list of texts).
     """
     out = []
     for group, ps in result.parameter_sets.items():
         for key, why in ps.assumed.items():
             out.append(f"{group}.{key}: {why}")
+    return out + scenario_assumptions(result)
+
+
+def scenario_assumptions(result) -> list[str]:
+    """The study's and the config's own assumptions (scenario values, not parameter values)."""
+    out = []
     extra = result.meta.get("assumed") if isinstance(result.meta, dict) else None
-    for why in ([extra] if isinstance(extra, str) else list(extra or [])):
-        out.append(str(why))
+    declared = result.config.data.get("assumed") if result.config is not None else None
+    for notes in (extra, declared):
+        for why in ([notes] if isinstance(notes, str) else list(notes or [])):
+            if str(why) and str(why) not in out:
+                out.append(str(why))
     return out
 
 

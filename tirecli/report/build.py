@@ -73,7 +73,7 @@ def build_report(out: str | Path, only=None, progress=None) -> dict:
     for f in entries:
         card = {"id": f.id, "paper": f.paper, "label": f.label, "title": f.title, "caption": f.caption,
                 "paper_shows": f.paper_shows, "study": f.study, "image": None, "table": None, "error": None,
-                "checks": [], "parameters": [], "files": [], "synthetic": False}
+                "checks": [], "parameters": [], "files": [], "synthetic": False, "assumed": []}
         res = results.get(f.study)
         if res is None:
             card["error"] = errors.get(f.study, "study did not run")
@@ -84,6 +84,7 @@ def build_report(out: str | Path, only=None, progress=None) -> dict:
             cards.append(card)
             continue
         card["synthetic"] = res.synthetic
+        card["assumed"] = output.scenario_assumptions(res)
         card["parameters"] = [{"group": g, "set": ps.name, "citation": ps.citation, "rows": ps.rows()}
                               for g, ps in res.parameter_sets.items()]
         try:

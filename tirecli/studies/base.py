@@ -223,13 +223,16 @@ class FigureId(Str):
 
 def common_fields() -> dict:
     """Top-level keys every study config accepts."""
-    from tirecli.config.schema import ListOf
+    from tirecli.config.schema import AnyOf, ListOf
 
     return {
         "study": Str(doc="study to run"),
         "title": Str(default="", doc="title of the run"),
         "description": Str(default="", doc="free description"),
         "figures": ListOf(item=FigureId(), default=None, doc="figure ids to draw (tirecli figures list)"),
+        "assumed": AnyOf(options=(Str(), ListOf(item=Str())), default=None,
+                         what="a text or a list of texts",
+                         doc="scenario values the paper does not print, and why (listed in run.json's assumed)"),
     }
 
 
