@@ -45,3 +45,19 @@ def test_strict_fails_when_a_check_drifts(cli, tmp_path, monkeypatch):
     assert code == 1 and "fm-fig1-left/peak-v20" in out + err
     summary = json.loads((tmp_path / "summary.json").read_text())
     assert summary["n_failed"] == 1
+
+
+@pytest.mark.parametrize("fid", ["fm-fig4", "fm-fig7"])
+def test_strict_fails_when_a_transient_study_drifts(cli, tmp_path, monkeypatch, fid):
+    """FM Figs. 4-8 carry the spec's braking references: a drifted scenario (brake torque per bar
+    5 % off) must fail them, and --strict must exit 1."""
+    from tirecli.report import build
+
+    real = build.builtin_config
+    monkeypatch.setattr(build, "builtin_config",
+                        lambda name, overrides=(): real(name, list(overrides) + ["input.pressure_gain=21"]))
+    code, out, err = cli("report", "--out", tmp_path, "--only", fid, "--strict")
+    assert code == 1
+    summary = json.loads((tmp_path / "summary.json").read_text())
+    assert summary["n_failed"] >= 1
+    assert all(c["id"].startswith(fid + "/") for c in summary["checks"] if not c["passed"])
