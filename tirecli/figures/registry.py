@@ -111,11 +111,10 @@ def get(id: str) -> FigureDef:
 
     for name in FIGURE_MODULES:
         if id in REGISTRY:
-            return REGISTRY[id]
+            break
         importlib.import_module(f"tirecli.figures.{name}")
-    reg = REGISTRY
-    if id not in reg:
-        hint = difflib.get_close_matches(id, list(reg), n=1)
+    if id not in REGISTRY:
+        hint = difflib.get_close_matches(id, list(REGISTRY), n=1)
         dym = f"; did you mean {hint[0]!r}?" if hint else ""
         raise UsageError(f"unknown figure {id!r}{dym} (see 'tirecli figures list')")
-    return reg[id]
+    return REGISTRY[id]
