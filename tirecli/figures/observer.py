@@ -331,15 +331,20 @@ def draw_obs_gain_study(result):
 )
 def draw_obs_noise(result):
     fig, (a, b, c) = new_figure(nrows=3, width=7.2, height=8.4, sharex=True)
-    for k, (case, tr, _) in enumerate(_plot_runs(result)):
+    runs = list(_plot_runs(result))
+    # in (b) and (c) the smaller errors are drawn on top of the larger (noisy) ones
+    size = [float(np.sqrt(np.mean(np.square(tr.y - tr.omega)))) for _, tr, _ in runs]
+    on_top = {k: 2.0 + r for r, k in enumerate(sorted(range(len(runs)), key=lambda k: -size[k]))}
+    for k, (case, tr, _) in enumerate(runs):
         col = COLORS[k % len(COLORS)]
         if k == 0:
             a.plot(tr.t, tr.theta, "k", lw=1.6, label="theta (true)")
         a.plot(tr.t, tr.theta_hat, "--", color=col, label=case.label)
-        b.plot(tr.t, tr.y - tr.omega, color=col, lw=0.6, label=case.label)
-        c.plot(tr.t, tr.v_hat - tr.v, color=col, label=case.label)
+        b.plot(tr.t, tr.y - tr.omega, color=col, lw=0.6, label=case.label, zorder=on_top[k])
+        c.plot(tr.t, tr.v_hat - tr.v, color=col, label=case.label, zorder=on_top[k])
     finish(a, "", "theta (OBS) [-]", "(a) adhesion estimate", loc="upper left")
-    finish(b, "", "y_m - omega [rad/s]", "(b) measurement error", legend=False)
-    finish(c, "time t [s]", "v_hat - v [m/s]", "(c) speed error", legend=False)
+    finish(b, "", "y_m - omega [rad/s]", "(b) measurement error (colours as in (a); smaller errors drawn on top)",
+           legend=False)
+    finish(c, "time t [s]", "v_hat - v [m/s]", "(c) speed error (colours as in (a))", legend=False)
     _mark_synthetic(result, fig)
     return fig
