@@ -207,3 +207,15 @@ def test_omitted_grid_takes_its_default_grid(cli, tmp_path):
     assert code == 0, err
     df = pd.read_csv(tmp_path / "out" / "data" / "sweep.csv")
     assert len(df) == 1001 and df["slip"].min() == -1.0 and df["slip"].max() == 0.0
+
+
+def test_exponent_without_a_dot_is_a_number(cli, tmp_path):
+    """YAML 1.2 floats: '18154e-2' in a file and '--set ...=1e5' are numbers, not text (PyYAML's 1.1 rule)."""
+    import json
+
+    cfg = tmp_path / "s.yaml"
+    cfg.write_text(GOOD.replace("tire: canudas2003-table1", "tire: {set: canudas2003-table1, sigma0: 18154e-2}"))
+    code, out, err = cli("sweep", cfg, "--out", tmp_path / "o", "--quiet", "--set", "tire.v_s=657E-2")
+    assert code == 0, err
+    tire = json.loads((tmp_path / "o" / "run.json").read_text())["parameters"]["tire"]
+    assert tire["parameters"]["sigma0"]["value"] == 181.54 and tire["parameters"]["v_s"]["value"] == 6.57

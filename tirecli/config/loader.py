@@ -17,7 +17,7 @@ import yaml
 
 from tirecli.config.schema import Spec, check_document
 from tirecli.errors import ConfigError, Problem, UsageError
-from tirecli.io.yamlio import Origins, load_yaml, parse_yaml
+from tirecli.io.yamlio import Origins, load_value, load_yaml, parse_yaml
 from tirecli.parameters.sets import ParameterSet, resolve_group
 
 OVERRIDE_FILE = "<command line --set>"
@@ -85,7 +85,7 @@ def apply_override(data: dict, origins: Origins, text: str) -> None:
     key, _, value_text = text.partition("=")
     path = parse_key_path(key.strip())
     try:
-        value = yaml.safe_load(value_text) if value_text.strip() else None
+        value = load_value(value_text) if value_text.strip() else None
     except yaml.YAMLError:
         raise UsageError(f"--set {text!r}: cannot read the value {value_text!r}") from None
     node: Any = data

@@ -5,6 +5,7 @@ to ``(file, line)``, so validation errors can name the file, key and line.
 """
 from __future__ import annotations
 
+import re
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -63,6 +64,29 @@ class Origins:
             del self.where[p]
 
 
+class Loader(yaml.SafeLoader):
+    """PyYAML's safe loader, with YAML 1.2 floats: ``1e5``, ``2E-3`` and ``5.`` are numbers.
+
+    PyYAML follows YAML 1.1, where an exponent needs a dot (``1.0e5``) and ``1e5`` is the text
+    "1e5": a config saying ``gamma: 2e5`` would then be refused as "expected a number".
+    """
+
+
+Loader.add_implicit_resolver(
+    "tag:yaml.org,2002:float",
+    re.compile(r"""^(?:[-+]?(?:[0-9][0-9_]*)(?:\.[0-9_]*)?(?:[eE][-+]?[0-9]+)
+                  |[-+]?(?:[0-9][0-9_]*)\.[0-9_]*
+                  |[-+]?\.[0-9_]+(?:[eE][-+]?[0-9]+)?
+                  |[-+]?\.(?:inf|Inf|INF)
+                  |\.(?:nan|NaN|NAN))$""", re.X),
+    list("-+0123456789."))
+
+
+def load_value(text: str) -> Any:
+    """One YAML value (e.g. the VALUE of ``--set KEY=VALUE``), read like values in files."""
+    return yaml.load(text, Loader=Loader)
+
+
 class _Constructor(yaml.constructor.SafeConstructor):
     pass
 
@@ -103,7 +127,7 @@ def parse_yaml(text: str, file: str = "<input>") -> tuple[Any, Origins]:
     """
     origins = Origins(default_file=file)
     try:
-        nodes = list(yaml.compose_all(text, Loader=yaml.SafeLoader))
+        nodes = list(yaml.compose_all(text, Loader=Loader))
     except yaml.MarkedYAMLError as exc:
         mark = exc.problem_mark or exc.context_mark
         line = mark.line + 1 if mark is not None else None
