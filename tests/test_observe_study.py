@@ -232,3 +232,12 @@ def test_reference_integrator_through_the_study():
     run = res.meta["runs"][0]
     assert run["integrator"].startswith("reference (Radau")
     assert run["metrics"]["phases"][0]["max"] < 1e-6   # exact start, constant theta
+
+
+def test_failed_checks_after_overrides_say_why(cli, tmp_path):
+    from conftest import EXAMPLES
+
+    code, out, err = cli("observe", EXAMPLES / "obs-fig2.yaml", "--out", tmp_path, "--set", "observer.gamma=1e5")
+    assert code == 0
+    assert "check failed: obs-fig2/" in out + err
+    assert "--set overrides change the scenario" in out + err

@@ -77,11 +77,16 @@ def overrides(values: Optional[List[str]]) -> list[str]:
     return list(values or [])
 
 
-def report_run(summary, what: str) -> None:
-    """The closing lines of a run command: where outputs are, and failed checks."""
+def report_run(summary, what: str, overridden: bool = False) -> None:
+    """The closing lines of a run command: where outputs are, and failed checks.
+
+    ``overridden``: the config was changed by ``--set`` (then failed reference checks are expected).
+    """
     out = Path(summary.out)
     echo(f"{what}: {len(summary.paths['data'])} data file(s), {len(summary.paths['figures'])} figure file(s) "
          f"in {summary.wall_time:.2f} s")
     for c in summary.failed_checks:
         echo(f"check failed: {c.id}: {c.value:.6g} vs reference {c.reference:.6g} (tolerance {c.tolerance:g})")
+    if summary.failed_checks and overridden:
+        echo("note: the reference checks hold the paper's scenario; --set overrides change the scenario")
     result_line(f"wrote {out / 'run.json'}")

@@ -34,5 +34,5 @@ def fit(config: Path = ConfigArg, out: Optional[Path] = OutOpt, set_: Optional[L
         echo(f"  {r['parameter']:7s} {r['estimate']:12.6g} +/- {r['se']:.3g} {r['unit']:4s} "
              f"CI [{r['ci_low']:.6g}, {r['ci_high']:.6g}]{flag}")
     echo(f"  residual RMS (steady state): {summary.result.meta['steady_state']['residual_rms']:.3g}")
-    report_run(summary, "fit")
+    report_run(summary, "fit", overridden=bool(set_))
     result_line(f"wrote {Path(summary.out) / 'fitted.yaml'}")

@@ -54,4 +54,4 @@ def observe(config: Path = ConfigArg, out: Optional[Path] = OutOpt, set_: Option
         echo(f"assumed: {a}")
     for w in res.meta.get("warnings", []):
         sys.stderr.write(f"warning: {w}\n")
-    report_run(summary, "observe")
+    report_run(summary, "observe", overridden=bool(set_))

@@ -25,4 +25,4 @@ def simulate(config: Path = ConfigArg, out: Optional[Path] = OutOpt, set_: Optio
             else f"v = {ev['v_final']:.3g} m/s at {ev['t_final']:.3g} s"
         echo(f"  {ev['case']}: peak |s| {ev['peak_abs_slip']:.4f} at {ev['t_peak_abs_slip']:.3f} s, "
              f"peak |mu| {ev['peak_abs_mu']:.4f}, wheel lock: {locks}, {stop}")
-    report_run(summary, "simulate")
+    report_run(summary, "simulate", overridden=bool(set_))

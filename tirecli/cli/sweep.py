@@ -18,4 +18,4 @@ def sweep(config: Path = ConfigArg, out: Optional[Path] = OutOpt, set_: Optional
     from tirecli.app import run_config
 
     summary = run_config("sweep", config, overrides(set_), out, progress())
-    report_run(summary, "sweep")
+    report_run(summary, "sweep", overridden=bool(set_))
