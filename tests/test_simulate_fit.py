@@ -342,3 +342,14 @@ cases:
     assert [overlay_base(cases, c) for c in cases] == [None, None, "B", "B", None]
     fig = draw_overlay(res)
     assert len(fig.axes[1].lines) == 2 and len(fig.axes[2].lines) == 2
+
+
+def test_case_styles_stay_distinct_past_the_colour_cycle():
+    from types import SimpleNamespace
+
+    from tirecli.figures.transient import _style
+
+    for mode in ("coupled", "open-loop"):
+        case = SimpleNamespace(mode=mode)
+        styles = {(st["color"], st["ls"]) for st in (_style(i, case) for i in range(16))}
+        assert len(styles) == 16

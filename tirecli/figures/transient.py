@@ -39,7 +39,11 @@ def run_of(result, label: str):
 
 
 def _style(i: int, case) -> dict:
-    return {"color": COLORS[i % len(COLORS)], "ls": "-" if case.mode == "coupled" else "--", "lw": 1.3}
+    """Line style of case ``i``: solid coupled runs, dashed open-loop ones; once the colours repeat
+    (more than ``len(COLORS)`` cases) the next round uses dash-dot and dotted lines."""
+    again = (i // len(COLORS)) % 2
+    ls = ("-", "-.")[again] if case.mode == "coupled" else ("--", ":")[again]
+    return {"color": COLORS[i % len(COLORS)], "ls": ls, "lw": 1.3}
 
 
 def _mark(fig, result=None, text=SYN, title=None):
