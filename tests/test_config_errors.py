@@ -219,3 +219,11 @@ def test_exponent_without_a_dot_is_a_number(cli, tmp_path):
     assert code == 0, err
     tire = json.loads((tmp_path / "o" / "run.json").read_text())["parameters"]["tire"]
     assert tire["parameters"]["sigma0"]["value"] == 181.54 and tire["parameters"]["v_s"]["value"] == 6.57
+
+
+def test_yaml_dump_quotes_text_that_would_read_as_a_number():
+    """The .tir YAML form and fitted sets are dumped and read back: text such as '1e5' stays text."""
+    from tirecli.io.yamlio import dump_yaml, parse_yaml
+
+    data = {"a": "1e5", "b": 1e5, "c": "-2E-3", "d": [1, 2.5, "x"], "e": "2001"}
+    assert parse_yaml(dump_yaml(data))[0] == data

@@ -72,14 +72,17 @@ class Loader(yaml.SafeLoader):
     """
 
 
-Loader.add_implicit_resolver(
-    "tag:yaml.org,2002:float",
-    re.compile(r"""^(?:[-+]?(?:[0-9][0-9_]*)(?:\.[0-9_]*)?(?:[eE][-+]?[0-9]+)
+class Dumper(yaml.SafeDumper):
+    """PyYAML's safe dumper that quotes text :class:`Loader` would read as a number (``'1e5'``)."""
+
+
+_FLOAT_12 = re.compile(r"""^(?:[-+]?(?:[0-9][0-9_]*)(?:\.[0-9_]*)?(?:[eE][-+]?[0-9]+)
                   |[-+]?(?:[0-9][0-9_]*)\.[0-9_]*
                   |[-+]?\.[0-9_]+(?:[eE][-+]?[0-9]+)?
                   |[-+]?\.(?:inf|Inf|INF)
-                  |\.(?:nan|NaN|NAN))$""", re.X),
-    list("-+0123456789."))
+                  |\.(?:nan|NaN|NAN))$""", re.X)
+for _cls in (Loader, Dumper):
+    _cls.add_implicit_resolver("tag:yaml.org,2002:float", _FLOAT_12, list("-+0123456789."))
 
 
 def load_value(text: str) -> Any:
@@ -165,4 +168,4 @@ def load_yaml(path: str | Path) -> tuple[Any, Origins]:
 
 def dump_yaml(data: Any) -> str:
     """YAML text for plain data (keys kept in insertion order)."""
-    return yaml.safe_dump(data, sort_keys=False, allow_unicode=True, default_flow_style=False)
+    return yaml.dump(data, Dumper=Dumper, sort_keys=False, allow_unicode=True, default_flow_style=False)
