@@ -51,6 +51,12 @@ def test_good_config_runs(cli, tmp_path):
      "must be >= 0"),
     (GOOD + "  models: [{model: lumped, kappa0: abc}]\n", 6, "sweep.models[0].kappa0",
      "expected a number > 0 or Z"),
+    (GOOD + "  models: [{model: lumped, kappa0: -1}]\n", 6, "sweep.models[0].kappa0", "must be > 0"),
+    (GOOD + "  models: [{model: lumped, load: exponential, lambda: 0}]\n", 6, "sweep.models[0].lambda",
+     "lambda must be > 0"),
+    (GOOD + "  models: [{model: distributed, load: exponential}]\n", 6, "sweep.models[0]",
+     "missing required key 'lambda'"),
+    (GOOD + "  models: [{load: uniform}]\n", 6, "sweep.models[0]", "missing required key 'model'"),
     (GOOD + "  models: [distributd]\n", 6, "sweep.models[0]", "did you mean 'distributed'"),
     # NaN / inf
     (GOOD.replace("speeds: [20]", "speeds: [.nan]"), 5, "sweep.speeds[0]", "finite"),
@@ -227,3 +233,4 @@ def test_yaml_dump_quotes_text_that_would_read_as_a_number():
 
     data = {"a": "1e5", "b": 1e5, "c": "-2E-3", "d": [1, 2.5, "x"], "e": "2001"}
     assert parse_yaml(dump_yaml(data))[0] == data
+    assert parse_yaml("a: ._\nb: .5\nc: 5.\nd: 1_0e1\n")[0] == {"a": "._", "b": 0.5, "c": 5.0, "d": 100.0}

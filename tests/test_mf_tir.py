@@ -215,6 +215,19 @@ def test_truncated_after_the_required_keys_is_an_error(tmp_path):
     assert "QBZ2" in td.defaulted
 
 
+def test_complete_file_without_a_final_line_break_is_not_truncated():
+    """No final line break is not a cut when the lacking coefficients belong to earlier sections
+    (here QSY8 of [ROLLING_COEFFICIENTS]), nor when the file ends in blanks."""
+    raw = (DATA / "MagicFormula61_Parameters.tir").read_bytes()
+    lines = raw.split(b"\n")
+    no_qsy8 = b"\n".join(ln for ln in lines if not ln.strip().upper().startswith(b"QSY8")).rstrip(b"\r\n")
+    td = tire_data(tirio.parse_tir(no_qsy8, "no-qsy8.tir"))
+    assert td.defaulted == ["QSY8"]
+    doc = tirio.parse_tir(raw.rstrip(b"\r\n") + b"\n   ", "blanks.tir")
+    assert not doc.ends_mid_line
+    tire_data(doc)
+
+
 def test_junk_without_nul_bytes_and_missing_file(tmp_path):
     junk = tmp_path / "junk.tir"
     junk.write_bytes(bytes(range(1, 32)) * 20)

@@ -353,3 +353,26 @@ def test_case_styles_stay_distinct_past_the_colour_cycle():
         case = SimpleNamespace(mode=mode)
         styles = {(st["color"], st["ls"]) for st in (_style(i, case) for i in range(16))}
         assert len(styles) == 16
+
+
+@pytest.mark.parametrize("text, words", [
+    ("t,v,mu\n0,1,20,0.1\n10,2,19,0.2\n20,3,18,0.3\n", "data row 1 has 4 fields but the header names 3 columns"),
+    ("\ufeff# SYNTHETIC\nt,v,t\n1,2,3\n", "'t' appear more than once"),
+])
+def test_csv_rows_wider_than_the_header_and_repeated_columns_are_errors(tmp_path, text, words):
+    from tirecli.errors import DataError
+    from tirecli.io.data import read_table
+
+    p = tmp_path / "d.csv"
+    p.write_bytes(text.encode("utf-8"))
+    with pytest.raises(DataError, match=words):
+        read_table(p)
+
+
+def test_csv_with_trailing_empty_columns_bom_and_crlf_reads(tmp_path):
+    from tirecli.io.data import read_table
+
+    p = tmp_path / "d.csv"
+    p.write_bytes("\ufeff# exported\r\nt,v,mu,,\r\n0,1,0.1,,\r\n1,2,0.2,,\r\n".encode("utf-8"))
+    frame = read_table(p)
+    assert list(frame.columns[:3]) == ["t", "v", "mu"] and frame["mu"].tolist() == [0.1, 0.2]

@@ -46,17 +46,19 @@ def draw(result: StudyResult, ids=None, progress=None) -> tuple[dict, list]:
     ids = list(ids or result.figures)
     if progress is not None:
         progress.start(len(ids), "figures")
-    for fid in ids:
-        fdef = registry.get(fid)
-        figs[fid] = fdef.draw(result)
-        if fdef.checks is not None:
-            for c in fdef.checks(result):
-                c.id = f"{fid}/{c.id}"
-                checks.append(c)
+    try:
+        for fid in ids:
+            fdef = registry.get(fid)
+            figs[fid] = fdef.draw(result)
+            if fdef.checks is not None:
+                for c in fdef.checks(result):
+                    c.id = f"{fid}/{c.id}"
+                    checks.append(c)
+            if progress is not None:
+                progress.advance(1)
+    finally:
         if progress is not None:
-            progress.advance(1)
-    if progress is not None:
-        progress.close()
+            progress.close()
     return figs, checks
 
 

@@ -200,8 +200,9 @@ class AnyOf(Spec):
     def check(self, value, path, ctx):
         typed = [o for o in self.options if o.accepts(value)]
         if len(typed) == 1:  # the value's type picks the option: report its own problems
-            if not self.what:
+            if not self.what or not isinstance(typed[0], Str):
                 return typed[0].check(value, path, ctx)
+            # a text that is none of the option's choices: say every form the value may take
             sub = Context(ctx.origins)
             out = typed[0].check(value, path, sub)
             if not sub.problems:

@@ -119,7 +119,7 @@ def _sweep_many_curves(df, groups, varying, title):
         norm = mpl.colors.Normalize(vmin=min(cvals), vmax=max(cvals))
         colour = {v: mpl.colormaps["viridis"](norm(v)) for v in cvals}
     combos = list(dict.fromkeys(tuple(g[keys_index(k)] for k in others) for g in groups))
-    style = {c: LINESTYLES[i % len(LINESTYLES)] for i, c in enumerate(combos)}
+    style = {c: _DASHES[i % len(_DASHES)] for i, c in enumerate(combos)}
     for ax, direction in zip(axes, directions):
         for g in groups:
             s, mu = curve(df, *g, direction)
@@ -131,18 +131,27 @@ def _sweep_many_curves(df, groups, varying, title):
         finish(ax, "slip |s| [-]", "friction |mu| = |F|/F_n [-]" if ax is axes[0] else "",
                f"{title} ({direction})" if len(directions) > 1 else title, legend=False)
     if others and len(combos) > 1:
-        shown = combos[: 2 * len(LINESTYLES)]
+        shown = combos[: len(_DASHES)]
         handles = [mpl.lines.Line2D([], [], color="0.3", ls=style[c]) for c in shown]
         labels = [_legend_label(dict(zip(others, c)), set(others)) for c in shown]
         if len(combos) > len(shown):
             handles.append(mpl.lines.Line2D([], [], color="none"))
-            labels.append(f"... {len(combos) - len(shown)} more (see data/sweep.csv)")
+            labels.append(f"... {len(combos) - len(shown)} more, styles repeat (see data/sweep.csv)")
         axes[0].legend(handles, labels, fontsize=7, loc="upper right")
     if norm is not None:
         fig.colorbar(mpl.cm.ScalarMappable(norm=norm, cmap="viridis"), ax=list(axes), label=_KEY_LABELS[c_key])
     else:
-        axes[-1].legend([mpl.lines.Line2D([], [], color=colour[v]) for v in cvals[:10]], cvals[:10], fontsize=7)
+        handles = [mpl.lines.Line2D([], [], color=colour[v]) for v in cvals[:10]]
+        labels = list(cvals[:10])
+        if len(cvals) > 10:
+            handles.append(mpl.lines.Line2D([], [], color="none"))
+            labels.append(f"... {len(cvals) - 10} more (see data/sweep.csv)")
+        axes[-1].legend(handles, labels, fontsize=7)
     return fig
+
+
+#: Line styles of the generic many-curves figure: eight distinct dash patterns.
+_DASHES = ["-", "--", "-.", ":", (0, (5, 1)), (0, (1, 3)), (0, (8, 2, 1, 2, 1, 2)), (0, (3, 3))]
 
 
 def keys_index(key: str) -> int:

@@ -29,37 +29,48 @@ def read_table(path: str | Path):
     if b"\x00" in raw[:4096]:
         raise DataError(f"{path}: binary file, expected CSV text")
     try:
-        # whole-line comments only: pandas' comment="#" would also cut a row at a "#" inside a
-        # cell (tirecli's own case labels are "braking #1", ...) and leave NaN in the rest of it
         text = raw.decode("utf-8-sig")
-        body = "".join(line for line in text.splitlines(keepends=True) if not line.lstrip().startswith("#"))
-        frame = pd.read_csv(io.StringIO(body), skipinitialspace=True)
+    except UnicodeDecodeError as exc:
+        raise DataError(f"{path}: not UTF-8 text (byte {exc.start})") from None
+    # whole-line comments only: pandas' comment="#" would also cut a row at a "#" inside a cell
+    # (tirecli's own case labels are "braking #1", ...) and leave NaN in the rest of it
+    body = "\n".join(line for line in text.split("\n") if not line.lstrip().startswith("#"))
+    header = _check_fields(body, path)
+    try:
+        frame = pd.read_csv(io.StringIO(body), skipinitialspace=True, index_col=False)
     except pd.errors.EmptyDataError:
         raise DataError(f"{path}: empty file (expected a header line and data rows)") from None
-    except (pd.errors.ParserError, UnicodeDecodeError) as exc:
+    except pd.errors.ParserError as exc:
         raise DataError(f"{path}: cannot read as CSV ({str(exc).splitlines()[0]})") from None
-    if not isinstance(frame.index, pd.RangeIndex):
-        # pandas takes a leading column as the index when the data rows have more fields than
-        # the header: the columns would be silently shifted by one
-        raise DataError(f"{path}: row 1 has {len(frame.columns) + 1} fields but the header names "
-                        f"{len(frame.columns)} columns ({', '.join(map(str, frame.columns))})")
     frame.columns = [str(c).strip() for c in frame.columns]
-    header = _header_names(raw)
-    dupes = sorted({c for c in header if header.count(c) > 1})
+    named = [c for c in header if c]  # trailing separators give unnamed, empty columns
+    dupes = sorted({c for c in named if named.count(c) > 1})
     if dupes:
         raise DataError(f"{path}: column(s) {', '.join(map(repr, dupes))} appear more than once in the header")
     return frame
 
 
-def _header_names(raw: bytes) -> list[str]:
-    """Column names of the header line (the first line that is neither blank nor a ``#`` comment),
-    as written (pandas renames a repeated name ``fz`` to ``fz.1``)."""
+def _check_fields(body: str, path) -> list[str]:
+    """The header's column names, as written (pandas renames a repeated ``fz`` to ``fz.1``);
+    DataError when a data row has more fields than the header names (pandas would silently
+    shift the columns, or drop the extra cells)."""
     import csv
 
-    for line in raw.decode("utf-8", "replace").splitlines():
-        if line.strip() and not line.lstrip().startswith("#"):
-            return [c.strip() for c in next(csv.reader([line]))]
-    return []
+    header = None
+    try:
+        for no, row in enumerate(csv.reader(io.StringIO(body, newline="")), start=0):
+            if not row or not any(c.strip() for c in row):
+                continue
+            if header is None:
+                header, no0 = [c.strip() for c in row], no
+                continue
+            extra = row[len(header):]
+            if any(c.strip() for c in extra):
+                raise DataError(f"{path}: data row {no - no0} has {len(row)} fields but the header names "
+                                f"{len(header)} columns ({', '.join(header)})")
+    except csv.Error as exc:
+        raise DataError(f"{path}: cannot read as CSV ({exc})") from None
+    return header or []
 
 
 def numeric_column(frame, name: str, path, finite: bool = True) -> np.ndarray:

@@ -223,24 +223,25 @@ def write_result(out: str | Path, result, figures: dict, checks: list, command: 
     comments = [SYNTHETIC_NOTE] if result.synthetic else []
     if progress is not None:
         progress.start(len(result.data) + len(figures), "writing")
-    data_paths = []
-    for name, frame in result.data.items():
-        data_paths.append(write_csv(out / "data" / f"{name}.csv", frame, comments))
-        if progress is not None:
-            progress.advance(1)
-    fig_paths = []
-    for fid, fig in figures.items():
-        if isinstance(fig, Table):
-            import pandas as pd
+    data_paths, fig_paths = [], []
+    try:
+        for name, frame in result.data.items():
+            data_paths.append(write_csv(out / "data" / f"{name}.csv", frame, comments))
+            if progress is not None:
+                progress.advance(1)
+        for fid, fig in figures.items():
+            if isinstance(fig, Table):
+                import pandas as pd
 
-            fig_paths.append(write_csv(out / "figures" / f"{fid}.csv", pd.DataFrame(fig.rows, columns=fig.columns),
-                                       comments))
-        else:
-            fig_paths += save_figure(fig, out / "figures", fid)
+                fig_paths.append(write_csv(out / "figures" / f"{fid}.csv",
+                                           pd.DataFrame(fig.rows, columns=fig.columns), comments))
+            else:
+                fig_paths += save_figure(fig, out / "figures", fid)
+            if progress is not None:
+                progress.advance(1)
+    finally:
         if progress is not None:
-            progress.advance(1)
-    if progress is not None:
-        progress.close()
+            progress.close()
     file_paths = [write_text(out / name, text) for name, text in getattr(result, "files", {}).items()]
     record = {
         "tool": "tirecli",

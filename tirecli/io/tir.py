@@ -200,12 +200,13 @@ def parse_tir(data: bytes | str, file: str = "<input>") -> TirDocument:
     text = data.decode("latin-1")
     lines = _LINE_SPLIT.split(text)
     doc = TirDocument(file=file)
-    doc.ends_mid_line = not data.endswith((b"\n", b"\r"))
+    content = data.rstrip(b" \t\x1a")  # trailing blanks or a DOS end-of-file mark are not a cut line
+    doc.ends_mid_line = bool(content) and not content.endswith((b"\n", b"\r"))
     doc.n_bytes = len(data)
     doc.line_ends = "CRLF" if b"\r\n" in data else ("CR" if b"\r" in data else "LF")
     if lines and lines[-1] == "":
         lines.pop()
-    doc.last_line = len(lines)
+    doc.last_line = len(_LINE_SPLIT.split(content.decode("latin-1").rstrip("\r\n"))) if content else 0
     problems: list[Problem] = []
     sec: TirSection | None = None
     in_comment_block = False

@@ -215,6 +215,20 @@ def version_from_keys(flat: dict, problems: list, file: str) -> tuple[str | None
     return None, "", problems
 
 
+def _cut_off(doc: tirio.TirDocument, defaulted: list) -> bool:
+    """Whether the coefficients a file lacks are those a cut at its end would remove: all in its
+    last section or in sections that come after it in the usual order (SECTION_ORDER)."""
+    from tirecli.parameters.mf_catalogue import SECTION_ORDER
+
+    if not defaulted or not doc.sections:
+        return False
+    last = list(doc.sections)[-1]
+    rank = {name: i for i, name in enumerate(SECTION_ORDER)}
+    if last not in rank:
+        return False
+    return all(rank.get(CATALOGUE[k].section, -1) >= rank[last] for k in defaulted)
+
+
 def tire_data(doc: tirio.TirDocument) -> TireData:
     """Check a parsed document and build the SI flat view of its Magic Formula coefficients.
 
@@ -275,9 +289,10 @@ def tire_data(doc: tirio.TirDocument) -> TireData:
         present = f"[{sect}] is missing" if sect not in doc.sections else f"not in [{sect}]"
         problems.append(Problem(doc.file, None, key, f"missing required coefficient ({CATALOGUE[key].meaning}; "
                                                      f"{present}){hint}"))
-    if doc.ends_mid_line and defaulted and not missing:
-        # a file cut in the middle of a line (no final line break) that also lacks coefficients
-        # is a truncated file, not a tyre to evaluate with zeros (issue 6: truncated -> error)
+    if doc.ends_mid_line and not missing and _cut_off(doc, defaulted):
+        # a file cut in the middle of a line (no final line break) that also lacks the coefficients
+        # of its last section or of the sections after it is a truncated file, not a tyre to
+        # evaluate with zeros (issue 6: truncated -> error)
         shown = ", ".join(defaulted[:6]) + (f" and {len(defaulted) - 6} more" if len(defaulted) > 6 else "")
         problems.append(doc.problem(doc.last_line, "", f"the file may be truncated: it ends in the middle of line "
                                                        f"{doc.last_line} and {len(defaulted)} model coefficient(s) "

@@ -393,6 +393,9 @@ def _build() -> tuple[dict, dict]:
 #: ``SECTION_KEYS``: ``(section, key)`` -> :class:`KeyInfo`.
 CATALOGUE, SECTION_KEYS = _build()
 
+#: Section names in the order a ``.tir`` file lists them (magic_formula.md §12).
+SECTION_ORDER = tuple(dict.fromkeys(info.section for info in SECTION_KEYS.values()))
+
 #: Sections whose keys are not Magic Formula parameters (units, header, vendor-specific data).
 NON_MF_SECTIONS = ("MDI_HEADER", "UNITS", "GOODYEAR", "TIRE_CONDITIONS")
 

@@ -39,6 +39,9 @@ def _variant_post(v: dict, path, ctx: Context) -> None:
         ctx.fail(path, "missing required key 'lambda' for an exponential load (decay [-], >= 0)")
     if v["load"] != "exponential" and v["lambda"] is not None:
         ctx.fail(path + ("lambda",), "lambda applies to load: exponential only")
+    if v["model"] == "lumped" and v["load"] == "exponential" and v["kappa0"] is None and v["lambda"] == 0:
+        ctx.fail(path + ("lambda",), "out of range: a lumped model takes kappa = lambda/L, so lambda must be > 0 "
+                                     "(lambda = 0 is the uniform load: use kappa0: Z or a constant kappa0)")
     if v["load"] == "tabulated":
         u, f = v["u"], v["f"]
         if u is None or f is None:
