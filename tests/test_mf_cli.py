@@ -320,3 +320,18 @@ def test_figures_of_the_other_model_family_are_refused(cli, tmp_path):
     code, out, err = cli("sweep", cfg, "--out", tmp_path / "b")
     one_line_error(code, err)
     assert "figure 'mf-fx-kappa' draws a Magic Formula sweep" in err
+
+
+@pytest.mark.parametrize("header, row, p, vx", [
+    ("kappa,alpha,gamma,fz,vx", "0.1,0,0,4000,5", 200000.0, 5.0),
+    ("kappa,alpha,gamma,fz,p", "0.1,0,0,4000,180000", 180000.0, 16.7),
+    ("kappa,alpha,gamma,fz", "0.1,0,0,4000", 200000.0, 16.7),
+])
+def test_mf_eval_defaults_land_under_their_own_headers(cli, tmp_path, header, row, p, vx):
+    pts = tmp_path / "p.csv"
+    pts.write_text(f"{header}\n{row}\n")
+    out = tmp_path / "r.csv"
+    code, stdout, err = cli("mf", "eval", "externdata-205-60r15", "--points", pts, "--out", out)
+    assert code == 0, err
+    r = pd.read_csv(out)
+    assert r["p"].tolist() == [p] and r["vx"].tolist() == [vx]

@@ -190,7 +190,9 @@ def _echo_ok(lines: list[bytes], facts: dict, header: list[str], n: int, mapped:
     """Whether the input rows can be copied verbatim (plain CSV in the canonical column order)."""
     if mapped or len(lines) != n + 1 or facts["comment"] or facts["quote"] or facts["blank"] or facts["trailing"]:
         return False
-    return header[:4] == list(INPUT_COLUMNS[:4]) and header[4:] in ([], ["p"], ["vx"], ["p", "vx"])
+    # a missing p or vx is appended after the copied cells, so only a missing tail can be copied
+    # (a file with vx but no p would put vx under the p header)
+    return header[:4] == list(INPUT_COLUMNS[:4]) and header[4:] in ([], ["p"], ["p", "vx"])
 
 
 def mf_eval(tire_ref: str, points: str | Path, out: str | Path, convention: str = "mfeval", side: str | None = None,
