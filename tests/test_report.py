@@ -61,3 +61,13 @@ def test_strict_fails_when_a_transient_study_drifts(cli, tmp_path, monkeypatch, 
     summary = json.loads((tmp_path / "summary.json").read_text())
     assert summary["n_failed"] >= 1
     assert all(c["id"].startswith(fid + "/") for c in summary["checks"] if not c["passed"])
+
+
+def test_report_only_takes_papers_in_any_case_and_refuses_unknown_names(cli, tmp_path):
+    from tirecli.figures.registry import load_all
+    from tirecli.report.build import _select
+
+    assert {f.paper for f in _select(load_all(), ["obs"])} == {"OBS"}
+    code, out, err = cli("report", "--out", tmp_path, "--only", "fm-fig1-lef")
+    assert code == 2 and "did you mean 'fm-fig1-left'" in err
+    assert not (tmp_path / "index.html").exists()

@@ -30,9 +30,27 @@ def _env() -> jinja2.Environment:
 
 
 def _select(reg: dict, only) -> list:
+    """The report's figures: all with a built-in study, or those ``only`` names (a paper such as
+    ``FM``, any case, or a figure id); an unknown name is a UsageError with a did-you-mean."""
+    import difflib
+
+    from tirecli.errors import UsageError
+
     entries = [f for f in reg.values() if f.study]
     if only:
-        wanted = set(only)
+        papers = {f.paper.lower(): f.paper for f in entries}
+        ids = {f.id for f in entries}
+        wanted = set()
+        for name in only:
+            if name.lower() in papers:
+                wanted.add(papers[name.lower()])
+            elif name in ids:
+                wanted.add(name)
+            else:
+                hint = difflib.get_close_matches(name, sorted(ids) + sorted(papers.values()), n=1)
+                dym = f"did you mean {hint[0]!r}? " if hint else ""
+                raise UsageError(f"--only {name!r}: not a paper ({', '.join(sorted(papers.values()))}) nor a figure "
+                                 f"of the report; {dym}(see 'tirecli figures list')")
         entries = [f for f in entries if f.paper in wanted or f.id in wanted]
     return sorted(entries, key=lambda f: (PAPER_ORDER.index(f.paper) if f.paper in PAPER_ORDER else 99, f.order, f.id))
 
