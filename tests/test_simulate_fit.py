@@ -376,3 +376,16 @@ def test_csv_with_trailing_empty_columns_bom_and_crlf_reads(tmp_path):
     p.write_bytes("\ufeff# exported\r\nt,v,mu,,\r\n0,1,0.1,,\r\n1,2,0.2,,\r\n".encode("utf-8"))
     frame = read_table(p)
     assert list(frame.columns[:3]) == ["t", "v", "mu"] and frame["mu"].tolist() == [0.1, 0.2]
+
+
+@pytest.mark.parametrize("expr, words, code", [
+    ("1/0 + t", "input.torque.expr: cannot be evaluated at t = 0 s: division by zero", 2),
+    ("sqrt(-1-t)", "input.torque.expr: gives nan at t = 0 s", 2),
+    ("sqrt(0.5-t)*100", "formula 'sqrt(0.5-t)*100' gives nan at t = 0.5", 2),
+])
+def test_formula_that_cannot_be_evaluated_is_an_input_error(cli, tmp_path, expr, words, code):
+    cfg = tmp_path / "e.yaml"
+    cfg.write_text("study: simulate\ntire: canudas2003-table1\nvehicle: canudas2003-obs-quarter-car\n"
+                   f"initial: {{v: 20}}\nt_end: 1\ninput: {{torque: {{expr: \"{expr}\"}}}}\ncases: [{{model: lumped}}]\n")
+    rc, out, err = cli("simulate", cfg, "--out", tmp_path / "o", "--quiet")
+    assert rc == code and words in err and "internal error" not in err

@@ -210,10 +210,21 @@ class Expression:
         object.__setattr__(self, "_code", compile(ast.parse(self.text, mode="eval"), "<formula>", "eval"))
 
     def __call__(self, t):
+        """The formula's value at ``t`` [s] (scalar or array); UsageError (exit 2) naming the
+        formula and the time where it cannot be evaluated or is not finite."""
+        from tirecli.errors import UsageError
+
         tarr = np.asarray(t, dtype=float)
         env = {"__builtins__": {}, "t": tarr, "pi": np.pi, "e": np.e, **EXPRESSION_FUNCTIONS}
-        with np.errstate(all="ignore"):
-            out = np.broadcast_to(np.asarray(eval(self._code, env), dtype=float), tarr.shape)  # noqa: S307 - checked AST
+        try:
+            with np.errstate(all="ignore"):
+                out = np.broadcast_to(np.asarray(eval(self._code, env), dtype=float), tarr.shape)  # noqa: S307 - checked AST
+        except (ArithmeticError, ValueError, TypeError) as exc:
+            raise UsageError(f"formula {self.text!r} cannot be evaluated at t = {_first(tarr):g} s: {exc}") from None
+        bad = ~np.isfinite(out)
+        if bad.any():
+            raise UsageError(f"formula {self.text!r} gives {float(np.asarray(out)[bad].flat[0])} at "
+                             f"t = {_first(tarr[bad] if tarr.ndim else tarr):g} s")
         return np.array(out) if np.ndim(t) else float(out)
 
     def at(self, t: float) -> float:
@@ -242,8 +253,20 @@ def _post_transitions(v, path, ctx):
         last = c["at"] + (c["duration"] or 0.0)
 
 
+def _first(t) -> float:
+    return float(np.asarray(t, dtype=float).flat[0])
+
+
 def _post_expr(v, path, ctx):
+    from tirecli.errors import UsageError
+
     problem = expression_problem(v["expr"])
+    if problem is None:  # also evaluate it at the start (later times are checked as the run goes)
+        try:
+            Expression(v["expr"])(0.0)
+        except UsageError as exc:
+            prefix = f"formula {v['expr']!r} "
+            problem = str(exc)[len(prefix):] if str(exc).startswith(prefix) else str(exc)
     if problem is not None:
         ctx.fail(path + ("expr",), problem)
 
