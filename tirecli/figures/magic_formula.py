@@ -154,7 +154,8 @@ def _compare_checks(result):
     caption="Braking and driving friction |mu| = |F|/F_n against the slip |s| (s = vr / max(v, r omega), "
             "tirecli.conventions): the distributed LuGre steady state (uniform load, FM Table 1, held speed) "
             "and the Magic Formula pure longitudinal force Fx/Fz at one load on the same slip grid (kappa = "
-            "kappa_from_slip(s); input clipping off, since the file's KPUMAX would flatten the driving branch). "
+            "kappa_from_slip(s)). The built-in comparison turns input clipping off (limits: false), since the "
+            "file's KPUMAX would flatten the driving branch; with limits on, the title says so. "
             "The Magic Formula curve does not depend on speed; LuGre's falls with speed (Stribeck).",
     paper_shows="No paper figure: the comparison the MCPS paper makes between a dynamic friction model and the "
                 "Magic Formula, drawn with the tyres available here (spec magic_formula.md §16).",
@@ -178,7 +179,10 @@ def fig_lugre_compare(result):
         if len(g):
             ax.plot(g["s"], g["m"], color=COLORS[1], ls=LINESTYLES[i],
                     label=f"LuGre {lname}, {g['speed'].iloc[0]:g} m/s ({direction})")
-    finish(ax, "slip |s| [-]", "friction |mu| = |F|/F_n [-]", "LuGre and Magic Formula steady states")
+    title = "LuGre and Magic Formula steady states"
+    if result.meta.get("limits", True):
+        title += "\n(Magic Formula inputs clipped to the file's ranges: limits on)"
+    finish(ax, "slip |s| [-]", "friction |mu| = |F|/F_n [-]", title)
     ax.set_xlim(0, 1)
     ax.set_ylim(bottom=0)
     return fig
