@@ -86,7 +86,7 @@ def report_run(summary, what: str, overridden: bool = False) -> None:
     echo(f"{what}: {len(summary.paths['data'])} data file(s), {len(summary.paths['figures'])} figure file(s) "
          f"in {summary.wall_time:.2f} s")
     for c in summary.failed_checks:
-        echo(f"check failed: {c.id}: {c.value:.6g} vs reference {c.reference:.6g} (tolerance {c.tolerance:g})")
+        result_line(f"check failed: {c.id}: {c.value:.6g} vs reference {c.reference:.6g} (tolerance {c.tolerance:g})")
     if summary.failed_checks and overridden:
         echo("note: the reference checks hold the paper's scenario; --set overrides change the scenario")
     result_line(f"wrote {out / 'run.json'}")

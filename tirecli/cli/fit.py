@@ -6,7 +6,7 @@ from typing import List, Optional
 
 import typer
 
-from tirecli.cli.common import ConfigArg, OutOpt, SetOpt, echo, overrides, progress, report_run, result_line
+from tirecli.cli.common import ConfigArg, OutOpt, SetOpt, overrides, progress, report_run, result_line
 
 DataOpt = typer.Option(None, "--data", "-d", metavar="CSV",
                        help="Data file instead of the config's data source (columns t, v, s or romega, mu).")
@@ -31,8 +31,8 @@ def fit(config: Path = ConfigArg, out: Optional[Path] = OutOpt, set_: Optional[L
     df = summary.result.data["parameters"]
     for _, r in df.iterrows():
         flag = " (on a bound)" if r["at_bound"] else ""
-        echo(f"  {r['parameter']:7s} {r['estimate']:12.6g} +/- {r['se']:.3g} {r['unit']:4s} "
+        result_line(f"  {r['parameter']:7s} {r['estimate']:12.6g} +/- {r['se']:.3g} {r['unit']:4s} "
              f"CI [{r['ci_low']:.6g}, {r['ci_high']:.6g}]{flag}")
-    echo(f"  residual RMS (steady state): {summary.result.meta['steady_state']['residual_rms']:.3g}")
+    result_line(f"  residual RMS (steady state): {summary.result.meta['steady_state']['residual_rms']:.3g}")
     report_run(summary, "fit", overridden=bool(set_))
     result_line(f"wrote {Path(summary.out) / 'fitted.yaml'}")

@@ -5,7 +5,7 @@ import sys
 from pathlib import Path
 from typing import List, Optional
 
-from tirecli.cli.common import ConfigArg, OutOpt, SetOpt, echo, overrides, progress, report_run
+from tirecli.cli.common import ConfigArg, OutOpt, SetOpt, echo, overrides, progress, report_run, result_line
 
 
 def _fmt(x, spec=".4g") -> str:
@@ -49,7 +49,7 @@ def observe(config: Path = ConfigArg, out: Optional[Path] = OutOpt, set_: Option
     summary = run_config("observe", config, overrides(set_), out, progress())
     res = summary.result
     for line in metrics_table(res):
-        echo(line)
+        result_line(line)
     for a in res.meta.get("assumed", []):
         echo(f"assumed: {a}")
     for w in res.meta.get("warnings", []):

@@ -5,7 +5,7 @@ from pathlib import Path
 
 import typer
 
-from tirecli.cli.common import echo, result_line
+from tirecli.cli.common import result_line
 
 app = typer.Typer(help="List, show and validate parameter sets.", no_args_is_help=True)
 

@@ -4,9 +4,7 @@ from __future__ import annotations
 from pathlib import Path
 from typing import List, Optional
 
-import typer
-
-from tirecli.cli.common import ConfigArg, OutOpt, SetOpt, echo, overrides, progress, report_run
+from tirecli.cli.common import ConfigArg, OutOpt, SetOpt, overrides, progress, report_run, result_line
 
 
 def simulate(config: Path = ConfigArg, out: Optional[Path] = OutOpt, set_: Optional[List[str]] = SetOpt) -> None:
@@ -23,6 +21,6 @@ def simulate(config: Path = ConfigArg, out: Optional[Path] = OutOpt, set_: Optio
         locks = ", ".join(f"{a:.3f} s" for a, _ in ev["wheel_lock"]) or "none"
         stop = f"stop at {ev['stop_time']:.3f} s after {ev['stopping_distance']:.2f} m" if ev["stop_time"] is not None \
             else f"v = {ev['v_final']:.3g} m/s at {ev['t_final']:.3g} s"
-        echo(f"  {ev['case']}: peak |s| {ev['peak_abs_slip']:.4f} at {ev['t_peak_abs_slip']:.3f} s, "
+        result_line(f"  {ev['case']}: peak |s| {ev['peak_abs_slip']:.4f} at {ev['t_peak_abs_slip']:.3f} s, "
              f"peak |mu| {ev['peak_abs_mu']:.4f}, wheel lock: {locks}, {stop}")
     report_run(summary, "simulate", overridden=bool(set_))

@@ -4,8 +4,6 @@ from __future__ import annotations
 from pathlib import Path
 from typing import List, Optional
 
-import typer
-
 from tirecli.cli.common import ConfigArg, OutOpt, SetOpt, overrides, progress, report_run
 
 

@@ -47,7 +47,7 @@ from tirecli.config.schema import AnyOf, ListOf, Map, Num, Raw, Str, collect
 from tirecli.conventions import THETA_CONVENTIONS, omega_from_slip, slip_from_speeds
 from tirecli.errors import ConfigError, DataError
 from tirecli.models.profiles import Constant, Table, profile_from_checked, profile_spec
-from tirecli.models.variants import MODELS, FrictionVariant
+from tirecli.models.variants import MODELS
 from tirecli.numerics import runs
 from tirecli.studies.base import StudyResult, common_fields, register_study
 from tirecli.studies.sweep import VARIANT, make_variant
