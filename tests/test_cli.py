@@ -202,3 +202,18 @@ def test_surface_figure_refuses_a_single_speed(cli, tmp_path):
     code, out, err = cli("sweep", EXAMPLES / "fm-fig1-right.yaml", "--out", tmp_path, "--quiet",
                          "--set", "figures=[fm-fig6-surface]")
     assert code == 2 and "at least two speeds" in err
+
+
+def test_figure_of_another_study_is_a_config_problem_at_its_line(cli, tmp_path):
+    cfg = tmp_path / "c.yaml"
+    cfg.write_text((EXAMPLES / "fm-fig1-left.yaml").read_text().replace("figures: [fm-fig1-left, fm-table1]",
+                                                                        "figures: [fm-fig1-left, obs-fig2]"))
+    code, out, err = cli("sweep", cfg, "--out", tmp_path / "o")
+    assert code == 2 and "c.yaml:" in err and "figures[1]: obs-fig2:" in err and "an 'observe' run" in err
+
+
+def test_golden_study_points_to_the_report(cli, tmp_path):
+    cfg = tmp_path / "g.yaml"
+    cfg.write_text("study: mf-golden\n")
+    code, out, err = cli("sweep", cfg)
+    assert code == 2 and "for 'tirecli report'" in err

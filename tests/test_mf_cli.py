@@ -1,6 +1,7 @@
 """The Magic Formula through the real CLI: tir show/check/convert, mf eval, MF sweeps, report cards."""
 import json
 import shutil
+from pathlib import Path
 
 import numpy as np
 import pandas as pd
@@ -335,3 +336,10 @@ def test_mf_eval_defaults_land_under_their_own_headers(cli, tmp_path, header, ro
     assert code == 0, err
     r = pd.read_csv(out)
     assert r["p"].tolist() == [p] and r["vx"].tolist() == [vx]
+
+
+def test_tir_show_of_another_kind_of_file_is_one_line(cli, tmp_path):
+    root = Path(__file__).resolve().parents[1]
+    for name in ("pyproject.toml", "README.md"):
+        code, out, err = cli("tir", "show", root / name)
+        assert code == 2 and "not a .tir property file" in err and len(err.strip().splitlines()) == 1

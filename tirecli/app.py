@@ -13,6 +13,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from tirecli.config.loader import Config, load_config
+from tirecli.errors import UsageError
 from tirecli.figures import registry
 from tirecli.io import output
 from tirecli.studies.base import Check, StudyResult, run_study
@@ -49,7 +50,10 @@ def draw(result: StudyResult, ids=None, progress=None) -> tuple[dict, list]:
     try:
         for fid in ids:
             fdef = registry.get(fid)
-            figs[fid] = fdef.draw(result)
+            try:
+                figs[fid] = fdef.draw(result)
+            except UsageError as exc:  # a figure of another kind of run: name the config line
+                raise _figure_problem(result, fid, exc) from None
             if fdef.checks is not None:
                 for c in fdef.checks(result):
                     c.id = f"{fid}/{c.id}"
@@ -60,6 +64,16 @@ def draw(result: StudyResult, ids=None, progress=None) -> tuple[dict, list]:
         if progress is not None:
             progress.close()
     return figs, checks
+
+
+def _figure_problem(result: StudyResult, fid: str, exc: UsageError) -> UsageError:
+    """The error of figure ``fid`` at its place in the config's ``figures:`` list, if it is there."""
+    from tirecli.errors import ConfigError
+
+    listed = result.config.data.get("figures") if result.config is not None else None
+    if isinstance(listed, list) and fid in listed:
+        return ConfigError(result.config.origins.problem(("figures", listed.index(fid)), f"{fid}: {exc}"))
+    return UsageError(f"figure {fid}: {exc}" if fid not in str(exc) else str(exc))
 
 
 def close_figures(figs: dict) -> None:

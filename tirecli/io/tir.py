@@ -185,6 +185,11 @@ def _check_binary(data: bytes, file: str) -> None:
                                                   f"{len(head)}), expected a .tir text file"))
 
 
+#: Sections every kind of .tir file has at least one of (magic_formula.md §12).
+_TIR_SECTIONS = {"MDI_HEADER", "UNITS", "MODEL", "DIMENSION", "VERTICAL", "SCALING_COEFFICIENTS",
+                 "LONGITUDINAL_COEFFICIENTS", "LATERAL_COEFFICIENTS", "ALIGNING_COEFFICIENTS", "SHAPE"}
+
+
 def parse_tir(data: bytes | str, file: str = "<input>") -> TirDocument:
     """Parse the bytes (or text) of a ``.tir`` file into a :class:`TirDocument`.
 
@@ -275,8 +280,12 @@ def parse_tir(data: bytes | str, file: str = "<input>") -> TirDocument:
             continue
         doc.warnings.append(doc.problem(no, "", f"ignored line in [{sec.name}] (not KEY = value, a table row "
                                                 f"or a comment): {line[:40]!r}"))
-    if not doc.sections:
-        problems.append(Problem(file, None, "", "not a .tir property file: no [SECTION] header found"))
+    if not doc.sections:  # then the line-by-line problems are noise: say only what the file is not
+        problems = [Problem(file, None, "", "not a .tir property file: no [SECTION] header found")]
+    elif problems and not set(doc.sections) & _TIR_SECTIONS:
+        problems = [Problem(file, None, "", f"not a .tir property file: none of its sections "
+                                            f"({', '.join(list(doc.sections)[:4])}) is a .tir section such as "
+                                            f"[MDI_HEADER], [UNITS] or [MODEL] ({len(problems)} unreadable lines)")]
     if problems:
         raise ConfigError(problems)
     return doc
