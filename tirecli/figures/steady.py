@@ -54,6 +54,11 @@ def peak_checks(s, mu, ref_peak, ref_slip, tag, what, source):
             Check(f"speak-{tag}", f"|s| of the peak {what}", float(ps), ref_slip, S_TOL, "-", source)]
 
 
+def _tire_label(result) -> str:
+    """The tire set a figure draws, with its changed parameters (``canudas2003-table1 (sigma0 changed)``)."""
+    return result.parameter_sets["tire"].label
+
+
 def _first_model(df):
     return df["model"].iloc[0]
 
@@ -275,7 +280,8 @@ def draw_fm_fig1_left(result):
     df = result.data["sweep"]
     fig, ax = new_figure()
     _draw_speed_family(ax, df, _first_model(df))
-    finish(ax, "slip |s| [-]", "friction |mu| = |F|/F_n [-]", "FM Fig. 1 (left): braking, uniform load, Table 1")
+    finish(ax, "slip |s| [-]", "friction |mu| = |F|/F_n [-]",
+           f"FM Fig. 1 (left): braking, uniform load, {_tire_label(result)}")
     return fig
 
 
@@ -307,7 +313,8 @@ def draw_fm_fig1_right(result):
     df = result.data["sweep"]
     fig, ax = new_figure()
     _draw_theta_family(ax, df, _first_model(df), 20.0, "fm")
-    finish(ax, "slip |s| [-]", "friction |mu| = |F|/F_n [-]", "FM Fig. 1 (right): v = 20 m/s, adhesion theta (FM convention)")
+    finish(ax, "slip |s| [-]", "friction |mu| = |F|/F_n [-]",
+           f"FM Fig. 1 (right): v = 20 m/s, adhesion theta (FM convention), {_tire_label(result)}")
     return fig
 
 
@@ -349,6 +356,7 @@ def draw_obs_fig1(result):
     finish(a, "slip |s| [-]", "friction |mu| [-]", "(a) several speeds, theta_obs = 1")
     _draw_theta_family(b, df, models[0], 20.0, "obs")
     finish(b, "slip |s| [-]", "friction |mu| [-]", "(b) several road conditions, v = 20 m/s")
+    fig.suptitle(f"OBS Fig. 1: {_tire_label(result)}", fontsize=10)
     return fig
 
 
@@ -380,7 +388,7 @@ def _fig6_surface_checks(result):
 )
 def draw_fm_fig6_surface(result):
     tire = result.parameter_sets["tire"]
-    return _surface(result, f"FM Fig. 6: steady-state surface, {tire.name}, alpha = {tire.values['alpha']:g}")
+    return _surface(result, f"FM Fig. 6: steady-state surface, {tire.label}, alpha = {tire.values['alpha']:g}")
 
 
 # --------------------------------------------------------------------------- FM Table 1

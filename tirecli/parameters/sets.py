@@ -55,6 +55,8 @@ class ParameterSet:
         Parameter -> remark from the set file.
     title, citation : str
         What the set is and where its values were published.
+    overridden : tuple
+        Parameters whose value a config or ``--set`` changed from the named set's.
     """
 
     name: str
@@ -66,6 +68,12 @@ class ParameterSet:
     title: str = ""
     citation: str = ""
     extra: dict = field(default_factory=dict)
+    overridden: tuple = ()
+
+    @property
+    def label(self) -> str:
+        """The set's name, with the overridden parameters: ``canudas2003-table1 (sigma0 changed)``."""
+        return f"{self.name} ({', '.join(self.overridden)} changed)" if self.overridden else self.name
 
     @property
     def kind_def(self) -> Kind:
@@ -302,7 +310,8 @@ def resolve_group(raw: Any, origins: Origins, path: tuple, kind: str, base_dir: 
         source = {**base.source, **{k: _where(origins, path + (k,)) for k in over_vals}}
         assumed = {k: v for k, v in base.assumed.items() if k not in over_vals}
         return ParameterSet(name=base.name, kind=kind, values=values, source=source, assumed=assumed,
-                            notes=base.notes, title=base.title, citation=base.citation, extra=dict(base.extra))
+                            notes=base.notes, title=base.title, citation=base.citation, extra=dict(base.extra),
+                            overridden=tuple(k for k in over_vals if over_vals[k] != base.values.get(k)))
     try:
         vals, assumed, notes = _unwrap_values(over, origins, path)
         vals = _check_values(kdef, vals, origins, path)
