@@ -13,5 +13,8 @@ def list_() -> None:
     """List every registered figure: id, paper, numbering, title and the study it needs."""
     from tirecli.figures.registry import load_all
 
-    for f in sorted(load_all().values(), key=lambda f: (f.paper, f.order, f.id)):
-        result_line(f"{f.id:24s} {f.paper:8s} {f.label:24s} {f.title}  [study: {f.study or 'any'}]")
+    figs = sorted(load_all().values(), key=lambda f: (f.paper, f.order, f.id))
+    w_id = max(len(f.id) for f in figs)
+    w_label = max(len(f.label) for f in figs)
+    for f in figs:
+        result_line(f"{f.id:{w_id}s}  {f.paper:7s}  {f.label:{w_label}s}  {f.title}  [study: {f.study or 'any'}]")

@@ -28,8 +28,9 @@ def metrics_table(result) -> list[str]:
         lines.append(f"  v_r zero crossings [s]: {cr} (excluded: +-{result.meta['metric_settings']['crossing_margin']:g} s)")
         tol = result.meta["metric_settings"]["settle_tolerance"]
         for s in m["settling"]:
-            lines.append(f"  change at {s['at']:g} s: |theta_hat - theta| < {tol:g} after "
-                         + ("never (within the run)" if s["time"] is None else f"{s['time']:.3f} s"))
+            lines.append(f"  change at {s['at']:g} s: " + (f"|theta_hat - theta| stays >= {tol:g} to the end of the run"
+                                                             if s["time"] is None else
+                                                             f"|theta_hat - theta| < {tol:g} after {s['time']:.3f} s"))
         lines.append(f"  max |v_hat - v| = {m['max_abs_v_error']:.3g} m/s; excitation |v_r| > "
                      f"{result.meta['metric_settings']['excitation_threshold']:g} m/s: {100 * m['excitation_share']:.1f}% of the time; "
                      f"slip in [{m['slip_range'][0]:.4f}, {m['slip_range'][1]:.4f}]")

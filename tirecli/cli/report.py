@@ -23,7 +23,7 @@ def report(
 
     summary = build_report(out, only=only or None, progress=progress())
     failed = [c for c in summary["checks"] if not c["passed"]]
-    echo(f"{summary['n_figures']} figures, {len(summary['checks'])} reference checks, {len(failed)} failed, "
+    echo(f"{summary['n_figures']} figure{'' if summary['n_figures'] == 1 else 's'}, {len(summary['checks'])} reference checks, {len(failed)} failed, "
          f"{summary['wall_time_s']:.1f} s")
     for c in failed:
         echo(f"check failed: {c['id']}: {c['value']} vs reference {c['reference']} (tolerance {c['tolerance']})")

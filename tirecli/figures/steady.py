@@ -80,7 +80,7 @@ def draw_sweep_mu_slip(result):
     varying = [k for k in keys if df[k].nunique() > 1]
     groups = list(df.groupby(keys, sort=False).groups)
     title = result.meta.get("title") or "Steady-state friction"
-    if len(groups) > _FEW_CURVES:
+    if len(groups) * df["direction"].nunique() > _FEW_CURVES:  # legend entries
         return _sweep_many_curves(df, groups, varying, title)
     fig, ax = new_figure()
     for i, (model, speed, theta) in enumerate(groups):
@@ -98,8 +98,8 @@ def draw_sweep_mu_slip(result):
     return fig
 
 
-#: Above this many (model, speed, theta) curves the generic sweep figure colours by a colour map
-#: with a colour bar instead of listing every curve in a legend.
+#: Above this many curves (model, speed, theta, direction) the generic sweep figure draws a panel per
+#: direction and colours by a colour map (with a colour bar) instead of listing every curve in a legend.
 _FEW_CURVES = 8
 _KEY_LABELS = {"speed": "held speed [m/s]", "theta": "theta (FM convention) [-]", "model": "model"}
 
@@ -117,7 +117,8 @@ def _sweep_many_curves(df, groups, varying, title):
     axes = np.atleast_1d(axes)
     if c_key == "model":
         cvals = list(dict.fromkeys(g[0] for g in groups))
-        colour = {v: mpl.colormaps["viridis"](i / max(len(cvals) - 1, 1)) for i, v in enumerate(cvals)}
+        colour = ({v: COLORS[i] for i, v in enumerate(cvals)} if len(cvals) <= len(COLORS) else
+                  {v: mpl.colormaps["viridis"](i / max(len(cvals) - 1, 1)) for i, v in enumerate(cvals)})
         norm = None
     else:
         cvals = sorted({g[keys_index(c_key)] for g in groups})

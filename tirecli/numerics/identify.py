@@ -122,8 +122,11 @@ def _stats(J, resid, names, estimate, lo, hi, confidence):
     span = np.array([hi[k] - lo[k] for k in names])
     at_bound = {k: bool(min(abs(estimate[k] - lo[k]), abs(hi[k] - estimate[k])) <= 1e-6 * max(s_, 1e-12))
                 for k, s_ in zip(names, span)}
-    return dict(cov=cov, se=dict(zip(names, se)), ci_low=dict(zip(names, est - tq * se)),
-                ci_high=dict(zip(names, est + tq * se)), corr=corr, at_bound=at_bound, dof=dof, cond=cond)
+    # Wald intervals, clipped to the bounds (a parameter on a bound has no interval beyond it)
+    low = np.maximum(est - tq * se, [lo[k] for k in names])
+    high = np.minimum(est + tq * se, [hi[k] for k in names])
+    return dict(cov=cov, se=dict(zip(names, se)), ci_low=dict(zip(names, low)),
+                ci_high=dict(zip(names, high)), corr=corr, at_bound=at_bound, dof=dof, cond=cond)
 
 
 def fit_steady_state(s, v, mu, start: LuGreParams, free=("sigma0", "sigma2", "mu_c", "mu_s", "v_s"),

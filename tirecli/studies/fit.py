@@ -239,7 +239,9 @@ def fitted_set(name: str, start_set, p, steady: identify.FitResult, s1: identify
         elif key in start_set.assumed:
             values[key] = {"value": val, "assumed": f"not identified; from {start_set.name}: {start_set.assumed[key]}"}
         else:
-            values[key] = {"value": val, "note": f"not identified (fixed, from {start_set.name})"}
+            origin = start_set.source.get(key, start_set.name)
+            values[key] = {"value": val, "note": f"not identified (fixed, from {start_set.name}"
+                                                + (f", set at {origin})" if key in start_set.overridden else ")")}
     label = "SYNTHETIC data" if synthetic else "data"
     return {
         "name": name, "kind": "lugre",
