@@ -36,7 +36,9 @@ def test_good_config_runs(cli, tmp_path):
     (GOOD.replace("tire: canudas2003-table1", "tire: {set: canudas2003-table1, sigm0: 170}"), 2, "tire.sigm0",
      "did you mean 'sigma0'"),
     # missing key
-    ("study: sweep\ntire: canudas2003-table1\n", 1, "", "missing required key 'sweep'"),
+    ("study: sweep\nsweep: {speeds: [20]}\n", 1, "", "missing required key 'tire'"),
+    ("study: sweep\ntire: {set: canudas2003-table1}\nsweep: {slip: {start: -1, num: 5}}\n", 3, "sweep.slip",
+     "missing required key 'stop'"),
     # wrong type
     (GOOD.replace("speeds: [20]", "speeds: [fast]"), 5, "sweep.speeds[0]", "expected a number [m/s]"),
     (GOOD.replace("num: 11", "num: 2.5"), 4, "sweep.slip.num", "whole number"),

@@ -248,6 +248,12 @@ class Map(Spec):
     def accepts(self, value) -> bool:
         return isinstance(value, dict)
 
+    def default_value(self) -> Any:
+        """A mapping default (e.g. ``{}``) is filled with the fields' own defaults."""
+        if isinstance(self.default, dict):
+            return self.check(self.default, (), Context(Origins(default_file="<defaults>")))
+        return self.default
+
     def check(self, value, path, ctx):
         if not isinstance(value, dict):
             ctx.fail(path, f"expected a mapping of keys, got {_type_name(value)}")
@@ -283,12 +289,16 @@ def collect(*steps: Callable) -> list:
 
     Lets a command report a bad schema key and a bad parameter value of one file together.
     """
-    results, problems = [], []
+    results, problems, seen = [], [], set()
     for step in steps:
         try:
             results.append(step())
         except ConfigError as err:
-            problems.extend(err.problems)
+            for p in err.problems:  # two steps may find the same problem (e.g. a missing group)
+                what = (p.file, p.line, p.key, p.message.split(" (")[0])
+                if what not in seen:
+                    seen.add(what)
+                    problems.append(p)
             results.append(None)
     if problems:
         raise ConfigError(problems)

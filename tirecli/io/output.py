@@ -121,11 +121,13 @@ def read_text(path: str | Path) -> str:
 
 @contextlib.contextmanager
 def _quiet_mpl3d():
-    """Silence mplot3d's benign 'overflow encountered in dot' (projection of far axis panes)."""
+    """Silence matplotlib's benign warnings while saving: mplot3d's 'overflow encountered in dot'
+    (projection of far axis panes) and the note that placing a legend over many points is slow."""
     import warnings
 
     with warnings.catch_warnings():
         warnings.filterwarnings("ignore", category=RuntimeWarning, module=r"mpl_toolkits\.mplot3d.*")
+        warnings.filterwarnings("ignore", message=r"Creating legend with loc=.best. can be slow")
         yield
 
 

@@ -114,8 +114,9 @@ def _build(node, path: KeyPath, origins: Origins, file: str, problems: list[Prob
         return [_build(n, path + (i,), origins, file, problems) for i, n in enumerate(node.value)]
     try:
         return _Constructor().construct_object(node, deep=True)
-    except yaml.YAMLError as exc:  # e.g. a bad timestamp
-        problems.append(Problem(file, node.start_mark.line + 1, format_key(path), f"cannot read value: {exc}"))
+    except yaml.YAMLError as exc:  # e.g. a bad timestamp, an object tag (safe loading refuses it)
+        what = getattr(exc, "problem", None) or str(exc).splitlines()[0]
+        problems.append(Problem(file, node.start_mark.line + 1, format_key(path), f"cannot read value: {what}"))
         return None
 
 

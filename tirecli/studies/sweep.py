@@ -78,7 +78,7 @@ SWEEP = Map(fields={
     "theta": Grid(unit="-", gt=0, default=[1.0], doc="road adhesion"),
     "theta_convention": Str(choices=THETA_CONVENTIONS, default="fm", doc="convention of the theta values"),
     "models": ListOf(item=VARIANT, default=["distributed"], doc="model variants"),
-})
+}, default={})
 
 SPEC = Map(fields=common_fields() | {"tire": Raw(doc="LuGre parameter set: a name, a file, or {set: ..., overrides}"), "sweep": SWEEP})
 
