@@ -249,9 +249,13 @@ class Map(Spec):
         return isinstance(value, dict)
 
     def default_value(self) -> Any:
-        """A mapping default (e.g. ``{}``) is filled with the fields' own defaults."""
+        """A mapping default (e.g. ``{}``) gets the fields' own defaults for the keys it leaves out."""
         if isinstance(self.default, dict):
-            return self.check(self.default, (), Context(Origins(default_file="<defaults>")))
+            out = dict(self.default)
+            for key, spec in self.fields.items():
+                if key not in out and not spec.required:
+                    out[key] = spec.default_value()
+            return out
         return self.default
 
     def check(self, value, path, ctx):
