@@ -217,3 +217,13 @@ def test_golden_study_points_to_the_report(cli, tmp_path):
     cfg.write_text("study: mf-golden\n")
     code, out, err = cli("sweep", cfg)
     assert code == 2 and "for 'tirecli report'" in err
+
+
+def test_reused_out_dir_holds_one_run(cli, tmp_path):
+    out = tmp_path / "o"
+    assert cli("sweep", EXAMPLES / "fm-fig1-left.yaml", "--out", out, "--quiet")[0] == 0
+    (out / "notes.txt").write_text("mine")
+    assert cli("sweep", EXAMPLES / "fm-fig1-right.yaml", "--out", out, "--quiet")[0] == 0
+    figures = sorted(p.name for p in (out / "figures").iterdir())
+    assert figures == ["fm-fig1-right.png", "fm-fig1-right.svg"]
+    assert (out / "notes.txt").read_text() == "mine"       # files tirecli did not write stay

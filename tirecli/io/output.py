@@ -41,6 +41,26 @@ def prepare_dir(out: str | Path) -> Path:
     return out
 
 
+def remove_previous_outputs(out: Path) -> list[Path]:
+    """Delete the files an earlier run listed in ``out/run.json`` (its data, figures and files),
+    so a reused ``--out`` holds one run only; nothing else in the folder is touched."""
+    import json
+
+    try:
+        listed = json.loads((out / "run.json").read_text(encoding="utf-8"))["outputs"]
+    except (OSError, ValueError, KeyError, TypeError):
+        return []
+    removed = []
+    root = out.resolve()
+    for group in ("data", "figures", "files"):
+        for rel in listed.get(group, []) if isinstance(listed, dict) else []:
+            p = (out / str(rel)).resolve()
+            if root in p.parents and p.is_file():
+                p.unlink()
+                removed.append(p)
+    return removed
+
+
 def _jsonable(obj: Any):
     if isinstance(obj, dict):
         return {str(k): _jsonable(v) for k, v in obj.items()}
@@ -222,6 +242,7 @@ def write_result(out: str | Path, result, figures: dict, checks: list, command: 
 
     t_write = time.perf_counter()
     out = prepare_dir(out)
+    remove_previous_outputs(out)
     comments = [SYNTHETIC_NOTE] if result.synthetic else []
     if progress is not None:
         progress.start(len(result.data) + len(figures), "writing")
