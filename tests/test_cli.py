@@ -227,3 +227,13 @@ def test_reused_out_dir_holds_one_run(cli, tmp_path):
     figures = sorted(p.name for p in (out / "figures").iterdir())
     assert figures == ["fm-fig1-right.png", "fm-fig1-right.svg"]
     assert (out / "notes.txt").read_text() == "mine"       # files tirecli did not write stay
+
+
+def test_params_commands_recognise_other_kinds_of_file(cli):
+    root = EXAMPLES.parent
+    code, out, err = cli("params", "validate", root / "tests" / "data" / "tir" / "mf_185_80R14.tir")
+    assert code == 0 and "valid Magic Formula tyre" in out
+    code, out, err = cli("params", "show", EXAMPLES / "fm-fig1-left.yaml")
+    assert code == 2 and "a study config, not a parameter set" in err
+    code, out, err = cli("tir", "show", "canudas2003-table1")
+    assert code == 2 and "not a Magic Formula tyre" in err

@@ -117,6 +117,13 @@ def show_parameter_set(ref: str) -> str:
     """Text table of a parameter set (built-in name or file): value, unit, meaning, source."""
     from tirecli.parameters.sets import load_set
 
+    if Path(ref).is_file() and not ref.lower().endswith(".tir"):
+        from tirecli.io.yamlio import load_yaml
+
+        data, _ = load_yaml(ref)
+        if isinstance(data, dict) and "study" in data:
+            raise UsageError(f"{ref}: a study config, not a parameter set (its sets are named under tire:, "
+                             f"vehicle:, ...; check it with 'tirecli params validate {ref}')")
     ps = load_set(ref, Path.cwd())
     lines = [f"{ps.name} ({ps.kind}): {ps.title}", f"citation: {ps.citation}", ""]
     rows = ps.rows()
@@ -140,6 +147,11 @@ def validate_file(path: str | Path) -> str:
     from tirecli.parameters.sets import parse_set
     from tirecli.studies.base import check_study
 
+    if str(path).lower().endswith(".tir"):  # a Magic Formula property file
+        from tirecli.app_mf import load_tire
+
+        ps, tire = load_tire(str(path))
+        return f"{path}: valid Magic Formula tyre ({tire.version}; see also 'tirecli tir check {path}')"
     data, origins = load_yaml(path)
     if isinstance(data, dict) and "kind" in data and "study" not in data:
         ps = parse_set(data, origins, label=str(path))

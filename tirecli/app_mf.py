@@ -27,6 +27,12 @@ def read_document(ref: str) -> tuple[tirio.TirDocument, str]:
     if not Path(ref).exists() and "/" not in ref and not ref.lower().endswith((".tir", ".yaml", ".yml")):
         import difflib
 
+        from tirecli.parameters.sets import builtin_names
+
+        if ref in builtin_names():
+            raise UsageError(f"{ref}: a LuGre or vehicle parameter set, not a Magic Formula tyre "
+                             f"(see 'tirecli params show {ref}')")
+
         names = mfp.builtin_tire_names()
         hint = difflib.get_close_matches(ref, names, n=1)
         dym = f"; did you mean {hint[0]!r}?" if hint else ""
