@@ -155,6 +155,12 @@ sweep:
   speeds: {start: 5, stop: 30, num: 11}
   theta: [1.0, 0.6]
 """, label="<test>")
+    many = config_from_text("study: sweep\ntire: canudas2003-table1\nsweep:\n  slip: {start: -1, stop: 0, num: 21}\n"
+                            "  speeds: [5, 6, 7, 8, 9, 10, 11, 12, 13]\n  theta: [0.3, 0.4, 0.5, 0.6, 0.7, 0.8, 0.9, 1.0, 1.1, 1.2]\n",
+                            label="<test>")
+    fig9 = get("sweep-mu-slip").draw(run_study(many))     # nine dash patterns needed: styles repeat
+    fig9.draw_without_rendering()
+    assert "more, styles repeat" in fig9.axes[0].get_legend().get_texts()[-1].get_text()
     fig = get("sweep-mu-slip").draw(run_study(cfg))
     with warnings.catch_warnings():
         warnings.simplefilter("error")  # e.g. "constrained_layout not applied"
@@ -219,21 +225,12 @@ def test_golden_study_points_to_the_report(cli, tmp_path):
     assert code == 2 and "for 'tirecli report'" in err
 
 
-def test_reused_out_dir_holds_one_run(cli, tmp_path):
+def test_reused_out_dir_keeps_files_and_says_so(cli, tmp_path):
+    """A reused --out keeps every file (one may be this run's input) and the command names the
+    earlier run's leftovers."""
     out = tmp_path / "o"
     assert cli("sweep", EXAMPLES / "fm-fig1-left.yaml", "--out", out, "--quiet")[0] == 0
-    (out / "notes.txt").write_text("mine")
-    assert cli("sweep", EXAMPLES / "fm-fig1-right.yaml", "--out", out, "--quiet")[0] == 0
-    figures = sorted(p.name for p in (out / "figures").iterdir())
-    assert figures == ["fm-fig1-right.png", "fm-fig1-right.svg"]
-    assert (out / "notes.txt").read_text() == "mine"       # files tirecli did not write stay
-
-
-def test_params_commands_recognise_other_kinds_of_file(cli):
-    root = EXAMPLES.parent
-    code, out, err = cli("params", "validate", root / "tests" / "data" / "tir" / "mf_185_80R14.tir")
-    assert code == 0 and "valid Magic Formula tyre" in out
-    code, out, err = cli("params", "show", EXAMPLES / "fm-fig1-left.yaml")
-    assert code == 2 and "a study config, not a parameter set" in err
-    code, out, err = cli("tir", "show", "canudas2003-table1")
-    assert code == 2 and "not a Magic Formula tyre" in err
+    code, stdout, err = cli("sweep", EXAMPLES / "fm-fig1-right.yaml", "--out", out)
+    assert code == 0
+    assert (out / "figures" / "fm-fig1-left.png").exists()
+    assert "file(s) of an earlier run" in stdout and "figures/fm-fig1-left" in stdout

@@ -369,12 +369,22 @@ def test_csv_rows_wider_than_the_header_and_repeated_columns_are_errors(tmp_path
         read_table(p)
 
 
-def test_csv_with_trailing_empty_columns_bom_and_crlf_reads(tmp_path):
+@pytest.mark.parametrize("text", [
+    "\ufeff# exported\r\nt,v,mu,,\r\n0,1,0.1,,\r\n1,2,0.2,,\r\n",       # BOM, CRLF, trailing empty columns
+    "# exported\rt,v,mu\r0,1,0.1\r1,2,0.2\r",                           # CR-only line ends
+    't, v, mu, note\n0, 1, 0.1, "braking, hard"\n1, 2, 0.2, x\n',         # blanks after commas, quoted comma
+    "t,v,mu\n0,1,0.1,\n1,2,0.2,\n",                                     # trailing separator on data rows
+])
+def test_csv_variants_read(tmp_path, text):
+    import warnings
+
     from tirecli.io.data import read_table
 
     p = tmp_path / "d.csv"
-    p.write_bytes("\ufeff# exported\r\nt,v,mu,,\r\n0,1,0.1,,\r\n1,2,0.2,,\r\n".encode("utf-8"))
-    frame = read_table(p)
+    p.write_bytes(text.encode("utf-8"))
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        frame = read_table(p)
     assert list(frame.columns[:3]) == ["t", "v", "mu"] and frame["mu"].tolist() == [0.1, 0.2]
 
 

@@ -130,7 +130,7 @@ def _sweep_many_curves(df, groups, varying, title):
         for g in groups:
             s, mu = curve(df, *g, direction)
             if len(s):
-                ax.plot(s, mu, style[tuple(g[keys_index(k)] for k in others)], lw=1.0,
+                ax.plot(s, mu, ls=style[tuple(g[keys_index(k)] for k in others)], lw=1.0,
                         color=colour[g[keys_index(c_key)]])
         ax.set_xlim(left=0)
         ax.set_ylim(bottom=0)

@@ -8,6 +8,7 @@ column and the row (1-based data row, i.e. not counting the header).
 from __future__ import annotations
 
 import io
+import warnings
 from pathlib import Path
 
 import numpy as np
@@ -34,10 +35,13 @@ def read_table(path: str | Path):
         raise DataError(f"{path}: not UTF-8 text (byte {exc.start})") from None
     # whole-line comments only: pandas' comment="#" would also cut a row at a "#" inside a cell
     # (tirecli's own case labels are "braking #1", ...) and leave NaN in the rest of it
+    text = text.replace("\r\n", "\n").replace("\r", "\n")  # CRLF and CR-only files
     body = "\n".join(line for line in text.split("\n") if not line.lstrip().startswith("#"))
     header = _check_fields(body, path)
     try:
-        frame = pd.read_csv(io.StringIO(body), skipinitialspace=True, index_col=False)
+        with warnings.catch_warnings():  # trailing separators: pandas warns, the frame is right
+            warnings.simplefilter("ignore", pd.errors.ParserWarning)
+            frame = pd.read_csv(io.StringIO(body), skipinitialspace=True, index_col=False)
     except pd.errors.EmptyDataError:
         raise DataError(f"{path}: empty file (expected a header line and data rows)") from None
     except pd.errors.ParserError as exc:
@@ -58,7 +62,7 @@ def _check_fields(body: str, path) -> list[str]:
 
     header = None
     try:
-        for no, row in enumerate(csv.reader(io.StringIO(body, newline="")), start=0):
+        for no, row in enumerate(csv.reader(io.StringIO(body, newline=""), skipinitialspace=True), start=0):
             if not row or not any(c.strip() for c in row):
                 continue
             if header is None:

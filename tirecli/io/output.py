@@ -41,24 +41,17 @@ def prepare_dir(out: str | Path) -> Path:
     return out
 
 
-def remove_previous_outputs(out: Path) -> list[Path]:
-    """Delete the files an earlier run listed in ``out/run.json`` (its data, figures and files),
-    so a reused ``--out`` holds one run only; nothing else in the folder is touched."""
+def previous_outputs(out: Path) -> set[str]:
+    """The files an earlier tirecli run listed in ``out/run.json`` (paths relative to ``out``)."""
     import json
 
     try:
-        listed = json.loads((out / "run.json").read_text(encoding="utf-8"))["outputs"]
-    except (OSError, ValueError, KeyError, TypeError):
-        return []
-    removed = []
-    root = out.resolve()
-    for group in ("data", "figures", "files"):
-        for rel in listed.get(group, []) if isinstance(listed, dict) else []:
-            p = (out / str(rel)).resolve()
-            if root in p.parents and p.is_file():
-                p.unlink()
-                removed.append(p)
-    return removed
+        record = json.loads((out / "run.json").read_text(encoding="utf-8"))
+        listed = record["outputs"] if record.get("tool") == "tirecli" else {}
+    except (OSError, ValueError, KeyError, TypeError, AttributeError):
+        return set()
+    return {str(rel) for group in ("data", "figures", "files") for rel in (listed.get(group) or [])
+            if isinstance(listed, dict)}
 
 
 def _jsonable(obj: Any):
@@ -242,7 +235,7 @@ def write_result(out: str | Path, result, figures: dict, checks: list, command: 
 
     t_write = time.perf_counter()
     out = prepare_dir(out)
-    remove_previous_outputs(out)
+    earlier = previous_outputs(out)
     comments = [SYNTHETIC_NOTE] if result.synthetic else []
     if progress is not None:
         progress.start(len(result.data) + len(figures), "writing")
@@ -295,4 +288,8 @@ def write_result(out: str | Path, result, figures: dict, checks: list, command: 
     if extra:
         record.update(extra)
     write_json(out / "run.json", record)
-    return {"dir": out, "data": data_paths, "figures": fig_paths, "files": file_paths, "run": out / "run.json"}
+    # files an earlier run left here (never deleted: one may be this run's input); the command says so
+    now = {str(p.relative_to(out)) for p in data_paths + fig_paths + file_paths}
+    stale = sorted(rel for rel in earlier - now if (out / rel).is_file())
+    return {"dir": out, "data": data_paths, "figures": fig_paths, "files": file_paths, "run": out / "run.json",
+            "stale": stale}
