@@ -151,7 +151,8 @@ def validate_file(path: str | Path) -> str:
         from tirecli.app_mf import load_tire
 
         ps, tire = load_tire(str(path))
-        return f"{path}: valid Magic Formula tyre ({tire.version}; see also 'tirecli tir check {path}')"
+        return (f"{path}: reads as a Magic Formula tyre ({tire.version}); for the coefficients' sanity run "
+                f"'tirecli tir check {path}'")
     data, origins = load_yaml(path)
     if isinstance(data, dict) and "kind" in data and "study" not in data:
         ps = parse_set(data, origins, label=str(path))

@@ -224,7 +224,10 @@ class AnyOf(Spec):
             if best is None or len(sub.problems) < len(best):
                 best = sub.problems
         if self.what:
-            ctx.fail(path, f"expected {self.what}; " + (best[0].message if best else ""))
+            if not isinstance(value, (dict, list)):  # a scalar of none of the forms: name them once
+                ctx.fail(path, f"expected {self.what}, got {value!r}")
+            else:
+                ctx.fail(path, f"expected {self.what}; " + (best[0].message if best else ""))
         else:
             ctx.problems.extend(best or [])
         return MISSING

@@ -48,9 +48,9 @@ def _select(reg: dict, only) -> list:
                 wanted.add(name)
             else:
                 hint = difflib.get_close_matches(name, sorted(ids) + sorted(papers.values()), n=1)
-                dym = f"did you mean {hint[0]!r}? " if hint else ""
+                dym = f"; did you mean {hint[0]!r}?" if hint else ""
                 raise UsageError(f"--only {name!r}: not a paper ({', '.join(sorted(papers.values()))}) nor a figure "
-                                 f"of the report; {dym}(see 'tirecli figures list')")
+                                 f"of the report{dym} (see 'tirecli figures list')")
         entries = [f for f in entries if f.paper in wanted or f.id in wanted]
     return sorted(entries, key=lambda f: (PAPER_ORDER.index(f.paper) if f.paper in PAPER_ORDER else 99, f.order, f.id))
 
