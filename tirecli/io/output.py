@@ -43,15 +43,12 @@ def prepare_dir(out: str | Path) -> Path:
 
 def previous_outputs(out: Path) -> set[str]:
     """The files an earlier tirecli run listed in ``out/run.json`` (paths relative to ``out``)."""
-    import json
-
     try:
         record = json.loads((out / "run.json").read_text(encoding="utf-8"))
         listed = record["outputs"] if record.get("tool") == "tirecli" else {}
+        return {str(rel) for group in ("data", "figures", "files") for rel in (listed.get(group) or [])}
     except (OSError, ValueError, KeyError, TypeError, AttributeError):
         return set()
-    return {str(rel) for group in ("data", "figures", "files") for rel in (listed.get(group) or [])
-            if isinstance(listed, dict)}
 
 
 def _jsonable(obj: Any):
