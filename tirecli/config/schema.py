@@ -13,7 +13,7 @@ from dataclasses import dataclass, field
 from typing import Any, Callable
 
 from tirecli.errors import ConfigError
-from tirecli.io.yamlio import KeyPath, Origins, format_key
+from tirecli.io.yamlio import KeyPath, Origins
 
 MISSING = object()
 
@@ -200,20 +200,12 @@ class AnyOf(Spec):
     def check(self, value, path, ctx):
         typed = [o for o in self.options if o.accepts(value)]
         if len(typed) == 1:  # the value's type picks the option: report its own problems
-            if not self.what or not isinstance(typed[0], Str):
-                return typed[0].check(value, path, ctx)
+            opt = typed[0]
+            if not self.what or not isinstance(opt, Str) or opt.choices is None or value in opt.choices:
+                return opt.check(value, path, ctx)
             # a text that is none of the option's choices: say every form the value may take
-            sub = Context(ctx.origins)
-            out = typed[0].check(value, path, sub)
-            if not sub.problems:
-                return out
-            if len(sub.problems) > 1 or sub.problems[0].key != format_key(path):  # problems inside the value
-                ctx.problems.extend(sub.problems)
-                return MISSING
-            msg = sub.problems[0].message
-            hint = msg[msg.index("did you mean"):msg.index("?", msg.index("did you mean")) + 1] \
-                if "did you mean" in msg else ""
-            ctx.fail(path, f"expected {self.what}, got {value!r}" + (f"; {hint}" if hint else ""))
+            hint = difflib.get_close_matches(value, opt.choices, n=1)
+            ctx.fail(path, f"expected {self.what}, got {value!r}" + (f"; did you mean {hint[0]!r}?" if hint else ""))
             return MISSING
         best = None
         for opt in self.options:

@@ -211,7 +211,9 @@ def parse_tir(data: bytes | str, file: str = "<input>") -> TirDocument:
     doc.line_ends = "CRLF" if b"\r\n" in data else ("CR" if b"\r" in data else "LF")
     if lines and lines[-1] == "":
         lines.pop()
-    doc.last_line = len(_LINE_SPLIT.split(content.decode("latin-1").rstrip("\r\n"))) if content else 0
+    doc.last_line = len(lines)  # the last line with content (trailing blank lines do not count)
+    while doc.last_line and not lines[doc.last_line - 1].strip(" \t\x1a"):
+        doc.last_line -= 1
     problems: list[Problem] = []
     sec: TirSection | None = None
     in_comment_block = False

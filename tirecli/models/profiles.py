@@ -32,6 +32,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from tirecli.errors import UsageError
+
 SHAPES = ("step", "linear", "half-cosine")
 
 
@@ -212,8 +214,6 @@ class Expression:
     def __call__(self, t):
         """The formula's value at ``t`` [s] (scalar or array); UsageError (exit 2) naming the
         formula and the time where it cannot be evaluated or is not finite."""
-        from tirecli.errors import UsageError
-
         tarr = np.asarray(t, dtype=float)
         env = {"__builtins__": {}, "t": tarr, "pi": np.pi, "e": np.e, **EXPRESSION_FUNCTIONS}
         try:
@@ -258,8 +258,6 @@ def _first(t) -> float:
 
 
 def _post_expr(v, path, ctx):
-    from tirecli.errors import UsageError
-
     problem = expression_problem(v["expr"])
     if problem is None:  # also evaluate it at the start (later times are checked as the run goes)
         try:
