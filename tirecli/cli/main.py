@@ -12,12 +12,12 @@ import traceback
 import typer
 
 from tirecli import __version__
-from tirecli.cli import common, figures, fit, mf, observe, params, report, simulate, sweep, tir
+from tirecli.cli import common, compare, figures, fit, mf, observe, params, report, simulate, sweep, tir
 
 app = typer.Typer(
     name="tirecli",
     help="Tire/road friction analysis: LuGre models, the adhesion observer, the Magic Formula, "
-         "paper figures and an HTML report. Run 'tirecli report' for everything on built-in defaults.",
+         "the MCPS multi-DOF tire, paper figures and an HTML report. Run 'tirecli report' for everything on built-in defaults.",
     no_args_is_help=True,
     add_completion=False,
     pretty_exceptions_enable=False,
@@ -43,6 +43,7 @@ def _root(
 
 app.command("sweep")(sweep.sweep)
 app.command("simulate")(simulate.simulate)
+app.command("compare")(compare.compare)
 app.command("fit")(fit.fit)
 app.command("observe")(observe.observe)
 app.command("report")(report.report)

@@ -8,16 +8,21 @@ from tirecli.cli.common import ConfigArg, OutOpt, SetOpt, overrides, progress, r
 
 
 def simulate(config: Path = ConfigArg, out: Optional[Path] = OutOpt, set_: Optional[List[str]] = SetOpt) -> None:
-    """Transient runs: quarter-car brakings with lumped/distributed LuGre tires, or the tire driven open loop.
+    """Transient runs: quarter-car brakings with LuGre tires, or the MCPS tire's time-domain studies.
 
-    Writes run.json (cases, events: wheel lock, stop, peak |slip|, stopping distance and time),
-    data/timeseries.csv (case, t, v, omega, slip, vr, mu, torque, ...), data/events.csv, with a
-    measurement block data/measured.csv (synthetic samples), and the figures as PNG and SVG.
+    'study: simulate' writes run.json (cases, events: wheel lock, stop, peak |slip|, stopping distance
+    and time), data/timeseries.csv (case, t, v, omega, slip, vr, mu, torque, ...), data/events.csv,
+    with a measurement block data/measured.csv (synthetic samples). The MCPS studies write
+    data/slider.csv ('mcps-slider', Fig. 3), data/standstill.csv and data/patch.csv
+    ('mcps-standstill', Figs. 4-5) or data/relaxation.csv ('mcps-relaxation'), with their facts in
+    run.json. Figures as PNG and SVG.
     """
     from tirecli.app import run_config
 
     summary = run_config("simulate", config, overrides(set_), out, progress())
-    for ev in summary.result.meta["events"]:
+    for line in summary.result.meta.get("summary", []):
+        result_line(f"  {line}")
+    for ev in summary.result.meta.get("events", []):
         locks = ", ".join(f"{a:.3f} s" for a, _ in ev["wheel_lock"]) or "none"
         stop = f"stop at {ev['stop_time']:.3f} s after {ev['stopping_distance']:.2f} m" if ev["stop_time"] is not None \
             else f"v = {ev['v_final']:.3g} m/s at {ev['t_final']:.3g} s"

@@ -28,7 +28,7 @@ class FigureDef:
     id : str
         Identifier, e.g. ``fm-fig1-left``.
     paper : str
-        ``FM``, ``OBS``, ``MF`` (Magic Formula) or ``generic``.
+        ``FM``, ``OBS``, ``MF`` (Magic Formula), ``MCPS`` or ``generic``.
     label : str
         The paper's numbering, e.g. ``Fig. 1 (left)``.
     title : str
@@ -67,6 +67,8 @@ PAPERS = {
     "OBS": "Canudas-de-Wit, Petersen, Shiriaev: A new nonlinear observer for tire/road distributed "
            "contact friction (IEEE CDC 2003)",
     "MF": "Magic Formula tyre model (Pacejka; MF 6.1 / 5.2 / PAC89) with public .tir files",
+    "MCPS": "Sorine, Szymanski: A new dynamic multi-D.O.F. tire model (IFAC Control in Transportation "
+            "Systems 2000), against the Magic Formula",
     "generic": "Generic plots for any config",
 }
 
@@ -87,7 +89,9 @@ def register(id: str, *, paper: str, label: str, title: str, caption: str, paper
 
 #: The modules that register figures, in the order ``get`` searches them (the LuGre steady-state
 #: figures first: a sweep then imports nothing else, which keeps ``tirecli sweep`` start-up short).
-FIGURE_MODULES = ("steady", "transient", "identification", "observer", "magic_formula")
+FIGURE_MODULES = ("steady", "transient", "identification", "observer", "magic_formula", "mcps")
+#: Figure-id prefixes whose module ``get`` tries first (an MCPS run imports no LuGre figure code).
+PREFIX_MODULES = {"mcps-": "mcps"}
 
 
 def load_all() -> dict[str, FigureDef]:
@@ -109,7 +113,8 @@ def get(id: str) -> FigureDef:
 
     from tirecli.errors import UsageError
 
-    for name in FIGURE_MODULES:
+    first = [m for prefix, m in PREFIX_MODULES.items() if id.startswith(prefix)]
+    for name in first + [m for m in FIGURE_MODULES if m not in first]:
         if id in REGISTRY:
             break
         importlib.import_module(f"tirecli.figures.{name}")

@@ -144,3 +144,60 @@ MAGIC_FORMULA = register_kind(Kind(
     fields=_mf_fields(),
     model="tirecli.parameters.mf:tire_from_values",
 ))
+
+
+MCPS = register_kind(Kind(
+    name="mcps",
+    title="MCPS dynamic tire model: anisotropic Dahl rubber friction over the patch, flexible belt (Sorine & Szymanski 2000)",
+    fields={
+        "w": Num(unit="m", gt=0, doc="contact-patch width", eq="MCPS §3.1, Fig. 2"),
+        "l_ref": Num(unit="m", gt=0, doc="contact-patch length at the reference load fz_ref", eq="MCPS §3.1, Fig. 2"),
+        "fz_ref": Num(unit="N", gt=0, doc="reference load of l_ref", eq="patch law l = l_ref (Fz/fz_ref)^l_exponent"),
+        "l_exponent": Num(unit="-", ge=0, le=2, doc="exponent of the patch length against load",
+                          eq="l = l_ref (Fz/fz_ref)^l_exponent; pressure P = Fz/(w l)"),
+        "r_x": Num(unit="N/m^3", gt=0, doc="rubber stiffness per unit area along X", eq="MCPS §2.3, K = U r"),
+        "r_y": Num(unit="N/m^3", gt=0, doc="rubber stiffness per unit area along Y", eq="MCPS §2.3, K = U r"),
+        "mu_x": Num(unit="-", gt=0, doc="friction coefficient along X", eq="MCPS §2.3, F_k = P U mu"),
+        "mu_y": Num(unit="-", gt=0, doc="friction coefficient along Y", eq="MCPS §2.3, F_k = P U mu"),
+        "alpha_x": Num(unit="-", gt=1, doc="overshoot factor alpha along X (> 1; overshoot iff alpha > beta)", eq="MCPS eqs. (5)-(6)"),
+        "alpha_y": Num(unit="-", gt=1, doc="overshoot factor alpha along Y (> 1)", eq="MCPS eqs. (5)-(6)"),
+        "alpha_z": Num(unit="-", gt=1, doc="torsional overshoot factor alpha_z (> 1)", eq="MCPS eqs. (7)-(8)"),
+        "beta_x": Num(unit="-", gt=1, doc="overshoot factor beta along X (> 1)", eq="MCPS eqs. (5)-(6)"),
+        "beta_y": Num(unit="-", gt=1, doc="overshoot factor beta along Y (> 1)", eq="MCPS eqs. (5)-(6)"),
+        "beta_z": Num(unit="-", gt=1, doc="torsional overshoot factor beta_z (> 1)", eq="MCPS eqs. (7)-(8)"),
+        "c_Mz": Num(unit="-", ge=0, doc="weight of the lever-arm torque xi f_y in M_z", eq="MCPS eq. (10)"),
+        "c_Sz": Num(unit="-", gt=0, doc="empirical factor of the torsional stiffness S_z", eq="MCPS eq. (8)"),
+        "c_muz": Num(unit="-", gt=0, doc="empirical factor of the torsional sliding torque M_kz", eq="MCPS eq. (8)"),
+        "m_b": Num(unit="kg", gt=0, doc="belt mass (x, y translation)", eq="MCPS eq. (17)"),
+        "J_b": Num(unit="kg m^2", gt=0, doc="belt yaw inertia (twist delta)", eq="MCPS eq. (17)"),
+        "k_x": Num(unit="N/m", gt=0, doc="belt-rim longitudinal stiffness", eq="MCPS eq. (17), Fig. 6"),
+        "k_y": Num(unit="N/m", gt=0, doc="belt-rim lateral stiffness", eq="MCPS eq. (17), Fig. 6"),
+        "k_delta": Num(unit="N m/rad", gt=0, doc="belt-rim twist stiffness", eq="MCPS eqs. (17), (20), Fig. 6"),
+        "c_x": Num(unit="N s/m", ge=0, doc="belt-rim longitudinal damping", eq="MCPS eq. (17)"),
+        "c_y": Num(unit="N s/m", ge=0, doc="belt-rim lateral damping", eq="MCPS eq. (17)"),
+        "c_delta": Num(unit="N m s/rad", ge=0, doc="belt-rim twist damping", eq="MCPS eq. (17)"),
+        "U": Num(unit="m^2", gt=0, doc="area of the single rubber slider of Fig. 3", eq="MCPS §2.3, Fig. 1"),
+    },
+    model="tirecli.models.mcps.params:MCPSParams",
+))
+
+
+def _mf_simple_fields() -> dict:
+    """B, C, D, E of the Magic Formula basic curve for each channel x (Fx), y (Fy), z (Mz)."""
+    out = {}
+    for ch, what, bunit, dunit, dmean in (("x", "longitudinal", "-", "-", "peak over load D_x/Fz"),
+                                          ("y", "lateral", "1/rad", "-", "peak over load D_y/Fz"),
+                                          ("z", "aligning-torque", "1/rad", "m", "peak over load D_z/Fz")):
+        out[f"B{ch}"] = Num(unit=bunit, gt=0, doc=f"{what} stiffness factor B_{ch}", eq="Magic Formula basic curve")
+        out[f"C{ch}"] = Num(unit="-", gt=0, doc=f"{what} shape factor C_{ch}", eq="Magic Formula basic curve")
+        out[f"D{ch}"] = Num(unit=dunit, gt=0, doc=f"{what} {dmean}", eq="Magic Formula basic curve")
+        out[f"E{ch}"] = Num(unit="-", le=1, doc=f"{what} curvature factor E_{ch} (<= 1)", eq="Magic Formula basic curve")
+    return out
+
+
+MF_SIMPLE = register_kind(Kind(
+    name="mf_simple",
+    title="Magic Formula basic curve with fixed B, C, D, E per channel (the MCPS comparison's simple fallback)",
+    fields=_mf_simple_fields(),
+    model="tirecli.models.magic_formula.simple:SimpleMF",
+))

@@ -120,7 +120,27 @@ STUDY_MODULES: dict[str, str] = {
     "fit": "tirecli.studies.fit",
     "observe": "tirecli.studies.observe",
     "mf-golden": "tirecli.studies.mf_golden",
+    "mcps-stationary": "tirecli.studies.mcps",
+    "mcps-slider": "tirecli.studies.mcps",
+    "mcps-standstill": "tirecli.studies.mcps",
+    "mcps-relaxation": "tirecli.studies.mcps",
 }
+
+#: The studies each run command accepts (a command runs the studies of its name unless listed here).
+COMMAND_STUDIES: dict[str, tuple] = {
+    "simulate": ("simulate", "mcps-slider", "mcps-standstill", "mcps-relaxation"),
+    "compare": ("mcps-stationary",),
+}
+
+
+def command_of(study: str) -> str:
+    """The ``tirecli`` command that runs ``study``."""
+    if study == "mf-golden":
+        return "report"  # the golden-data cards have no command of their own
+    for command, studies in COMMAND_STUDIES.items():
+        if study in studies:
+            return command
+    return study
 
 
 def load_study(name: str) -> None:
@@ -161,9 +181,8 @@ def study_name(config: Config, expected: str | None = None) -> str:
     ctx = Context(config.origins)
     name = Str(choices=tuple(sorted(STUDY_MODULES))).check(raw, ("study",), ctx)
     ctx.raise_if_any()
-    if expected is not None and name != expected:
-        command = "report" if name == "mf-golden" else name  # the golden-data cards have no command of their own
-        raise ConfigError(config.origins.problem(("study",), f"this config is for 'tirecli {command}', not 'tirecli {expected}'"))
+    if expected is not None and name not in COMMAND_STUDIES.get(expected, (expected,)):
+        raise ConfigError(config.origins.problem(("study",), f"this config is for 'tirecli {command_of(name)}', not 'tirecli {expected}'"))
     return name
 
 

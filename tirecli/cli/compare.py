@@ -1,0 +1,26 @@
+"""``tirecli compare``: stationary MCPS against the Magic Formula."""
+from __future__ import annotations
+
+from pathlib import Path
+from typing import List, Optional
+
+from tirecli.cli.common import ConfigArg, OutOpt, SetOpt, overrides, progress, report_run, result_line
+
+
+def compare(config: Path = ConfigArg, out: Optional[Path] = OutOpt, set_: Optional[List[str]] = SetOpt) -> None:
+    """Stationary MCPS tire (complete model and/or solid carcass) against a Magic Formula tyre.
+
+    Runs a 'study: mcps-stationary' config (MCPS Figs. 7-11): Fx(kappa), Fy and Mz(alpha), combined
+    slip and the curvature response, optionally calibrating the MCPS rubber parameters to the Magic
+    Formula first. Writes run.json (stiffnesses, calibration report), data/stationary.csv (model,
+    carcass, calibrated, family, fz, kappa, alpha, phi, fx, fy, mz, x, y, delta; ISO-W, SI),
+    calibrated.yaml when calibrating, and the figures as PNG and SVG.
+    """
+    from tirecli.app import run_config
+
+    summary = run_config("compare", config, overrides(set_), out, progress())
+    for line in summary.result.meta.get("summary", []):
+        result_line(f"  {line}")
+    if "calibrated.yaml" in summary.result.files:
+        result_line(f"wrote {Path(summary.out) / 'calibrated.yaml'}")
+    report_run(summary, "compare", overridden=bool(set_))

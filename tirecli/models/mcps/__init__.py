@@ -1,0 +1,1 @@
+"""MCPS tire model (Sorine & Szymanski 2000)."""

@@ -1,0 +1,127 @@
+"""Calibration of the MCPS rubber parameters to Magic Formula curves (docs/models/mcps.md §8, procedure assumed).
+
+Three bounded least-squares fits (``scipy.optimize.least_squares``, trust-region reflective,
+residuals in N or N m, equal weights), each on an even grid that excludes zero slip:
+
+1. ``(r_x, mu_x, alpha_x, beta_x)`` on the Magic Formula ``Fx(kappa)`` at ``alpha = 0``
+   (``kappa`` in ``(0, kappa_max]``; closed form of the pure longitudinal slip);
+2. ``(r_y, mu_y, alpha_y, beta_y)`` on ``Fy(alpha)`` at ``kappa = 0`` (``alpha`` in ``(0, alpha_max]``;
+   the chosen carcass: the complete model solves its fixed point at every evaluation);
+3. ``c_Mz`` on ``Mz(alpha)`` at ``kappa = 0`` with the fitted lateral parameters.
+
+Bounds (docs/models/mcps.md §8): ``r`` in ``[1e6, 1e9]`` N/m^3 (fitted in log10), ``mu`` in ``[0.7, 1.2]``,
+``alpha``, ``beta`` in ``[1.001, 5]``, ``c_Mz`` in ``[0, 5]`` [assumed]. A value within 1e-6
+(relative to the bound range) of a bound is reported *at its bound*.
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+#: Bounds of the fitted parameters (docs/models/mcps.md §8; c_Mz's are tirecli's).
+BOUNDS = {
+    "r_x": (1e6, 1e9), "mu_x": (0.7, 1.2), "alpha_x": (1.001, 5.0), "beta_x": (1.001, 5.0),
+    "r_y": (1e6, 1e9), "mu_y": (0.7, 1.2), "alpha_y": (1.001, 5.0), "beta_y": (1.001, 5.0),
+    "c_Mz": (0.0, 5.0),
+}
+GROUPS = {
+    "fx": ("r_x", "mu_x", "alpha_x", "beta_x"),
+    "fy": ("r_y", "mu_y", "alpha_y", "beta_y"),
+    "mz": ("c_Mz",),
+}
+
+
+def _to_x(names, values):
+    return np.array([math.log10(values[n]) if n.startswith("r_") else values[n] for n in names])
+
+
+def _from_x(names, x):
+    return {n: float(10.0 ** v if n.startswith("r_") else v) for n, v in zip(names, x)}
+
+
+def _bounds(names):
+    lo = [math.log10(BOUNDS[n][0]) if n.startswith("r_") else BOUNDS[n][0] for n in names]
+    hi = [math.log10(BOUNDS[n][1]) if n.startswith("r_") else BOUNDS[n][1] for n in names]
+    return np.array(lo), np.array(hi)
+
+
+def calibrate(p, fz: float, targets: dict, grid: dict, carcass: str = "complete") -> tuple:
+    """Fit the rubber parameters of ``p`` (MCPSParams) to target curves.
+
+    Parameters
+    ----------
+    fz : float
+        Load of the fit [N].
+    targets : dict
+        ``{"fx": fn(kappa) -> Fx [N], "fy": fn(alpha) -> Fy [N], "mz": fn(alpha) -> Mz [N m]}``
+        (ISO-W, road on tire); a missing key skips that fit.
+    grid : dict
+        ``{"kappa": array, "alpha": array}`` of the fits.
+    carcass : {"complete", "rigid"}
+        Model of the lateral fits.
+
+    Returns
+    -------
+    (MCPSParams, report) : the calibrated parameters and, per fitted group, a dict with the
+    values, their bounds, whether each ended at a bound, the max and RMS gap before and after, and
+    the optimiser's status.
+    """
+    from scipy.optimize import least_squares
+
+    from tirecli.models.mcps.tire import pure_longitudinal_fx
+    from tirecli.numerics.mcps_stationary import solve
+
+    kap = np.asarray(grid["kappa"], dtype=float)
+    alp = np.asarray(grid["alpha"], dtype=float)
+    report = {}
+    cur = p
+    warm = {}
+
+    def model_curve(group, q):
+        if group == "fx":
+            return pure_longitudinal_fx(kap, q, fz)
+        st = solve(q, fz, np.zeros_like(alp), alp, np.zeros_like(alp), carcass=carcass, start=warm.get("Q"),
+                   tol=1e-13)
+        if not st.converged.all():
+            warm.pop("Q", None)
+            return np.full(alp.shape, np.nan)
+        warm["Q"] = st.Q  # the next evaluation starts from this solution (parameters change little)
+        return st.fy if group == "fy" else st.mz
+
+    for group, names in GROUPS.items():
+        if group not in targets:
+            continue
+        x_in = kap if group == "fx" else alp
+        target = np.asarray(targets[group](x_in), dtype=float)
+        lo, hi = _bounds(names)
+        x0 = np.clip(_to_x(names, cur.__dict__), lo + 1e-9 * (hi - lo), hi - 1e-9 * (hi - lo))
+
+        def resid(x, names=names, group=group, target=target):
+            r = model_curve(group, cur.with_values(**_from_x(names, x))) - target
+            return np.where(np.isfinite(r), r, 1e6)
+
+        before = model_curve(group, cur) - target
+        sol = least_squares(resid, x0, bounds=(lo, hi), method="trf", x_scale="jac", xtol=1e-12, ftol=1e-12,
+                            gtol=1e-12, max_nfev=400)
+        fitted = _from_x(names, sol.x)
+        cur = cur.with_values(**fitted)
+        after = model_curve(group, cur) - target
+        span = hi - lo
+        at_bound = {n: bool(min(abs(v - l), abs(h - v)) <= 1e-6 * s)
+                    for n, v, l, h, s in zip(names, sol.x, lo, hi, span)}
+        report[group] = {
+            "parameters": fitted,
+            "start": {n: float(p.__dict__[n]) for n in names},
+            "bounds": {n: BOUNDS[n] for n in names},
+            "at_bound": at_bound,
+            "max_gap_before": float(np.max(np.abs(before))), "rms_gap_before": float(np.sqrt(np.mean(before**2))),
+            "max_gap": float(np.max(np.abs(after))), "rms_gap": float(np.sqrt(np.mean(after**2))),
+            "unit": "N m" if group == "mz" else "N",
+            "points": int(x_in.size), "success": bool(sol.success), "status": sol.message,
+            "evaluations": int(sol.nfev),
+        }
+    return cur, report
+
+
+__all__ = ["calibrate", "BOUNDS", "GROUPS"]
