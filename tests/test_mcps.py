@@ -146,13 +146,11 @@ def test_slider_loop_reference_values_and_rate_independence(p, slider_law):
     lw = slider_law
     Fk, K = lw.Fk[0], lw.K[0]
     A, Psi = 8 * Fk / K, 8 * lw.Mkz / lw.Sz
-    out = {}
-    for T_ in (2.0, 0.5):
-        ph = np.linspace(0, 2, 2 * 800 + 1)
-        ux, psi = A * np.sin(2 * np.pi * ph), Psi * np.sin(2 * np.pi * ph)
-        out[T_] = TR.simulate_slider(lw, ux, 0 * ux, psi)
-    f, m = out[2.0]
-    assert np.max(np.abs(out[0.5][0] - f)) <= 1e-6 and np.max(np.abs(out[0.5][1] - m)) <= 1e-9
+    ph = np.linspace(0, 2, 2 * 800 + 1)
+    ux, psi = A * np.sin(2 * np.pi * ph), Psi * np.sin(2 * np.pi * ph)
+    f, m = TR.simulate_slider(lw, ux, 0 * ux, psi)
+    g, n = TR.integrate_slider_in_time(lw, A, Psi, 0.5, ph)   # another period, integrated in time
+    assert np.max(np.abs(g - f)) <= 1e-6 and np.max(np.abs(n - m)) <= 1e-9
     first = ph <= 0.25
     assert f[first, 0].max() == pytest.approx(26.37, abs=0.01)
     assert m[first].max() == pytest.approx(0.2491, abs=1e-4)
@@ -169,7 +167,7 @@ def test_standstill_first_loading_and_yaw_stiffness(p, frame, refs):
     pa, lw = p.patch(4000), p.patch_law(4000)
     xi, w = TR.gauss_patch(pa.l, 24)
     psi = np.array([0.0, 1e-3, 0.01, 0.05, 0.1])
-    r = TR.simulate_standstill(lw, pa.l, p.c_Mz, psi, psi, xi, w, frame_term=frame)
+    r = TR.simulate_standstill(lw, p.c_Mz, psi, psi, xi, w, frame_term=frame)
     assert -r["mz"][1] / 1e-3 == pytest.approx(1932.08, abs=0.01)
     assert p.stiffnesses(4000)["C_z"] == pytest.approx(1937.54, abs=0.01)
     assert np.allclose(r["mz"][2:], refs, atol=1e-3)
@@ -179,7 +177,7 @@ def test_standstill_first_loading_and_yaw_stiffness(p, frame, refs):
 def test_standstill_quadrature_is_converged(p):
     pa, lw = p.patch(4000), p.patch_law(4000)
     t, psi, leg = TR.triangle_yaw(0.45, 1.0, 1, 100)
-    res = [TR.simulate_standstill(lw, pa.l, p.c_Mz, t, psi, *TR.gauss_patch(pa.l, n))["mz"] for n in (8, 16, 32)]
+    res = [TR.simulate_standstill(lw, p.c_Mz, t, psi, *TR.gauss_patch(pa.l, n))["mz"] for n in (8, 16, 32)]
     assert np.max(np.abs(res[1] - res[2])) < 1e-8 and np.max(np.abs(res[0] - res[2])) < 1e-4
 
 
@@ -190,7 +188,7 @@ def test_standstill_yaw_cycle(p, A, at_minus_A, mx, psi_mx):
     assert np.allclose(psi[[np.flatnonzero(leg == k)[-1] for k in range(3)]], [A, -A, A])
     xi, w = TR.gauss_patch(pa.l, 24)
     g = np.linspace(-pa.l / 2, pa.l / 2, 81)
-    r = TR.simulate_standstill(lw, pa.l, p.c_Mz, t, psi, xi, w, g)
+    r = TR.simulate_standstill(lw, p.c_Mz, t, psi, xi, w, g)
     assert r["mz"][np.flatnonzero(leg == 1)[-1]] == pytest.approx(at_minus_A, abs=0.01)
     i = int(np.argmax(np.abs(r["mz"])))
     assert abs(r["mz"][i]) == pytest.approx(mx, abs=0.01) and psi[i] == pytest.approx(psi_mx, abs=0.01)
@@ -218,7 +216,7 @@ def test_asymptotic_torque(p, frame, ref):
         ad = pa.l * float(lw.sigz @ (lw.hz / lw.gz)) + 2 * quad(fy, 0, pa.l / 2, epsabs=1e-13, epsrel=1e-13)[0]
         assert v == pytest.approx(ad, rel=1e-12)
     psi = np.linspace(0, 20, 2001)
-    r = TR.simulate_standstill(lw, pa.l, p.c_Mz, psi, psi, *TR.gauss_patch(pa.l, 24), frame_term=frame)
+    r = TR.simulate_standstill(lw, p.c_Mz, psi, psi, *TR.gauss_patch(pa.l, 24), frame_term=frame)
     assert -r["mz"][-1] == pytest.approx(ref, abs=0.1)
 
 
@@ -432,7 +430,7 @@ def test_low_speed_relaxation_stays_stable(p):
     """At 0.3 m/s the study raises the cell count so the belt-patch coupling is resolved."""
     from tirecli.studies.mcps import _cells, RelaxCase
 
-    checked = {"cells": 100, "fz": 4000.0, "speed": 0.3}
+    checked = {"cells": 100, "fz": 4000.0, "speed": 0.3, "alpha": DEG}
     n = _cells(p, checked, RelaxCase("c", "complete", ()))
     assert n > 400
     run = TR.simulate_rolling(p, 4000, 0.3, 0.3 * math.tan(DEG), 0.3, 0, 1.0, cells=n)
@@ -505,3 +503,38 @@ def test_rate_independence_of_the_time_integrated_law(slider_law):
     f, _ = TR.simulate_slider(lw, ux, 0 * ux, Psi * np.sin(2 * np.pi * ph))
     phs = np.concatenate([p_ for p_, _ in pieces])
     assert np.max(np.abs(np.interp(phs, ph, f[:, 0]) - out[0])) < 1e-6
+
+
+def test_check_bounds():
+    from tirecli.studies.base import Check
+
+    assert Check("a", "", 0.9, 1.0, 0.0, bound="max").passed and not Check("a", "", 1.1, 1.0, 0.0, bound="max").passed
+    assert Check("a", "", 1.1, 1.0, 0.0, bound="min").passed and not Check("a", "", 0.9, 1.0, 0.0, bound="min").passed
+    assert not Check("a", "", float("nan"), 1.0, 0.0, bound="min").passed
+    assert Check("a", "", 1.1, 1.0, 0.0, bound="max").record()["bound"] == "max"
+
+
+def test_belt_matrices_follow_the_model_rhs(p):
+    """The trapezoidal belt step integrates MCPS eq. (17) as written in tirecli.models.mcps.tire.belt_rhs."""
+    from tirecli.numerics.mcps_transient import _belt_matrices
+
+    dt = 1e-5
+    Phi, Gam, _, _ = _belt_matrices(p, dt, ())
+    rng = np.random.default_rng(4)
+    y0, u = rng.normal(size=6) * [1e-3, 1e-3, 1e-2, 0.1, 0.1, 1.0], rng.normal(size=3) * [100, 100, 10]
+    y1 = Phi @ y0 + 2 * Gam @ u
+    mid = T.belt_rhs(0.0, 0.5 * (y0 + y1), u, p)          # implicit midpoint = trapezoid for a linear system
+    assert np.allclose((y1 - y0) / dt, mid, rtol=1e-9, atol=1e-9)
+    Phi, Gam, _, _ = _belt_matrices(p, dt, (2,))
+    y1 = Phi @ np.zeros(6) + 2 * Gam @ u
+    assert y1[2] == 0 and y1[5] == 0 and y1[4] != 0
+
+
+def test_large_slip_angle_relaxation_is_resolved(p):
+    """At large slip angles the entry boundary layer is short: the cell count grows with it."""
+    a = 1.0
+    n = TR.cells_needed(p, 4000, 20, 100, "rigid", slip=(0, math.tan(a)))
+    assert n > 100
+    run = TR.simulate_rolling(p, 4000, 20, 20 * math.tan(a), 20, 0, 0.3, cells=n, carcass="rigid")
+    fy, _ = TR.rigid_relaxation_exact(p, 4000, a, run.s)
+    assert np.max(np.abs(run.fy - fy)) < 1.0 and abs(run.fy[-1] - fy[-1]) < 0.01   # of 3566 N

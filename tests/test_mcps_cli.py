@@ -147,6 +147,16 @@ def test_bad_values_are_one_line_usage_errors(cli, tmp_path, cfg, override, wher
     assert not (tmp_path / "o" / "run.json").exists()
 
 
+def test_option_forms(cli, tmp_path):
+    path = _write(tmp_path, "s.yaml", "study: mcps-slider\ncompare_period: null\nsamples: 40\n")
+    code, out, err = cli("simulate", path, "--out", tmp_path / "o")
+    assert code == 0, err
+    assert set(pd.read_csv(tmp_path / "o" / "data" / "slider.csv")["period"]) == {2.0}
+    path = _write(tmp_path, "c.yaml", "study: mcps-stationary\nkappa: [0.1]\nmf: simple\ncalibrate: {points: 3}\n")
+    code, out, err = cli("compare", path)
+    assert code == 2 and "calibrate.points" in err and ">= 5" in err, err
+
+
 def test_non_converging_fixed_point_writes_nothing(cli, tmp_path):
     path = _write(tmp_path, "c.yaml", "study: mcps-stationary\nalpha: [0.05, 0.2]\nmf: none\n")
     code, out, err = cli("compare", path, "--set", "tire.k_delta=0.001", "--out", tmp_path / "o")
@@ -182,6 +192,28 @@ def test_report_mcps_section_strict(cli, tmp_path):
     assert summary["n_failed"] == 0 and summary["n_checks"] >= 70
     html = (tmp_path / "index.html").read_text()
     for fid in ("mcps-fig3", "mcps-fig4", "mcps-fig5", "mcps-fig7", "mcps-fig8", "mcps-fig9", "mcps-fig10", "mcps-fig11",
-                "mcps-relaxation", "mcps-calibration", "mcps-table"):
+                "mcps-relaxation", "mcps-calibration", "mcps-table", "mcps-fig1-2", "mcps-fig6"):
         assert f'id="{fid}"' in html
     assert "../shared" not in html and "mcps.md" in html
+    ids = {c["id"] for c in summary["checks"]}
+    for cid in ("mcps-relaxation/rigid-63", "mcps-relaxation/rigid-99", "mcps-relaxation/complete-hump",
+                "mcps-relaxation/complete-dip", "mcps-relaxation/complete-steady", "mcps-relaxation/complete, twist locked-63",
+                "mcps-fig5/mz-minus-A", "mcps-fig5/max-mz", "mcps-fig4/first-cycle", "mcps-fig3/peak-force",
+                "mcps-fig7/fx-0.12", "mcps-fig8/fy-12deg", "mcps-fig9/mz-peak", "mcps-fig10/fy-a4-k0.05",
+                "mcps-fig11/rigid-fy-0.1", "mcps-calibration/fx-max-gap", "mcps-calibration/mu_x-at-bound"):
+        assert cid in ids, cid  # the paper's scenario runs its reference checks (none silently skipped)
+    bounded = [c for c in summary["checks"] if c.get("bound")]
+    assert bounded and "&le;" in html
+
+
+def test_yaml_blocks_of_the_mcps_guide_validate(cli, tmp_path):
+    """Every config or parameter-set block of docs/models/mcps.md passes 'tirecli params validate'."""
+    import re
+    from pathlib import Path
+
+    text = (Path(__file__).resolve().parents[1] / "docs" / "models" / "mcps.md").read_text()
+    blocks = [b for b in re.findall(r"```yaml\n(.*?)```", text, re.S) if "study:" in b or "kind:" in b]
+    assert len(blocks) >= 5
+    for i, b in enumerate(blocks):
+        code, out, err = cli("params", "validate", _write(tmp_path, f"b{i}.yaml", b))
+        assert code == 0, (b, err)

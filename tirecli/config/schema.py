@@ -152,11 +152,30 @@ class Str(Spec):
 
 @dataclass
 class Bool(Spec):
+    def accepts(self, value) -> bool:
+        return isinstance(value, bool)
+
     def check(self, value, path, ctx):
         if not isinstance(value, bool):
             ctx.fail(path, f"expected true or false, got {_type_name(value)}")
             return MISSING
         return value
+
+
+@dataclass
+class Nullable(Spec):
+    """``null`` (meaning "none", kept as None) or a value of ``spec``."""
+
+    spec: Spec = field(default_factory=Spec)
+
+    def accepts(self, value) -> bool:
+        return value is None or self.spec.accepts(value)
+
+    def check(self, value, path, ctx):
+        return None if value is None else self.spec.check(value, path, ctx)
+
+    def describe(self) -> str:
+        return self.spec.describe() + " or null"
 
 
 @dataclass

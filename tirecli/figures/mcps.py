@@ -37,9 +37,9 @@ def require(result, study: str, fid: str, family: str | None = None) -> None:
 
 
 def _reference(result) -> bool:
-    from tirecli.studies.mcps import _reference_tire
+    from tirecli.studies.mcps import reference_tire
 
-    return _reference_tire(result.parameter_sets["tire"])
+    return reference_tire(result.parameter_sets["tire"])
 
 
 def _tire_name(result) -> str:
@@ -83,20 +83,23 @@ def _mf_label(result) -> str:
 
 
 def _curve_panels(result, family, x_col, y_fn, xlabel, ylabel, title, x_scale=1.0):
+    """One panel per load (three per row), one legend below the panels."""
     df = result.data["stationary"]
     d = df[df["family"] == family]
     loads = sorted(d["fz"].unique())
     ncols = min(len(loads), 3)
-    fig, axes = new_figure(ncols=ncols, width=6.4 if ncols == 1 else 4.2 * ncols, height=4.4)
-    axes = np.atleast_1d(axes)
+    nrows = -(-len(loads) // 3)
+    fig, axes = new_figure(ncols=ncols, nrows=nrows, width=6.4 if ncols == 1 else 4.2 * ncols, height=4.0 + 3.2 * (nrows - 1))
+    axes = np.atleast_1d(axes).ravel()
     for ax, fz in zip(axes, loads):
         dl = d[d["fz"] == fz]
         for label, sel, style in _variants(dl):
             g = dl[sel].sort_values(x_col)
-            if label == "MF":
-                label = _mf_label(result)
-            ax.plot(g[x_col] * x_scale, y_fn(g), label=label, **style)
-        finish(ax, xlabel, ylabel, f"Fz = {fz:g} N" if len(loads) > 1 else None, loc="best")
+            ax.plot(g[x_col] * x_scale, y_fn(g), label=_mf_label(result) if label == "MF" else label, **style)
+        finish(ax, xlabel, ylabel, f"Fz = {fz:g} N" if len(loads) > 1 else None, legend=False)
+    for ax in axes[len(loads):]:
+        ax.set_visible(False)
+    _legend_below(fig, axes[0], ncol=2)
     fig.suptitle(title, fontsize=10)
     return fig
 
@@ -134,6 +137,165 @@ def _carcasses(result) -> list:
     return result.meta["carcass"]
 
 
+
+# --------------------------------------------------------------------------- captions (describe the run at hand)
+
+
+def _loads_text(result, default="4000 N") -> str:
+    if result is None:
+        return default
+    loads = result.meta.get("loads") or [result.meta.get("scenario", {}).get("fz_N", 4000.0)]
+    return ", ".join(f"{f:g}" for f in loads) + " N"
+
+
+def _mf_text(result) -> str:
+    """What the Magic Formula side of a stationary run is."""
+    mf = (result.meta.get("mf") or {}) if result is not None else {"kind": "tir", "name": "externdata-205-60r15"}
+    if mf.get("kind") == "none":
+        return "no Magic Formula tyre (mf: none)"
+    if mf.get("kind") == "simple":
+        return ("the simple-form Magic Formula with fixed B, C, D, E [assumed] (combined slip by the normalised-slip "
+                "method)")
+    name = mf.get("name", "")
+    if name == "externdata-205-60r15":
+        return ("a real Magic Formula tyre, the ExternData sample MF 6.1 205/60R15 at 4000 N (a stand-in: the paper's "
+                "165/65R14 data are not public), steady state, camber 0, input limits off")
+    return f"the Magic Formula tyre {name} (steady state, camber 0, input limits off)"
+
+
+def _models_text(result) -> str:
+    """The MCPS curves of a stationary run."""
+    if result is None:
+        carc, cal = ["complete", "rigid"], True
+    else:
+        carc, cal = result.meta.get("carcass", ["complete"]), bool(result.meta.get("calibration"))
+    parts = []
+    if "complete" in carc:
+        parts.append("the complete model (belt fixed point, MCPS eq. 18)")
+    if "rigid" in carc:
+        parts.append("the solid carcass (eq. 14)")
+    if cal:
+        parts.append("MCPS with its rubber parameters calibrated to the Magic Formula curves (docs/models/mcps.md §8)")
+    return ", ".join(parts)
+
+
+def _tire_text(result) -> str:
+    if result is None or _reference(result):
+        return "the default tire sorine2000-mcps [every value assumed: the paper prints none]"
+    return f"the tire {_tire_name(result)}"
+
+
+def _caption_fig7(result):
+    return (f"Fx against the longitudinal slip kappa (ISO-W, road on tire) at {_loads_text(result)}, alpha = 0: MCPS with "
+            f"{_tire_text(result)}, {_models_text(result)}; and {_mf_text(result)}. In pure longitudinal slip the complete "
+            "model and the solid carcass coincide exactly. With the default tire MCPS rises more slowly than a Magic "
+            "Formula and is still rising at 12 %; calibration narrows the gap but cannot close it (a patch mean of a Dahl "
+            "response bends over more slowly). Equations and choices: docs/models/mcps.md.")
+
+
+def _caption_fig8(result):
+    return (f"Side force -Fy against the slip angle alpha_s at {_loads_text(result)}, kappa = 0. Paper-style signs: the "
+            "ISO-W side force Fy is negated (a positive slip angle gives a negative ISO Fy), the aligning torque is drawn "
+            f"as computed. MCPS with {_tire_text(result)}: {_models_text(result)}; and {_mf_text(result)}. The belt twist "
+            "lowers the cornering stiffness of the complete model below the solid carcass's (eq. 20; 36 910 against "
+            "44 590 N/rad for the default tire at 4000 N).")
+
+
+def _caption_fig9(result):
+    return (f"Aligning torque Mz (ISO-W, not negated) against the slip angle at {_loads_text(result)}, kappa = 0: rise, "
+            "peak at a moderate angle, decline as the patch slides and the pneumatic trail collapses. MCPS with "
+            f"{_tire_text(result)}: {_models_text(result)} (c_Mz fitted last); and {_mf_text(result)} (Mz of its "
+            "combined-slip formula at kappa = 0). The twist lowers the aligning stiffness (eq. 20).")
+
+
+def _caption_fig10(result):
+    if result is None or result.payload is None or "checked" not in result.payload:
+        fam = "alpha_s = 1, 2, 4 deg with kappa swept from -0.1 (braking) to +0.1 (driving)"
+    else:
+        comb = result.payload["checked"]["combined"] or {"alpha": [], "kappa": [0.0]}
+        al = ", ".join(f"{a / DEG:.3g}" for a in comb["alpha"])
+        fam = f"alpha_s = {al} deg with kappa swept from {min(comb['kappa']):g} to {max(comb['kappa']):g}"
+    return (f"Families at constant slip angle, {fam} [assumed scenario], at {_loads_text(result)} (the first load is "
+            "drawn): -Fy (left) and Mz (right) against Fx, paper-style signs. The side force falls as |Fx| grows for both "
+            "models. The aligning torque differs: in MCPS (complete model) braking drives Mz towards 0 while driving keeps "
+            "it large, through the belt offsets in MW = MA + x FAy - y FAx (eq. 16); the solid carcass gives a nearly "
+            f"symmetric curve. Magic Formula side: {_mf_text(result)}; its combined-slip rules do not describe this "
+            "influence of Fx on Mz.")
+
+
+def _caption_fig11(result):
+    return (f"|Fy| (left) and |Mz| (right) produced by path curvature alone (Vy = 0, Vx = r omega, yaw rate = phi Vx; "
+            f"both negative in ISO for phi > 0, magnitudes drawn [assumed]) at {_loads_text(result, '2000 N')} (the first "
+            f"load is drawn). MCPS with {_tire_text(result)}: {_models_text(result)}, the lateral slip varying along "
+            "the patch, frame-rotation term off: nearly linear; the belt twist raises |Fy| and lowers |Mz|. A Magic "
+            "Formula without turn slip has no curvature input: its response is zero (its constant output at zero slip, a "
+            "conicity/ply-steer offset, is not a curvature response and is given in the legend).")
+
+
+def _caption_fig3(result):
+    if result is None:
+        vals = "U = 1 cm^2 under the 4000 N patch pressure: K = 5000 N/m, F_k = 19.8 N, S_z = 0.35 N m/rad, M_kz = 0.187 N m"
+        motion, periods = "A = 8 F_k/K, Psi = 8 M_kz/S_z", "T = 2 s (solid, exact increments) and T = 0.5 s (dashed, eq. 9 integrated in time)"
+        frame = "off"
+    else:
+        f, sc = result.meta["facts"], result.meta["scenario"]
+        vals = (f"U = {result.payload['params'].U:g} m^2 under {f['pressure_Pa'] / 1e3:.4g} kPa: K = {f['K_N_per_m']:.4g} N/m, "
+                f"F_k = {f['Fk_N']:.4g} N, S_z = {f['Sz_Nm_per_rad']:.4g} N m/rad, M_kz = {f['Mkz_Nm']:.4g} N m")
+        motion = f"A = {1e3 * f['amplitude_m']:.4g} mm, Psi = {f['rotation_rad']:.4g} rad"
+        per = sc["periods_s"]
+        periods = f"T = {per[0]:g} s (solid, exact increments)" + (
+            f" and T = {per[1]:g} s (dashed, eq. 9 integrated in time)" if len(per) > 1 else "")
+        frame = "on" if sc["frame_term"] else "off"
+    return (f"One slider ({vals}; {_tire_text(result)}) driven by u_x = A sin(2 pi t/T), psi = Psi sin(2 pi t/T), "
+            f"{motion} [assumed scenario], frame-rotation term {frame}. Force and torque are what the slider transmits to "
+            "the road (MCPS eq. 9). Initial slope K (S_z), overshoot above the Coulomb level on first loading (4/3 F_k "
+            f"with alpha = 3, beta = 1.5) and more after each reversal (limit 5/3 F_k), then the Coulomb level. {periods}: "
+            "coinciding loops show that the law is rate independent.")
+
+
+def _standstill_text(result):
+    if result is None:
+        return "4000 N, |yaw rate| = 1 rad/s, psi = 0 -> +0.45 -> -0.45 -> +0.45 rad [assumed amplitude], frame-rotation term on"
+    sc = result.meta["scenario"]
+    A = sc["amplitude_rad"]
+    return (f"{sc['fz_N']:g} N, |yaw rate| = {sc['yaw_rate_rad_per_s']:g} rad/s, psi = 0 -> +{A:.3g} -> -{A:.3g} rad, "
+            f"{sc['cycles']} cycle(s)" + (" [assumed amplitude: the scan's '-45 <= psi <= 45' read as +-0.45 rad]"
+                                           if abs(A - 0.45) < 1e-8 else "")
+            + f", frame-rotation term {'on' if sc['frame_term'] else 'off'}")
+
+
+def _caption_fig4(result):
+    return (f"Blocked wheel (V = 0, rigid belt; {_standstill_text(result)}; {_tire_text(result)}). Left: the lateral "
+            "force density f_y(xi, t) of the road on the tire (ISO-W; odd in xi); right: profiles at the yaw reversals "
+            "over F'_ky. Near the centre f_y grows with |xi| psi; the edges saturate first, with an overshoot on first "
+            "loading (4/3 F'_ky without the frame term) and a larger one after each reversal (limit 5/3 F'_ky).")
+
+
+def _caption_fig5(result):
+    return (f"Mz (road on tire, ISO) against the yaw angle psi for the Fig. 4 motion ({_standstill_text(result)}; "
+            f"{_tire_text(result)}). Linear start with slope -C_z (eq. 11, dashed), saturation towards -sgn(yaw rate) times "
+            "the asymptotic torque (dotted: with the frame term; dash-dot: eq. 12, without it) with overshoot, a larger "
+            "overshoot after each reversal, and a loop that settles to a periodic one within a few cycles (the first is not "
+            "symmetric). The Magic Formula has no torque at standstill. The scan's torque ticks suggest the paper's tire "
+            "gives about half the torques of the default tire.")
+
+
+def _caption_relaxation(result):
+    if result is None:
+        scen, cases = "at 20 m/s, Vy steps to Vx tan(1 deg)", "the solid carcass, the complete model, and the complete model with the twist locked"
+    else:
+        sc = result.meta["scenario"]
+        scen = f"at {sc['speed_m_per_s']:g} m/s, Vy steps to Vx tan({sc['alpha_rad'] / DEG:.3g} deg) ({sc['fz_N']:g} N)"
+        cases = ", ".join(c["label"] for c in result.meta["cases"])
+    return (f"From free rolling {scen} at t = 0 [assumed scenario]; Fy/Fy_inf (left) and Mz (right) against the rolled "
+            f"distance, frame-rotation term on; cases: {cases}; {_tire_text(result)}. The solid carcass is exact by "
+            "characteristics and steady after one patch length. With the default tire at 20 m/s and 1 deg the complete "
+            "model is not monotone (about 72 % at 0.08 m, a dip to about 25 % near 0.19 m, then a slow rise, 95 % near "
+            "0.78 m): the dip is the lateral belt mode y, it stays with the twist locked (63 % first reached at 0.309 m) "
+            "and vanishes when y is locked. Transport by Lagrangian tread elements (CFL = 1), second order. The Magic "
+            "Formula, a stationary model, cannot give this build-up.")
+
+
 # --------------------------------------------------------------------------- Fig. 7
 
 
@@ -169,13 +331,7 @@ def _fig7_checks(result):
 @register(
     "mcps-fig7", paper="MCPS", label="Fig. 7", study="mcps-fig7-9", order=70, checks=_fig7_checks,
     title="Stationary longitudinal force: MCPS against the Magic Formula",
-    caption="Fx against the longitudinal slip kappa (ISO-W, road on tire) at 4000 N, alpha = 0: MCPS with the default "
-            "tire sorine2000-mcps [all values assumed: the paper prints none], the complete model (belt fixed point, "
-            "MCPS eq. 18; identical to the solid carcass here, eq. 14), MCPS with its rubber parameters calibrated to the "
-            "Magic Formula curves by least squares, and a real Magic Formula tyre (the ExternData sample MF 6.1 205/60R15 "
-            "at 4000 N, a stand-in: the paper's 165/65R14 data are not public). MCPS rises more slowly and is still "
-            "rising at 12 %; calibration narrows the gap but cannot close it (a patch mean of a Dahl response bends "
-            "over more slowly). Equations and choices: docs/models/mcps.md.",
+    caption=_caption_fig7,
     paper_shows="Fx against the slip (ticks up to about 12, likely %) for a 165/65R14 tire, MCPS and 'PaMaF': two "
                 "very similar curves from the origin, bending over.",
 )
@@ -233,18 +389,11 @@ def _alpha_ref_checks(result, what):
     return out
 
 
-_SIGN_NOTE = ("Paper-style signs: the ISO-W side force Fy is negated (a positive slip angle gives a negative ISO Fy), "
-              "the aligning torque Mz is drawn as computed.")
-
-
 @register(
     "mcps-fig8", paper="MCPS", label="Fig. 8", study="mcps-fig7-9", order=80,
     checks=lambda r: _alpha_ref_checks(r, "fy"),
     title="Stationary lateral force: MCPS against the Magic Formula",
-    caption="Side force -Fy against the slip angle alpha_s at 4000 N, kappa = 0. " + _SIGN_NOTE + " MCPS complete model "
-            "(belt fixed point, eq. 18: the belt twist lowers the cornering stiffness to D_yalphaF = 36 910 N/rad, eq. 20), "
-            "the solid carcass (44 590 N/rad), MCPS calibrated to the Magic Formula, and the Magic Formula stand-in tyre. "
-            "Default MCPS parameters assumed (docs/models/mcps.md §9).",
+    caption=_caption_fig8,
     paper_shows="Lateral force against the slip angle (axis '-delta (deg)', 0-12 deg), MCPS and PaMaF nearly coincident: "
                 "linear start, curvature, saturation.",
 )
@@ -259,10 +408,7 @@ def draw_fig8(result):
     "mcps-fig9", paper="MCPS", label="Fig. 9", study="mcps-fig7-9", order=90,
     checks=lambda r: _alpha_ref_checks(r, "mz"),
     title="Stationary self-aligning torque: MCPS against the Magic Formula",
-    caption="Aligning torque Mz (ISO-W, not negated) against the slip angle at 4000 N, kappa = 0: rise, peak at a "
-            "moderate angle, decline as the patch slides and the pneumatic trail collapses. MCPS complete model (aligning "
-            "stiffness D_zalphaF = 861 N m/rad with the twist), the solid carcass, MCPS calibrated (c_Mz fitted last), and the "
-            "Magic Formula stand-in (Mz of the combined-slip formula at kappa = 0).",
+    caption=_caption_fig9,
     paper_shows="Self-aligning torque against the slip angle (axis 'delta (deg)', 0-12 deg), MCPS and PaMaF of similar shape.",
 )
 def draw_fig9(result):
@@ -288,9 +434,9 @@ def _fig10_checks(result):
         if len(brake) and len(drive):
             out.append(Check(f"asymmetry-{fz:g}-{a / DEG:.3g}deg",
                              f"|Mz| largest on the driving side (alpha = {a / DEG:.3g} deg, Fz = {fz:g} N): "
-                             "max |Mz| driving over max |Mz| braking, > 1",
-                             float(drive["mz"].abs().max() / max(brake["mz"].abs().max(), 1e-12)), 5.5, 4.5, "-",
-                             f"{DOC} §11 (Fig. 10)"))
+                             "max |Mz| driving over max |Mz| braking, at least 1",
+                             float(drive["mz"].abs().max() / max(brake["mz"].abs().max(), 1e-12)), 1.0, 0.0, "-",
+                             f"{DOC} §11 (Fig. 10)", bound="min"))
     if _reference(result) and _load_present(result, 4000.0):
         k = [-0.05, 0.0, 0.05, 0.0]
         a = [4 * DEG, 4 * DEG, 4 * DEG, 2 * DEG]
@@ -307,12 +453,7 @@ def _fig10_checks(result):
 @register(
     "mcps-fig10", paper="MCPS", label="Fig. 10", study="mcps-fig10", order=100, checks=_fig10_checks,
     title="Stationary combined slip at 4000 N: side force and aligning torque against Fx",
-    caption="Families at constant slip angle alpha_s = 1, 2, 4 deg with kappa swept from -0.1 (braking) to +0.1 "
-            "(driving) [assumed scenario]: -Fy (left) and Mz (right) against Fx, paper-style signs. The side force falls as "
-            "|Fx| grows for both models. The aligning torque differs: in MCPS braking drives Mz towards 0 while driving "
-            "keeps it large, through the belt offsets in MW = MA + x FAy - y FAx (eq. 16); the solid carcass gives a nearly "
-            "symmetric curve; the Magic Formula stand-in (combined slip with its weighting functions) does not describe "
-            "this influence of Fx on Mz.",
+    caption=_caption_fig10,
     paper_shows="Lateral force vs longitudinal force and aligning torque vs longitudinal force at 4000 N for small slip "
                 "angles and slips, MCPS against PaMaF: similar Fy-Fx curves, clearly different Mz-Fx curves.",
 )
@@ -367,11 +508,7 @@ def _fig11_checks(result):
 @register(
     "mcps-fig11", paper="MCPS", label="Fig. 11", study="mcps-fig11", order=110, checks=_fig11_checks,
     title="Stationary curvature (yaw-rate) response at 2000 N",
-    caption="|Fy| (left) and |Mz| (right) produced by path curvature alone (Vy = 0, Vx = r omega, yaw rate = phi Vx; "
-            "both negative in ISO for phi > 0, magnitudes drawn [assumed]) at 2000 N (l = 0.099 m). MCPS complete model "
-            "(fixed point with the lateral slip varying along the patch, frame-rotation term off) and solid carcass: "
-            "nearly linear; the belt twist raises |Fy| and lowers |Mz|. The Magic Formula has no curvature input without "
-            "turn slip: its line is the tyre's constant output at zero slip (what it cannot describe).",
+    caption=_caption_fig11,
     paper_shows="Lateral force and self-aligning torque against the path curvature (ticks about 0-0.1 1/m) at 2000 N; "
                 "PaMaF gives no such response.",
 )
@@ -380,12 +517,16 @@ def draw_fig11(result):
     fig, (a, b) = new_figure(ncols=2, width=11.0, height=4.4)
     for label, sel, style in _variants(d):
         g = d[sel].sort_values("phi")
-        lab = label if label != "MF" else f"{_mf_label(result)} (no curvature input)"
-        a.plot(g["phi"], g["fy"].abs(), label=lab, **style)
-        b.plot(g["phi"], g["mz"].abs(), label=lab, **style)
+        fy, mz = g["fy"].to_numpy(), g["mz"].to_numpy()
+        if label == "MF":  # no curvature input: its response is zero; its zero-slip offset is not a response
+            label = (f"{_mf_label(result)}: no curvature input, response 0\n(its offset at zero slip, Fy = {fy[0]:+.4g} N, "
+                     f"Mz = {mz[0]:+.4g} N m, is not drawn)")
+            fy, mz = fy - fy[0], mz - mz[0]
+        a.plot(g["phi"], np.abs(fy), label=label, **style)
+        b.plot(g["phi"], np.abs(mz), label=label, **style)
     finish(a, "path curvature phi [1/m]", "|Fy| [N]", "lateral force", legend=False)
     finish(b, "path curvature phi [1/m]", "|Mz| [N m]", "aligning torque", legend=False)
-    _legend_below(fig, a)
+    _legend_below(fig, a, ncol=3)
     fig.suptitle(f"MCPS Fig. 11: curvature response at {fz:g} N, {_tire_name(result)}", fontsize=10)
     return fig
 
@@ -399,13 +540,14 @@ def _calibration_checks(result):
         return []
     out = []
     for g, r in cal["groups"].items():
-        out.append(Check(f"{g}-improves", f"calibration of {g} lowers the max gap to the Magic Formula (after over before)",
-                         r["max_gap"] / max(r["max_gap_before"], 1e-12), 0.5, 0.5, "-", f"{DOC} §8"))
+        out.append(Check(f"{g}-improves", f"calibration of {g} does not raise the max gap to the Magic Formula "
+                         "(after over before, at most 1)", r["max_gap"] / max(r["max_gap_before"], 1e-12), 1.0, 0.0, "-",
+                         f"{DOC} §8", bound="max"))
     mf = result.meta["mf"]
     if mf["kind"] == "simple" and _reference(result) and "fx" in cal["groups"] and abs(cal["load"] - 4000.0) < 1e-9:
         r = cal["groups"]["fx"]
-        out.append(Check("fx-max-gap", "max Fx gap after calibration against the simple-form fallback (<= 150 N)",
-                         r["max_gap"], 120.0, 30.0, "N", f"{DOC} §11 (Fig. 7)"))
+        out.append(Check("fx-max-gap", "max Fx gap after calibration against the simple-form fallback (at most 150 N; "
+                         "about 120 N expected)", r["max_gap"], 150.0, 0.0, "N", f"{DOC} §11 (Fig. 7)", bound="max"))
         out.append(Check("mu_x-at-bound", "mu_x ends at its bound (1 = yes)", float(r["at_bound"]["mu_x"]), 1.0, 0.0, "-",
                          f"{DOC} §8"))
         out.append(Check("alpha_x-at-bound", "alpha_x ends at its bound (1 = yes)", float(r["at_bound"]["alpha_x"]), 1.0,
@@ -437,9 +579,11 @@ def draw_calibration(result):
         for n, v in r["parameters"].items():
             lo, hi = r["bounds"][n]
             rows.append([g, n, f"{r['start'][n]:.6g}", f"{v:.6g}", f"[{lo:g}, {hi:g}]", "AT BOUND" if r["at_bound"][n] else ""])
-        rows.append([g, f"max gap [{r['unit']}]", f"{r['max_gap_before']:.4g}", f"{r['max_gap']:.4g}", "", ""])
+        stage = "" if abs(r["max_gap_stage"] - r["max_gap"]) < 1e-6 * max(1.0, r["max_gap"]) else \
+            f"{r['max_gap_stage']:.4g} right after this fit; c_Mz (fitted later) changes the belt twist"
+        rows.append([g, f"max gap [{r['unit']}]", f"{r['max_gap_before']:.4g}", f"{r['max_gap']:.4g}", "", stage])
         rows.append([g, f"rms gap [{r['unit']}]", f"{r['rms_gap_before']:.4g}", f"{r['rms_gap']:.4g}", "", ""])
-    return Table(columns=["fit", "parameter", "before", "after", "bounds", "status"], rows=rows,
+    return Table(columns=["fit", "parameter", "before", "final", "bounds", "status"], rows=rows,
                  notes=[f"Target: {cal['target']} at {cal['load']:g} N; model: MCPS {cal['carcass']} carcass; "
                         f"fits on {cal['grid']['kappa'][2]} points each."])
 
@@ -469,12 +613,13 @@ def _fig3_checks(result):
     sc = result.meta["scenario"]
     out = []
     pk_path, pk = overshoot_peak(p.alpha_x, p.beta_x, f["K_N_per_m"], f["Fk_N"])
-    if math.isfinite(pk_path) and f["amplitude_m"] > pk_path:
+    if math.isfinite(pk_path) and f["amplitude_m"] > pk_path and not sc["frame_term"]:  # 1-D: no frame rotation
         out.append(Check("peak-closed-form", "first-loading force peak over the closed form g_max F_k", f["first_peak_force_N"] / (pk * f["Fk_N"]),
                          1.0, 1e-5, "-", f"{DOC} §3.2"))
     if "rate_independence_max_diff_N" in f:
-        out.append(Check("rate-independence", "max |f(T) - f(T')| at equal phase", f["rate_independence_max_diff_N"], 0.0, 1e-6,
-                         "N", f"{DOC} §3.2 (rate independence)"))
+        out.append(Check("rate-independence", "max |f(T) - f(T')| at equal phase (exact increments at T, time "
+                         "integration at T')", f["rate_independence_max_diff_N"], 0.0, 1e-6, "N",
+                         f"{DOC} §3.2 (rate independence)"))
     default = not sc["frame_term"] and abs(sc["pressure_Pa"] - 4000.0 / (0.13 * 0.14)) < 1e-6 and \
         abs(f["amplitude_m"] - 8 * f["Fk_N"] / f["K_N_per_m"]) < 1e-12
     if _reference(result) and default:
@@ -492,12 +637,7 @@ def _fig3_checks(result):
 @register(
     "mcps-fig3", paper="MCPS", label="Fig. 3", study="mcps-fig3", order=30, checks=_fig3_checks,
     title="Rubber slider: friction force and torsional torque loops",
-    caption="One slider (U = 1 cm^2 under the 4000 N patch pressure: K = 5000 N/m, F_k = 19.8 N, S_z = 0.35 N m/rad, "
-            "M_kz = 0.187 N m; alpha = 3, beta = 1.5 [assumed]) driven by u_x = A sin(2 pi t/T), psi = Psi sin(2 pi t/T) "
-            "with A = 8 F_k/K, Psi = 8 M_kz/S_z, two periods [assumed scenario], frame-rotation term off. Force and torque "
-            "are what the slider transmits to the road (MCPS eq. 9). Initial slope K (S_z), overshoot to 4/3 F_k on first "
-            "loading and more after each reversal (limit 5/3 F_k), then the Coulomb level; T = 2 s (solid) and T = 0.5 s "
-            "(dashed) coincide: the law is rate independent.",
+    caption=_caption_fig3,
     paper_shows="Friction force and torque of one rubber slider: hysteresis loops with overshoot (no scales legible).",
 )
 def draw_fig3(result):
@@ -538,7 +678,8 @@ def _fig4_checks(result):
         out.append(Check("first-loading", "max |f_y|/F'_ky on first loading (4/3 without the frame term; the turning "
                          "frame lowers it to 1.327)", f["max_fy_first_loading_over_Fky"], 1.327, 0.002, "-",
                          f"{DOC} §11 (Fig. 4)"))
-        ref = {0.45: 1.59, round(math.pi / 4, 12): 1.63}.get(round(sc["amplitude_rad"], 12))
+        A = sc["amplitude_rad"]
+        ref = 1.59 if abs(A - 0.45) < 1e-8 else (1.63 if abs(A - math.pi / 4) < 1e-8 else None)
         if ref is not None:
             out.append(Check("first-cycle", f"max |f_y|/F'_ky over the first cycle (A = {sc['amplitude_rad']:.4g} rad)",
                              f["max_fy_first_cycle_over_Fky"], ref, 0.01, "-", f"{DOC} §11 (Fig. 4)"))
@@ -548,11 +689,7 @@ def _fig4_checks(result):
 @register(
     "mcps-fig4", paper="MCPS", label="Fig. 4", study="mcps-fig4-5", order=40, checks=_fig4_checks,
     title="Lateral friction force distribution over the patch at standstill",
-    caption="Blocked wheel (V = 0, rigid belt, 4000 N), yawing at |yaw rate| = 1 rad/s along psi = 0 -> +0.45 -> -0.45 -> "
-            "+0.45 rad [assumed amplitude: the scan's '-45 <= psi <= 45' read as +-0.45 rad], frame-rotation term on. "
-            "Left: the lateral friction force density f_y(xi, t) the sliders transmit to the road (odd in xi); right: "
-            "profiles at the yaw reversals. Near the centre f_y grows with |xi| psi; the edges saturate first, with an "
-            "overshoot to 4/3 F'_ky on first loading and a larger one after each reversal (limit 5/3 F'_ky).",
+    caption=_caption_fig4,
     paper_shows="Surface plot of the lateral friction-force distribution over the patch against time, V = 0, |yaw rate| = "
                 "1 rad/s.",
 )
@@ -576,7 +713,7 @@ def draw_fig4(result):
     ax3.set_zlabel("f_y [kN/m]", fontsize=8)
     ax3.tick_params(labelsize=7)
     ax3.view_init(elev=25, azim=-60)
-    ax3.set_title("f_y(xi, t)", fontsize=10)
+    ax3.set_title("f_y(xi, t), road on tire", fontsize=10)
     ax = fig.add_subplot(1, 2, 2)
     ax.set_position([0.56, 0.2, 0.42, 0.66])
     st = result.data["standstill"]
@@ -618,14 +755,14 @@ def _fig5_checks(result):
         for (k, v), ref in zip(f["first_loading_mz_Nm"].items(), refs):
             out.append(Check(f"first-{k.split()[0]}", f"Mz on first loading at psi = {k}", v, ref, 0.001, "N m", f"{DOC} §5"))
         A = sc["amplitude_rad"]
-        if on and abs(A - 0.45) < 1e-12:
+        if on and abs(A - 0.45) < 1e-8:
             out += [Check("mz-minus-A", "Mz at psi = -0.45 rad (end of the second leg)", f["mz_at_minus_A_Nm"], 301.92, 0.01,
                           "N m", f"{DOC} §11 (Fig. 5)"),
                     Check("max-mz", "max |Mz| over the first cycle", f["max_abs_mz_first_cycle_Nm"], 329.28, 0.01, "N m",
                           f"{DOC} §11 (Fig. 5)"),
                     Check("max-mz-psi", "yaw angle of the max |Mz| (last leg)", f["psi_of_max_abs_mz_rad"], 0.14, 0.01, "rad",
                           f"{DOC} §11 (Fig. 5)")]
-        if on and abs(A - math.pi / 4) < 1e-12:
+        if on and abs(A - math.pi / 4) < 1e-8:
             out += [Check("mz-minus-A", "Mz at psi = -pi/4", f["mz_at_minus_A_Nm"], 265.16, 0.01, "N m", f"{DOC} §11 (Fig. 5)"),
                     Check("max-mz", "max |Mz| over the first cycle", f["max_abs_mz_first_cycle_Nm"], 347.26, 0.01, "N m",
                           f"{DOC} §11 (Fig. 5)"),
@@ -641,12 +778,7 @@ def _fig5_checks(result):
 @register(
     "mcps-fig5", paper="MCPS", label="Fig. 5", study="mcps-fig4-5", order=50, checks=_fig5_checks,
     title="Tire torsional torque at standstill: Mz against the yaw angle",
-    caption="The Fig. 4 motion (4000 N, +-0.45 rad [assumed], frame term on): Mz (road on tire, ISO) against psi. Linear "
-            "start with slope -C_z (eq. 11, dashed), saturation towards -sgn(yaw rate) times the asymptotic torque (grey: "
-            "with the frame term 250 N m; eq. 12 without it 229.5 N m) with overshoot, a larger overshoot after each "
-            "reversal, and a loop that settles to a periodic, point-symmetric one within a few cycles (the first is not "
-            "symmetric). The Magic Formula has no torque at standstill. The scan's torque ticks suggest the paper's tire "
-            "gives about half these torques.",
+    caption=_caption_fig5,
     paper_shows="Torsional torque against the yaw angle (rad, ticks -0.4 to 0.4): a hysteresis loop.",
 )
 def draw_fig5(result):
@@ -687,14 +819,11 @@ def _relaxation_checks(result):
         lab = case["label"]
         f = result.meta["facts"][lab]
         g = df[df["case"] == lab]
-        if sc["distance_m"] >= 4.0:  # docs §7: within 0.01 N of the stationary solution after 4 m
-            out.append(Check(f"steady-{lab}", f"|Fy - Fy_inf| after {sc['distance_m']:g} m ({lab}): the long-time transient "
-                             "tends to the stationary solution", abs(f["final_fy_minus_fy_inf_N"]), 0.0, 0.01, "N", f"{DOC} §7"))
         if case["carcass"] == "rigid":
             fy, _ = rigid_relaxation_exact(p, sc["fz_N"], sc["alpha_rad"], g["s"].to_numpy())
             out.append(Check(f"exact-{lab}", "max |Fy - exact characteristic solution| of the solid carcass",
                              float(np.max(np.abs(g["fy"].to_numpy() - fy))), 0.0, 0.05, "N", f"{DOC} §7"))
-    ref = _reference(result) and abs(sc["fz_N"] - 4000.0) < 1e-9 and abs(sc["alpha_rad"] - DEG) < 1e-12 and sc["frame_term"]
+    ref = _reference(result) and abs(sc["fz_N"] - 4000.0) < 1e-9 and abs(sc["alpha_rad"] - DEG) < 1e-8 and sc["frame_term"]
     if ref:
         for case in result.meta["cases"]:
             lab, f = case["label"], result.meta["facts"][case["label"]]
@@ -702,20 +831,24 @@ def _relaxation_checks(result):
                 for k, r in (("s63_first_m", 0.051685), ("s95_first_m", 0.106260), ("s99_first_m", 0.124713)):
                     out.append(Check(f"{lab}-{k[1:3]}", f"solid carcass: rolled distance to {k[1:3]} % of Fy_inf", f[k] or float("nan"),
                                      r, 2e-4, "m", f"{DOC} §7 (exact by characteristics)"))
-            elif abs(sc["speed_m_per_s"] - 20.0) < 1e-12 and not case["locked"]:
+            elif abs(sc["speed_m_per_s"] - 20.0) < 1e-9 and not case["locked"]:
                 g = df[df["case"] == lab]
                 s, ratio = g["s"].to_numpy(), g["ratio"].to_numpy()
                 early = s <= 0.13
                 i = int(np.argmax(ratio[early]))
                 dip = (s > 0.1) & (s < 0.3)
                 j = int(np.argmin(ratio[dip]))
+                if sc["distance_m"] >= 4.0:
+                    out.append(Check(f"{lab}-steady", f"|Fy - Fy_inf| after {sc['distance_m']:g} m: the long-time transient "
+                                     "tends to the stationary solution (MCPS eq. 18)", abs(f["final_fy_minus_fy_inf_N"]), 0.0,
+                                     0.01, "N", f"{DOC} §7"))
                 out += [Check(f"{lab}-hump", "first maximum of Fy/Fy_inf (belt modes), about 72 %", float(ratio[early][i]),
                               0.72, 0.01, "-", f"{DOC} §7"),
                         Check(f"{lab}-hump-s", "rolled distance of the first maximum", float(s[early][i]), 0.08, 0.01, "m", f"{DOC} §7"),
                         Check(f"{lab}-dip", "the dip of Fy/Fy_inf after it, about 25 %", float(ratio[dip][j]), 0.25, 0.01, "-", f"{DOC} §7"),
                         Check(f"{lab}-dip-s", "rolled distance of the dip", float(s[dip][j]), 0.19, 0.01, "m", f"{DOC} §7"),
                         Check(f"{lab}-95", "first rolled distance to 95 %", f["s95_first_m"] or float("nan"), 0.78, 0.01, "m", f"{DOC} §7")]
-            elif abs(sc["speed_m_per_s"] - 20.0) < 1e-12 and case["locked"] == ["delta"]:
+            elif abs(sc["speed_m_per_s"] - 20.0) < 1e-9 and case["locked"] == ["delta"]:
                 out += [Check(f"{lab}-63", "twist locked: rolled distance to 63 %", f["s63_first_m"] or float("nan"), 0.309, 0.002,
                               "m", f"{DOC} §7"),
                         Check(f"{lab}-95", "twist locked: rolled distance to 95 %", f["s95_first_m"] or float("nan"), 0.933, 0.002,
@@ -726,13 +859,7 @@ def _relaxation_checks(result):
 @register(
     "mcps-relaxation", paper="MCPS", label="relaxation", study="mcps-relaxation", order=130, checks=_relaxation_checks,
     title="Relaxation: side-force build-up over the rolled distance after a 1 deg slip-angle step",
-    caption="From free rolling at 20 m/s, Vy steps to Vx tan(1 deg) at t = 0 [assumed scenario]; Fy/Fy_inf (left) and Mz "
-            "(right) against the rolled distance, frame-rotation term on. Solid carcass: exact by characteristics, steady "
-            "after one patch length. Complete model: not monotone (about 72 % at 0.08 m, a dip to about 25 % near 0.19 m, "
-            "then a slow rise, 95 % near 0.78 m); the dip is the lateral belt mode y: it stays with the twist locked "
-            "(63 % first reached at 0.309 m) and vanishes when y is locked. Transport "
-            "by Lagrangian tread elements (CFL = 1), second order. The Magic Formula, a stationary model, cannot give this "
-            "build-up.",
+    caption=_caption_relaxation,
     paper_shows="No paper figure: the paper states that MCPS reproduces relaxation-length behaviour.",
 )
 def draw_relaxation(result):
@@ -764,3 +891,71 @@ def draw_relaxation(result):
 
 
 __all__ = ["require"]
+
+
+# --------------------------------------------------------------------------- schematics (Figs. 1, 2, 6) as tables
+
+
+@register(
+    "mcps-fig1-2", paper="MCPS", label="Figs. 1-2", study="mcps-fig4-5", order=10,
+    title="Rubber slider and contact patch: geometry and the quantities of the model",
+    caption="The paper's Figs. 1 and 2 are drawings (a slider of area U with its frame R_D; the patch of length l and "
+            "width w in the tire frame R_W with the rim's translation V and yaw rate). tirecli lists what they define, "
+            "with the values of the run's tire at its load: patch, pressure, the slider of Fig. 3 and the per-length "
+            "constants of the blocked-wheel model (docs/models/mcps.md §1, §4, §5).",
+    paper_shows="Fig. 1: rubber slider geometry and referential; Fig. 2: contact patch geometry and tire referential "
+                "(schematics, no data).",
+)
+def draw_geometry(result):
+    from tirecli.errors import UsageError
+
+    if "params" not in (result.payload or {}) or "patch" not in (result.payload or {}):
+        raise UsageError("figure 'mcps-fig1-2' draws an 'mcps-standstill' run (see 'tirecli figures list')")
+    p, pa, law = result.payload["params"], result.payload["patch"], result.payload["law"]
+    sl = p.slider_law(pa.P)
+    rows = [
+        ["F_z", f"{pa.fz:g}", "N", "vertical load"],
+        ["l", f"{pa.l:.4g}", "m", "patch length along X_W (l_ref (F_z/fz_ref)^l_exponent)"],
+        ["w", f"{pa.w:.4g}", "m", "patch width along Y_W"],
+        ["P", f"{pa.P:.5g}", "Pa", "uniform contact pressure F_z/(w l)"],
+        ["U", f"{p.U:.3g}", "m^2", "area of the slider of Fig. 3 (frame R_D)"],
+        ["K_x, K_y", f"{sl.K[0]:.5g}, {sl.K[1]:.5g}", "N/m", "slider stiffness U r"],
+        ["F_kx, F_ky", f"{sl.Fk[0]:.5g}, {sl.Fk[1]:.5g}", "N", "slider Coulomb levels P U mu"],
+        ["S_z, M_kz", f"{sl.Sz:.4g}, {sl.Mkz:.4g}", "N m/rad, N m", "slider torsional stiffness and sliding torque"],
+        ["K'_x, K'_y", f"{law.K[0]:.5g}, {law.K[1]:.5g}", "N/m^2", "patch stiffness per length w r"],
+        ["F'_kx, F'_ky", f"{law.Fk[0]:.5g}, {law.Fk[1]:.5g}", "N/m", "patch Coulomb levels per length mu P w"],
+        ["S'_z, M'_kz", f"{law.Sz:.5g}, {law.Mkz:.5g}", "N m/rad/m, N m/m", "torsion of a strip per length (eq. 11-12)"],
+    ]
+    return Table(columns=["symbol", "value", "unit", "meaning"], rows=rows,
+                 notes=[f"Tire {_tire_name(result)}; ISO-W axes: X_W forward, Y_W left, Z_W up, origin at the patch centre."])
+
+
+@register(
+    "mcps-fig6", paper="MCPS", label="Fig. 6", study="mcps-relaxation", order=60,
+    title="System with carcass flexibility: the belt's degrees of freedom",
+    caption="The paper's Fig. 6 is a drawing of the belt on the rim: translations x, y and twist delta, each on a spring "
+            "and a damper (MCPS eqs. 16-17). tirecli lists them with the run's values, the belt's natural frequencies "
+            "on its springs alone and with the tread elements acting as springs to the road, and the damping ratios "
+            "(docs/models/mcps.md §7).",
+    paper_shows="Fig. 6: the system with carcass flexibility (schematic, no data).",
+)
+def draw_belt(result):
+    from tirecli.errors import UsageError
+    from tirecli.numerics.mcps_transient import coupling_rate
+
+    if result.study not in ("mcps-relaxation", "mcps-stationary") or "params" not in (result.payload or {}):
+        raise UsageError("figure 'mcps-fig6' draws an 'mcps-relaxation' or 'mcps-stationary' run")
+    p = result.payload["params"]
+    fz = result.meta.get("scenario", {}).get("fz_N") or result.meta.get("loads", [4000.0])[0]
+    pa, law, cz = p.patch(fz), p.patch_law(fz), p.stiffnesses(fz)["C_z"]
+    rows = []
+    for dof, m, k, c, kp, unit_k, unit_c in (
+            ("x", p.m_b, p.k_x, p.c_x, law.K[0] * pa.l, "N/m", "N s/m"),
+            ("y", p.m_b, p.k_y, p.c_y, law.K[1] * pa.l, "N/m", "N s/m"),
+            ("delta", p.J_b, p.k_delta, p.c_delta, cz, "N m/rad", "N m s/rad")):
+        rows.append([dof, f"{m:g}", f"{k:.4g} {unit_k}", f"{c:.4g} {unit_c}", f"{c / (2 * math.sqrt(k * m)):.3f}",
+                     f"{math.sqrt(k / m):.1f}", f"{math.sqrt((k + kp) / m):.1f}"])
+    return Table(columns=["DOF", "mass / inertia", "stiffness", "damping", "damping ratio",
+                          "natural rate on the rim [rad/s]", "with the patch as a spring [rad/s]"], rows=rows,
+                 notes=[f"Tire {_tire_name(result)} at {fz:g} N; the fastest rate ({coupling_rate(p, fz):.0f} rad/s) sets the "
+                        "transport step of the relaxation runs (docs/models/mcps.md §7)."])

@@ -33,8 +33,10 @@ class FigureDef:
         The paper's numbering, e.g. ``Fig. 1 (left)``.
     title : str
         Short title.
-    caption : str
-        Caption in our words (what is plotted, parameters, assumptions).
+    caption : str or callable
+        Caption in our words (what is plotted, parameters, assumptions); a callable
+        ``caption(result) -> str`` describes the run at hand (its tyre, loads, scenario) and is called
+        with ``None`` where no run exists. Read it with :meth:`caption_for`.
     paper_shows : str
         What the paper's figure shows, for the side-by-side reading in the report.
     study : str or None
@@ -58,6 +60,10 @@ class FigureDef:
     checks: Callable | None = None
     order: int = 0
 
+    def caption_for(self, result=None) -> str:
+        """The caption, for ``result`` when the caption depends on the run."""
+        return self.caption(result) if callable(self.caption) else self.caption
+
 
 REGISTRY: dict[str, FigureDef] = {}
 
@@ -73,7 +79,7 @@ PAPERS = {
 }
 
 
-def register(id: str, *, paper: str, label: str, title: str, caption: str, paper_shows: str = "",
+def register(id: str, *, paper: str, label: str, title: str, caption, paper_shows: str = "",
              study: str | None = None, checks: Callable | None = None, order: int = 0):
     """Decorator registering a draw function as figure ``id``."""
 

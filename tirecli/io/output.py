@@ -273,7 +273,7 @@ def write_result(out: str | Path, result, figures: dict, checks: list, command: 
             "figures": [str(p.relative_to(out)) for p in fig_paths],
             "files": [str(p.relative_to(out)) for p in file_paths],
             # what each figure shows, its parameters and assumptions (as in ``tirecli report``)
-            "captions": {fid: REGISTRY[fid].caption for fid in figures if fid in REGISTRY},
+            "captions": {fid: REGISTRY[fid].caption_for(result) for fid in figures if fid in REGISTRY},
         },
         # the run up to here: the study, drawing, and writing data and figures (``wall_time`` is
         # the time spent before this call)

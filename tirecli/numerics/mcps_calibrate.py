@@ -7,7 +7,13 @@ residuals in N or N m, equal weights), each on an even grid that excludes zero s
    (``kappa`` in ``(0, kappa_max]``; closed form of the pure longitudinal slip);
 2. ``(r_y, mu_y, alpha_y, beta_y)`` on ``Fy(alpha)`` at ``kappa = 0`` (``alpha`` in ``(0, alpha_max]``;
    the chosen carcass: the complete model solves its fixed point at every evaluation);
-3. ``c_Mz`` on ``Mz(alpha)`` at ``kappa = 0`` with the fitted lateral parameters.
+3. ``c_Mz`` on ``Mz(alpha)`` at ``kappa = 0`` with the fitted lateral parameters. In the complete model
+   ``c_Mz`` sets the aligning stiffness and with it the belt twist, which changes ``Fy`` again: with
+   ``rounds > 1`` steps 2 and 3 alternate (up to ``rounds`` times, until no parameter changes by more
+   than ``ROUND_TOL``, relative).
+
+The report gives each group's gap before calibration (the start set), right after its own fit
+(``max_gap_stage``) and for the final set (``max_gap``: the set drawn and written).
 
 Bounds (docs/models/mcps.md §8): ``r`` in ``[1e6, 1e9]`` N/m^3 (fitted in log10), ``mu`` in ``[0.7, 1.2]``,
 ``alpha``, ``beta`` in ``[1.001, 5]``, ``c_Mz`` in ``[0, 5]`` [assumed]. A value within 1e-6
@@ -25,6 +31,8 @@ BOUNDS = {
     "r_y": (1e6, 1e9), "mu_y": (0.7, 1.2), "alpha_y": (1.001, 5.0), "beta_y": (1.001, 5.0),
     "c_Mz": (0.0, 5.0),
 }
+#: Stopping rule of repeated lateral rounds (relative change of every lateral parameter).
+ROUND_TOL = 1e-4
 GROUPS = {
     "fx": ("r_x", "mu_x", "alpha_x", "beta_x"),
     "fy": ("r_y", "mu_y", "alpha_y", "beta_y"),
@@ -46,7 +54,7 @@ def _bounds(names):
     return np.array(lo), np.array(hi)
 
 
-def calibrate(p, fz: float, targets: dict, grid: dict, carcass: str = "complete") -> tuple:
+def calibrate(p, fz: float, targets: dict, grid: dict, carcass: str = "complete", rounds: int = 1) -> tuple:
     """Fit the rubber parameters of ``p`` (MCPSParams) to target curves.
 
     Parameters
@@ -60,6 +68,8 @@ def calibrate(p, fz: float, targets: dict, grid: dict, carcass: str = "complete"
         ``{"kappa": array, "alpha": array}`` of the fits.
     carcass : {"complete", "rigid"}
         Model of the lateral fits.
+    rounds : int
+        Largest number of alternations of the lateral fits (step 2 then 3); 1 is the spec's sequence.
 
     Returns
     -------
@@ -89,37 +99,62 @@ def calibrate(p, fz: float, targets: dict, grid: dict, carcass: str = "complete"
         warm["Q"] = st.Q  # the next evaluation starts from this solution (parameters change little)
         return st.fy if group == "fy" else st.mz
 
-    for group, names in GROUPS.items():
-        if group not in targets:
-            continue
+    def fit(group, cur):
+        names = GROUPS[group]
         x_in = kap if group == "fx" else alp
         target = np.asarray(targets[group](x_in), dtype=float)
         lo, hi = _bounds(names)
         x0 = np.clip(_to_x(names, cur.__dict__), lo + 1e-9 * (hi - lo), hi - 1e-9 * (hi - lo))
 
-        def resid(x, names=names, group=group, target=target):
+        def resid(x):
             r = model_curve(group, cur.with_values(**_from_x(names, x))) - target
             return np.where(np.isfinite(r), r, 1e6)
 
-        before = model_curve(group, cur) - target
         sol = least_squares(resid, x0, bounds=(lo, hi), method="trf", x_scale="jac", xtol=1e-12, ftol=1e-12,
                             gtol=1e-12, max_nfev=400)
-        fitted = _from_x(names, sol.x)
-        cur = cur.with_values(**fitted)
-        after = model_curve(group, cur) - target
         span = hi - lo
-        at_bound = {n: bool(min(abs(v - l), abs(h - v)) <= 1e-6 * s)
-                    for n, v, l, h, s in zip(names, sol.x, lo, hi, span)}
-        report[group] = {
-            "parameters": fitted,
-            "start": {n: float(p.__dict__[n]) for n in names},
+        at_bound = {n: bool(min(abs(v - a), abs(b - v)) <= 1e-6 * sp) for n, v, a, b, sp in zip(names, sol.x, lo, hi, span)}
+        return cur.with_values(**_from_x(names, sol.x)), sol, at_bound, float(np.max(np.abs(resid(sol.x))))
+
+    info = {g: {"evaluations": 0, "success": True, "status": "", "at_bound": {}, "stage": None} for g in GROUPS}
+
+    def record(g, sol, ab, gap):
+        info[g].update(evaluations=info[g]["evaluations"] + int(sol.nfev), success=bool(sol.success),
+                       status=sol.message, at_bound=ab, stage=gap)
+
+    cur = p
+    if "fx" in targets:
+        cur, *res = fit("fx", cur)
+        record("fx", *res)
+    lateral = [g for g in ("fy", "mz") if g in targets]
+    done = 0
+    for done in range(1, (max(1, int(rounds)) if carcass == "complete" and len(lateral) == 2 else 1) + 1):
+        prev = np.array([getattr(cur, n) for g in lateral for n in GROUPS[g]])
+        for g in lateral:
+            cur, *res = fit(g, cur)
+            record(g, *res)
+        now = np.array([getattr(cur, n) for g in lateral for n in GROUPS[g]])
+        if np.all(np.abs(now - prev) <= ROUND_TOL * np.maximum(np.abs(now), 1e-12)):
+            break
+    report = {}
+    for g, names in GROUPS.items():  # gaps of the start set and of the final set (the one drawn and written)
+        if g not in targets:
+            continue
+        x_in = kap if g == "fx" else alp
+        target = np.asarray(targets[g](x_in), dtype=float)
+        before = model_curve(g, p) - target
+        after = model_curve(g, cur) - target
+        report[g] = {
+            "parameters": {n: float(getattr(cur, n)) for n in names},
+            "start": {n: float(getattr(p, n)) for n in names},
             "bounds": {n: BOUNDS[n] for n in names},
-            "at_bound": at_bound,
+            "at_bound": info[g]["at_bound"],
             "max_gap_before": float(np.max(np.abs(before))), "rms_gap_before": float(np.sqrt(np.mean(before**2))),
+            "max_gap_stage": info[g]["stage"],
             "max_gap": float(np.max(np.abs(after))), "rms_gap": float(np.sqrt(np.mean(after**2))),
-            "unit": "N m" if group == "mz" else "N",
-            "points": int(x_in.size), "success": bool(sol.success), "status": sol.message,
-            "evaluations": int(sol.nfev),
+            "unit": "N m" if g == "mz" else "N", "points": int(x_in.size),
+            "success": info[g]["success"], "status": info[g]["status"], "evaluations": info[g]["evaluations"],
+            "rounds": done if g in lateral else 1,
         }
     return cur, report
 

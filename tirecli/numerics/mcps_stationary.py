@@ -18,6 +18,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
+from scipy.optimize import root
 
 from tirecli.models.mcps import tire as T
 
@@ -40,6 +41,8 @@ class Stationary:
     iterations : int
         Newton iterations used (the largest over the points).
     converged : ndarray of bool
+    Q : ndarray, shape (P, 3), or None
+        ``(k_x x, k_y y, k_delta delta)`` [N, N, N m] (a warm start for nearby solutions).
     """
 
     fx: np.ndarray
@@ -51,6 +54,7 @@ class Stationary:
     residual: np.ndarray
     iterations: int
     converged: np.ndarray
+    Q: np.ndarray | None = None
 
 
 def patch_forces(p, fz, kappa, alpha, phi, q, frame_term=False, steps=None, speed=1.0):
@@ -120,6 +124,10 @@ def solve(p, fz: float, kappa, alpha, phi, carcass: str = "complete", frame_term
     """
     kappa, alpha, phi = np.broadcast_arrays(*(np.atleast_1d(np.asarray(a, dtype=float)) for a in (kappa, alpha, phi)))
     kappa, alpha, phi = (np.ascontiguousarray(a).ravel() for a in (kappa, alpha, phi))
+    if not speed > 0:
+        raise ValueError(f"speed must be > 0 (got {speed}); the stationary forces do not depend on it")
+    if np.any(kappa <= -1.0) or np.any(np.abs(alpha) >= np.pi / 2):
+        raise ValueError("kappa must be > -1 (the tread moves forwards) and |alpha| < pi/2")
     P = kappa.size
     zeros = np.zeros((P, 3))
     FA, MA = patch_forces(p, fz, kappa, alpha, phi, zeros, frame_term, steps, speed)
@@ -178,8 +186,6 @@ def solve(p, fz: float, kappa, alpha, phi, carcass: str = "complete", frame_term
         active = (err >= tol) & ~stalled
     bad = np.flatnonzero(~(err < tol))
     for i in bad:  # one at a time with MINPACK's hybrid method
-        from scipy.optimize import root
-
         args = (kappa[i:i + 1], alpha[i:i + 1], phi[i:i + 1])
         def full(Qf, i=i):
             Qv = Q[i:i + 1].copy()
@@ -192,9 +198,7 @@ def solve(p, fz: float, kappa, alpha, phi, carcass: str = "complete", frame_term
         if np.isfinite(ei) and ei < err[i]:
             Q[i], FW[i], err[i] = full(sol.x)[0], FWi[0], ei
     q = Q / kvec
-    out = Stationary(FW[:, 0], FW[:, 1], FW[:, 2], q[:, 0], q[:, 1], q[:, 2], err, it, err < tol)
-    out.Q = Q
-    return out
+    return Stationary(FW[:, 0], FW[:, 1], FW[:, 2], q[:, 0], q[:, 1], q[:, 2], err, it, err < tol, Q)
 
 
 __all__ = ["Stationary", "solve", "patch_forces", "TOL"]

@@ -23,6 +23,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from tirecli.models.mcps import law as L
+from tirecli.models.mcps import tire as T
 
 # --------------------------------------------------------------------------- slider (Fig. 3)
 
@@ -63,6 +64,54 @@ def simulate_slider(law: L.DahlLaw, ux, uy, psi, frame_term: bool = False):
     return f, m
 
 
+def integrate_slider_in_time(law: L.DahlLaw, amplitude: float, rotation: float, period: float, phase,
+                             frame_term: bool = False, rtol: float = 1e-10):
+    """The slider under ``u_x = A sin(2 pi t/T)``, ``psi = Psi sin(2 pi t/T)`` integrated **in time**
+    (MCPS eq. 9 by ``scipy.integrate.solve_ivp``, DOP853), split at the reversals (``|du|`` has a kink
+    there). An independent check of :func:`simulate_slider` and of the law's rate independence: the loop
+    must not depend on ``T``.
+
+    Parameters
+    ----------
+    amplitude, rotation : float
+        ``A`` [m], ``Psi`` [rad].
+    period : float
+        ``T`` [s].
+    phase : array_like
+        Output phases ``t/T`` [-], increasing from 0.
+
+    Returns
+    -------
+    f : ndarray, shape (n, 2) [N]; m : ndarray, shape (n,) [N m] -- as :func:`simulate_slider`.
+    """
+    from scipy.integrate import solve_ivp
+
+    phase = np.asarray(phase, dtype=float)
+    w = 2.0 * np.pi / period
+    nb, nbz = law.nb, law.nbz
+
+    def rhs(t, x):
+        c = np.cos(w * t)
+        dF, dM = L.rates(x[:2 * nb].reshape(nb, 2), x[2 * nb:], np.array([amplitude * w * c, 0.0]),
+                         rotation * w * c, rotation * w * c, law, frame_term)
+        return np.concatenate([dF.ravel(), dM])
+
+    edges = [0.0] + [0.25 + 0.5 * k for k in range(int(np.ceil(2 * phase[-1])) + 1) if 0.25 + 0.5 * k < phase[-1]] + [phase[-1]]
+    x = np.zeros(2 * nb + nbz)
+    f = np.zeros((phase.size, 2))
+    m = np.zeros(phase.size)
+    for a, b in zip(edges[:-1], edges[1:]):
+        q = (phase >= a) & (phase <= b)
+        sol = solve_ivp(rhs, (a * period, b * period), x, method="DOP853", rtol=rtol, atol=rtol * 1e-3,
+                        t_eval=phase[q] * period)
+        if not sol.success:
+            raise RuntimeError(f"time integration of the slider failed: {sol.message}")
+        Fs = sol.y[:2 * nb].T.reshape(-1, nb, 2)
+        f[q], m[q] = L.output(Fs, sol.y[2 * nb:].T, law)
+        x = sol.y[:, -1] if sol.y.shape[1] else x
+    return f, m
+
+
 # --------------------------------------------------------------------------- standstill (Figs. 4-5)
 
 
@@ -97,7 +146,7 @@ def gauss_patch(l: float, nodes_per_half: int):
     return xi, wt
 
 
-def simulate_standstill(law: L.DahlLaw, l: float, c_Mz: float, t, psi, xi_quad, w_quad, xi_grid=(),
+def simulate_standstill(law: L.DahlLaw, c_Mz: float, t, psi, xi_quad, w_quad, xi_grid=(),
                         frame_term: bool = True):
     """Blocked wheel at standstill under a yaw motion (MCPS §3.1, eqs. 10-12), exact between samples.
 
@@ -254,15 +303,23 @@ def coupling_rate(p, fz: float, locked=()) -> float:
     return math.sqrt(max(free)) if free else 0.0
 
 
-def cells_needed(p, fz: float, romega: float, cells: int, carcass: str = "complete", locked=(), courant: float = 0.5) -> int:
-    """Patch cells of a rolling run: at least ``cells``, and for the flexible carcass enough that the
-    belt's fastest mode is resolved by the transport step (``omega dt <= courant``, ``dt = l/(cells r omega)``)."""
+def cells_needed(p, fz: float, romega: float, cells: int, carcass: str = "complete", locked=(), courant: float = 0.5,
+                 slip=(0.0, 0.0), per_length: float = 5.0) -> int:
+    """Patch cells of a rolling run: at least ``cells``; at least ``per_length`` cells per relaxation
+    length of the tread elements at the slip ``slip = du/(r omega)`` (the entry boundary layer of
+    length ``1/(|F'_k s| g)`` sharpens at large slip: ``cells >= per_length z`` with ``z = |F'_k s| g l``);
+    and for the flexible carcass enough that the belt's fastest mode is resolved by the transport step
+    (``omega dt <= courant``, ``dt = l/(cells r omega)``)."""
     import math
 
+    pa = p.patch(fz)
+    law = p.patch_law(fz)
+    z = float(np.hypot(law.Fk[0] * slip[0], law.Fk[1] * slip[1]) * np.max(law.g) * pa.l)
+    n = max(int(cells), int(math.ceil(per_length * z)))
     if carcass == "rigid":
-        return int(cells)
+        return n
     w = coupling_rate(p, fz, locked)
-    return max(int(cells), int(math.ceil(w * p.patch(fz).l / (courant * romega))))
+    return max(n, int(math.ceil(w * pa.l / (courant * romega))))
 
 
 def simulate_rolling(p, fz: float, Vx: float, Vy: float, romega: float, yaw: float, distance: float,
@@ -333,17 +390,12 @@ def simulate_rolling(p, fz: float, Vx: float, Vy: float, romega: float, yaw: flo
         mza = -(float(sig[2] @ tot[2]) + p.c_Mz * float(line_y @ wxi))
         if rigid:
             return fxa, fya, mza
-        x, yy, de = q
-        return fxa - de * fya, fya + de * fxa, mza + x * fya - yy * fxa
+        return tuple(float(v) for v in T.wheel_forces((fxa, fya), mza, q))     # MCPS eq. (16)
 
     def advance(S0, ymid):
-        x, yy, de, xd, yd, dd = ymid
-        a = Vx + xd - yaw * yy
-        b = Vy + yd + yaw * x
-        c, s_ = np.cos(de), np.sin(de)
-        Om = yaw + dd
-        du[0] = (a * c + b * s_ - romega) * dt
-        du[1] = (-a * s_ + b * c + Om * xi_mid) * dt
+        ux, uy0, Om = T.belt_velocities(Vx, Vy, romega, yaw, ymid[:3], ymid[3:])   # slider velocities in R_A
+        du[0] = ux * dt
+        du[1] = (uy0 + Om * xi_mid) * dt
         dps = Om * dt
         du[2] = dps
         dth = dps if frame_term else 0.0
@@ -406,6 +458,8 @@ def rigid_relaxation_exact(p, fz: float, alpha: float, s):
     ``(Fy, Mz)`` [N, N m] at the rolled distances ``s`` (array).
     """
     s = np.atleast_1d(np.asarray(s, dtype=float))
+    if alpha == 0:
+        return np.zeros_like(s), np.zeros_like(s)
     pa = p.patch(fz)
     law = p.patch_law(fz)
     l = pa.l
@@ -425,5 +479,5 @@ def rigid_relaxation_exact(p, fz: float, alpha: float, s):
     return fy, mz
 
 
-__all__ = ["simulate_slider", "triangle_yaw", "gauss_patch", "simulate_standstill", "coupling_rate", "cells_needed",
+__all__ = ["simulate_slider", "integrate_slider_in_time", "triangle_yaw", "gauss_patch", "simulate_standstill", "coupling_rate", "cells_needed",
            "asymptotic_standstill_torque", "RollingRun", "simulate_rolling", "rigid_relaxation_exact"]

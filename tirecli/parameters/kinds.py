@@ -189,7 +189,10 @@ def _mf_simple_fields() -> dict:
                                           ("y", "lateral", "1/rad", "-", "peak over load D_y/Fz"),
                                           ("z", "aligning-torque", "1/rad", "m", "peak over load D_z/Fz")):
         out[f"B{ch}"] = Num(unit=bunit, gt=0, doc=f"{what} stiffness factor B_{ch}", eq="Magic Formula basic curve")
-        out[f"C{ch}"] = Num(unit="-", gt=0, doc=f"{what} shape factor C_{ch}", eq="Magic Formula basic curve")
+        # the combined-slip rule normalises each slip by its curve's peak, which needs C > 1 (x and y)
+        out[f"C{ch}"] = Num(unit="-", gt=0 if ch == "z" else 1,
+                            doc=f"{what} shape factor C_{ch}" + ("" if ch == "z" else " (> 1: the curve has a peak)"),
+                            eq="Magic Formula basic curve")
         out[f"D{ch}"] = Num(unit=dunit, gt=0, doc=f"{what} {dmean}", eq="Magic Formula basic curve")
         out[f"E{ch}"] = Num(unit="-", le=1, doc=f"{what} curvature factor E_{ch} (<= 1)", eq="Magic Formula basic curve")
     return out

@@ -89,7 +89,7 @@ def build_report(out: str | Path, only=None, progress=None) -> dict:
 
     cards, all_checks = [], []
     for f in entries:
-        card = {"id": f.id, "paper": f.paper, "label": f.label, "title": f.title, "caption": f.caption,
+        card = {"id": f.id, "paper": f.paper, "label": f.label, "title": f.title, "caption": f.caption_for(results.get(f.study)),
                 "paper_shows": f.paper_shows, "study": f.study, "image": None, "table": None, "error": None,
                 "checks": [], "parameters": [], "files": [], "synthetic": False, "assumed": []}
         res = results.get(f.study)

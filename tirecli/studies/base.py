@@ -38,6 +38,9 @@ class Check:
         Unit of value/reference.
     source : str
         Where the reference comes from (spec section).
+    bound : str
+        ``abs`` (default): pass when ``|value - reference| <= tolerance``; ``max``: pass when
+        ``value <= reference + tolerance`` (an upper bound); ``min``: when ``value >= reference - tolerance``.
     """
 
     id: str
@@ -47,9 +50,14 @@ class Check:
     tolerance: float
     unit: str = "-"
     source: str = ""
+    bound: str = "abs"
 
     @property
     def deviation(self) -> float:
+        if self.bound == "max":
+            return max(self.value - self.reference, 0.0)
+        if self.bound == "min":
+            return max(self.reference - self.value, 0.0)
         return abs(self.value - self.reference)
 
     @property
@@ -57,11 +65,14 @@ class Check:
         return bool(math.isfinite(self.value) and self.deviation <= self.tolerance)
 
     def record(self) -> dict:
-        return {
+        out = {
             "id": self.id, "description": self.description, "value": self.value,
             "reference": self.reference, "tolerance": self.tolerance, "deviation": self.deviation,
             "unit": self.unit, "source": self.source, "passed": self.passed,
         }
+        if self.bound != "abs":
+            out["bound"] = self.bound  # the reference is an upper (max) or lower (min) bound
+        return out
 
 
 @dataclass

@@ -1,8 +1,9 @@
 """The basic Magic Formula curve with fixed B, C, D, E (magic_formula.md §13.1): the simple-form
 fallback of the MCPS comparison (docs/models/mcps.md §8), when no real ``.tir`` tyre is wanted.
 
-``Y = D sin(C arctan(B x - E (B x - arctan B x)))`` per channel, no shifts; ``D`` scales with the
-load (``Dx = mu_x Fz``, ``Dy = mu_y Fz``, ``Dz = d_z Fz``), ``B``, ``C``, ``E`` are fixed [assumed].
+``Y = D sin(C arctan(B x - E (B x - arctan B x)))`` per channel, no shifts; the peak scales with the
+load (``Dx Fz``, ``Dy Fz`` [N], ``Dz Fz`` [N m]: the fields are peaks over load), ``B``, ``C``, ``E``
+are fixed [assumed].
 ISO-W axes, road on tire: ``Fx`` has the sign of ``kappa``, ``Fy`` the opposite sign of ``alpha``,
 ``Mz`` the sign of ``alpha`` (magic_formula.md §2.2). Combined slip [assumed]: the normalised-slip
 similarity method (magic_formula.md §13.3, Beckman's variant): ``s = kappa/kappa_peak``,

@@ -50,7 +50,7 @@ class DahlLaw:
     Fk : ndarray, shape (2,)
         Coulomb levels along x and y [N] (per length [N/m]), MCPS eq. (2).
     hz, gz, sigz : ndarray, shape (nbz,)
-        The torsional branches: gains [N m/rad], relaxation gains [1/(N m)], weights.
+        The torsional branches: gains [N m/rad], relaxation gains [1/rad] (the measure is ``|dpsi|``), weights.
     Mkz : float
         Torsional sliding torque [N m] (per length [N m/m]), MCPS eq. (8).
     """
@@ -277,6 +277,12 @@ def step(F, M, du, dpsi, dtheta, law: DahlLaw):
     return Fn, Mn
 
 
+def path_rates(alpha, beta, K, Fk):
+    """Decay rates [1/m] of the two branches along a monotone 1-D path (docs/models/mcps.md §3.2):
+    ``a = beta K/(alpha F_k)``, ``b = (beta - 1) K/((alpha - 1) F_k)``."""
+    return beta * K / (alpha * Fk), (beta - 1.0) * K / ((alpha - 1.0) * Fk)
+
+
 def path_response(p, alpha, beta, K, Fk):
     """1-D response of the second-order law, monotone from rest, as a fraction of ``F_k``
     (docs/models/mcps.md §3.2): ``g(p) = 1 + (alpha - 1) e^{-b p} - alpha e^{-a p}``,
@@ -294,8 +300,7 @@ def path_response(p, alpha, beta, K, Fk):
         Coulomb level [N].
     """
     p = np.asarray(p, dtype=float)
-    a = beta * K / (alpha * Fk)
-    b = (beta - 1.0) * K / ((alpha - 1.0) * Fk)
+    a, b = path_rates(alpha, beta, K, Fk)
     return 1.0 + (alpha - 1.0) * np.exp(-b * p) - alpha * np.exp(-a * p)
 
 
@@ -304,11 +309,10 @@ def overshoot_peak(alpha, beta, K=1.0, Fk=1.0):
     (docs/models/mcps.md §3.2); ``(inf, 1)`` when there is no overshoot (``alpha <= beta``)."""
     if alpha <= beta:
         return float("inf"), 1.0
-    a = beta * K / (alpha * Fk)
-    b = (beta - 1.0) * K / ((alpha - 1.0) * Fk)
+    a, b = path_rates(alpha, beta, K, Fk)
     p = np.log(beta / (beta - 1.0)) / (a - b)
     return float(p), float(path_response(p, alpha, beta, K, Fk))
 
 
 __all__ = ["DahlLaw", "second_order", "first_order", "coulomb", "output", "rates", "step",
-           "sliding_measure", "path_response", "overshoot_peak"]
+           "sliding_measure", "path_rates", "path_response", "overshoot_peak"]

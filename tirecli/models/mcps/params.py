@@ -7,7 +7,6 @@ Units are SI; the schema (units, ranges, meaning, equation) is the ``mcps`` kind
 """
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass, replace
 
 from tirecli.models.mcps.law import DahlLaw, second_order
@@ -162,11 +161,6 @@ class MCPSParams:
             "C_z": cz, "C_zF": 1.0 / (1.0 / cz + 1.0 / kd),
             "Mz_inf": self.mu_y * pa.fz / 4.0 * (self.c_muz * w + self.c_Mz * l),
         }
-
-    def natural_rates(self) -> dict:
-        """Undamped natural angular frequencies of the belt on the rim [rad/s] (for step checks)."""
-        return {"x": math.sqrt(self.k_x / self.m_b), "y": math.sqrt(self.k_y / self.m_b),
-                "delta": math.sqrt(self.k_delta / self.J_b)}
 
 
 __all__ = ["MCPSParams", "Patch"]

@@ -23,7 +23,7 @@ import math
 
 import numpy as np
 
-from tirecli.models.mcps.law import DahlLaw
+from tirecli.models.mcps.law import DahlLaw, path_rates
 
 #: Below this argument the closed forms switch to their power series (docs/models/mcps.md §6: the aligning
 #: bracket loses every digit to cancellation near z = 1e-4).
@@ -285,10 +285,7 @@ def pure_longitudinal_fx(kappa, p, fz):
     """
     kappa = np.asarray(kappa, dtype=float)
     pa = p.patch(fz)
-    K = pa.w * p.r_x
-    Fk = p.mu_x * pa.P * pa.w
-    a = p.beta_x * K / (p.alpha_x * Fk)
-    b = (p.beta_x - 1.0) * K / ((p.alpha_x - 1.0) * Fk)
+    a, b = path_rates(p.alpha_x, p.beta_x, pa.w * p.r_x, p.mu_x * pa.P * pa.w)
     P = pa.l * np.abs(kappa) / (1.0 + kappa)
 
     def mean_exp(c):  # (1 - e^{-cP})/(cP), 1 at P = 0
