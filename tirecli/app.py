@@ -42,8 +42,15 @@ def command_line() -> str:
 
 
 def draw(result: StudyResult, ids=None, progress=None) -> tuple[dict, list]:
-    """Draw the figures ``ids`` (default: the result's) and evaluate their checks."""
+    """Draw the figures ``ids`` (default: the result's) and evaluate the checks of those asked for.
+
+    A figure's checks compare the run with what the paper shows for *its* scenario, so they run only
+    for figures asked for by name: ``ids`` given, or listed under the config's ``figures:`` (every
+    built-in paper config lists its figures). A custom config without ``figures:`` gets the study's
+    default figures and its own facts, and no paper checks.
+    """
     figs, checks = {}, []
+    asked = set(ids) if ids else set(_listed_figures(result))
     ids = list(ids or result.figures)
     if progress is not None:
         progress.start(len(ids), "figures")
@@ -54,7 +61,7 @@ def draw(result: StudyResult, ids=None, progress=None) -> tuple[dict, list]:
                 figs[fid] = fdef.draw(result)
             except UsageError as exc:  # a figure of another kind of run: name the config line
                 raise _figure_problem(result, fid, exc) from None
-            if fdef.checks is not None:
+            if fdef.checks is not None and fid in asked:
                 for c in fdef.checks(result):
                     c.id = f"{fid}/{c.id}"
                     checks.append(c)
@@ -66,12 +73,18 @@ def draw(result: StudyResult, ids=None, progress=None) -> tuple[dict, list]:
     return figs, checks
 
 
+def _listed_figures(result: StudyResult) -> list:
+    """The figure ids the result's config lists under ``figures:`` (empty without a config or the key)."""
+    listed = result.config.data.get("figures") if result.config is not None else None
+    return list(listed) if isinstance(listed, list) else []
+
+
 def _figure_problem(result: StudyResult, fid: str, exc: UsageError) -> UsageError:
     """The error of figure ``fid`` at its place in the config's ``figures:`` list, if it is there."""
     from tirecli.errors import ConfigError
 
-    listed = result.config.data.get("figures") if result.config is not None else None
-    if isinstance(listed, list) and fid in listed:
+    listed = _listed_figures(result)
+    if fid in listed:
         return ConfigError(result.config.origins.problem(("figures", listed.index(fid)), f"{fid}: {exc}"))
     return UsageError(f"figure {fid}: {exc}" if fid not in str(exc) else str(exc))
 

@@ -23,7 +23,7 @@ def simulate(config: Path = ConfigArg, out: Optional[Path] = OutOpt, set_: Optio
     for line in summary.result.meta.get("summary", []):
         result_line(f"  {line}")
     for ev in summary.result.meta.get("events", []):
-        locks = ", ".join(f"{a:.3f} s" for a, _ in ev["wheel_lock"]) or "none"
+        locks = ", ".join(f"{a:.4f}-{b:.4f} s" if b is not None else f"from {a:.4f} s" for a, b in ev["wheel_lock"]) or "none"
         stop = f"stop at {ev['stop_time']:.3f} s after {ev['stopping_distance']:.2f} m" if ev["stop_time"] is not None \
             else f"v = {ev['v_final']:.3g} m/s at {ev['t_final']:.3g} s"
         result_line(f"  {ev['case']}: peak |s| {ev['peak_abs_slip']:.4f} at {ev['t_peak_abs_slip']:.3f} s, "

@@ -74,29 +74,42 @@ def _case_legend(fig, axes, ncol=2):
 
 @register("transient-histories", paper="generic", label="simulate", title="Time histories of the runs",
           caption="Vehicle speed v and wheel circumferential speed r*omega, slip s and friction mu = F/F_n against "
-                  "time for every case (coupled quarter car solid, open-loop tire runs dashed). Brake torque on the "
-                  "right axis of the speed panel.")
+                  "time for every case (coupled quarter car solid, open-loop tire runs dashed), from the integrator's "
+                  "dense output on the output grid. Brake torque on the right axis of the speed panel. Wheel lock "
+                  "intervals are shaded on the slip panel, their start (down triangle) and end (up triangle) marked "
+                  "at the root-found event times.")
 def draw_histories(result):
     require(result, "simulate", "transient-histories")
     cases = result.payload["cases"]
+    ts = result.data["timeseries"]
     fig, (a, b, c) = new_figure(nrows=3, width=7.0, height=8.5, sharex=True)
-    shown_torque = False
+    shown_torque = marked = False
     for i, case in enumerate(cases):
         tr = run_of(result, case.label)
+        d = ts[ts["case"] == case.label]   # the integrator's dense output on the output grid
         st = _style(i, case)
-        a.plot(tr.t, tr.y[:, 0], color=st["color"], ls=st["ls"], lw=st["lw"])
+        a.plot(d["t"], d["v"], color=st["color"], ls=st["ls"], lw=st["lw"])
         if case.mode == "coupled":
-            a.plot(tr.t, tr.out["romega"], color=st["color"], ls=":", lw=st["lw"])
-        b.plot(tr.t, tr.out["slip"], **st)
-        c.plot(tr.t, tr.out["mu"], **st, label=case.label)
-        if case.mode == "coupled" and not shown_torque and np.nanmax(np.abs(tr.out["torque"])) > 0:
+            a.plot(d["t"], d["romega"], color=st["color"], ls=":", lw=st["lw"])
+        b.plot(d["t"], d["slip"], **st)
+        c.plot(d["t"], d["mu"], **st, label=case.label)
+        for t_lock, t_unlock in tr.events["lock"]:   # wheel lock intervals: both ends marked
+            b.axvspan(t_lock, t_unlock if t_unlock is not None else float(d["t"].iloc[-1]), color=st["color"],
+                      alpha=0.08, lw=0)
+            b.plot([t_lock], [-1.0], marker="v", color=st["color"], ms=6, ls="none",
+                   label=None if marked else "wheel locks")
+            if t_unlock is not None:
+                b.plot([t_unlock], [-1.0], marker="^", color=st["color"], ms=6, ls="none",
+                       label=None if marked else "wheel unlocks")
+            marked = True
+        if case.mode == "coupled" and not shown_torque and np.nanmax(np.abs(d["torque"])) > 0:
             ax2 = a.twinx()
-            ax2.plot(tr.t, tr.out["brake_torque"], color="0.5", lw=0.8)
+            ax2.plot(d["t"], d["brake_torque"], color="0.5", lw=0.8)
             ax2.set_ylabel(f"brake torque T_b [N m] ({case.label})", color="0.4", fontsize=8)
             shown_torque = True
     finish(a, "", "v (solid), r omega (dotted) [m/s]", _wrap(result.meta.get("title") or "Transient runs"),
            legend=False)
-    finish(b, "", "slip s [-]", legend=False)
+    finish(b, "", "slip s [-]", legend=marked, loc="lower left")
     finish(c, "time t [s]", "friction mu = F/F_n [-]", legend=False)
     _case_legend(fig, c)
     _mark(fig, result)

@@ -14,7 +14,7 @@ run's outputs (the shape of a brake release changes the results: lugre.md §7). 
   than ``t``, ``pi``, ``e`` and the functions of :data:`EXPRESSION_FUNCTIONS`).
 
 Every profile also has ``at(t)`` (fast evaluation at one float time, for time-stepping loops) and
-``breakpoints()`` (times where the profile or its slope jumps; integrators end steps there).
+``breakpoints(t_end)`` (times where the profile or its slope jumps; integrators end steps there).
 
 Config forms (see :data:`PROFILE_SPEC` and :func:`profile_from_config`)::
 
@@ -54,7 +54,7 @@ class Constant:
     def at(self, t: float) -> float:
         return float(self.value)
 
-    def breakpoints(self) -> tuple:
+    def breakpoints(self, t_end: float | None = None) -> tuple:
         return ()
 
     def record(self) -> dict:
@@ -90,7 +90,7 @@ class Table:
         t0, t1 = tt[i - 1], tt[i]
         return float(yy[i - 1] + (yy[i] - yy[i - 1]) * (t - t0) / (t1 - t0))
 
-    def breakpoints(self) -> tuple:
+    def breakpoints(self, t_end: float | None = None) -> tuple:
         return tuple(sorted(set(float(x) for x in self.t)))
 
     def record(self) -> dict:
@@ -147,7 +147,7 @@ class Transitions:
             level = c.to
         return float(y)
 
-    def breakpoints(self) -> tuple:
+    def breakpoints(self, t_end: float | None = None) -> tuple:
         out = set()
         for c in self.changes:
             out.add(float(c.at))
@@ -228,13 +228,113 @@ class Expression:
         return np.array(out) if np.ndim(t) else float(out)
 
     def at(self, t: float) -> float:
-        return float(self(float(t)))
+        """The value at ``t`` [s]; at one of its switch times the right limit (the value that holds from
+        that time on, as for a step of a table), so a run that restarts there starts with it."""
+        t = float(t)
+        for bps in self.__dict__.get("_bp_cache", {}).values():
+            i = bisect.bisect_left(bps, t - 1e-12 * max(1.0, abs(t)))
+            if i < len(bps) and abs(bps[i] - t) <= 1e-12 * max(1.0, abs(t)):
+                return float(self(t + 1e-9 * max(abs(t), 1e-3)))
+        return float(self(t))
 
-    def breakpoints(self) -> tuple:
-        return ()
+    def breakpoints(self, t_end: float | None = None) -> tuple:
+        """Times in ``[0, t_end]`` [s] where the formula switches: jumps and kinks of its comparisons,
+        ``abs``, ``sign``, ``heaviside``, ``minimum``, ``maximum``, ``clip``, ``where`` and ``%``
+        (:func:`switch_times`). ``t_end`` defaults to 1000 s."""
+        key = 1000.0 if t_end is None else float(t_end)
+        cache = self.__dict__.setdefault("_bp_cache", {})
+        if key not in cache:
+            cache[key] = switch_times(self.text, key)
+        return cache[key]
 
     def record(self) -> dict:
         return {"kind": "expression", "expr": self.text}
+
+
+#: Functions of a formula whose value or slope jumps where their argument crosses a value.
+_KINK_FUNCTIONS = {"abs", "sign", "heaviside", "where"}
+_PAIR_FUNCTIONS = {"minimum", "maximum"}
+
+
+def switch_times(text: str, t_end: float, grid: int = 20001) -> tuple:
+    """Times in ``(0, t_end)`` [s] where a formula of ``t`` may jump or kink (its switches).
+
+    Every non-smooth construct of the formula gives a *switching function* ``g(t)`` that changes sign
+    there: ``a < b`` (any comparison) gives ``a - b``; ``abs(x)``, ``sign(x)``, ``heaviside(x, h)`` and
+    ``where(x, ...)`` give ``x``; ``minimum(a, b)``, ``maximum(a, b)`` give ``a - b``; ``clip(x, lo,
+    hi)`` gives ``x - lo`` and ``x - hi``; ``a % b`` jumps where ``a/b`` crosses an integer. Each is
+    evaluated on a grid of ``grid`` points over ``[0, t_end]``; every sign change (or change of
+    ``floor(a/b)``) is refined by Brent's method to 1e-12 s. Switches closer together than the grid
+    spacing may be missed (a formula is not a place for sub-millisecond pulses over long runs).
+    """
+    import ast
+
+    from scipy.optimize import brentq
+
+    tree = ast.parse(text, mode="eval")
+    funcs = []
+
+    def fn(node):
+        code = compile(ast.Expression(body=node), "<switch>", "eval")
+        env = {"__builtins__": {}, "pi": np.pi, "e": np.e, **EXPRESSION_FUNCTIONS}
+        return lambda t: np.asarray(eval(code, {**env, "t": t}), dtype=float)  # noqa: S307 - checked AST
+
+    def diff(a, b):
+        fa, fb = fn(a), fn(b)
+        return lambda t: fa(t) - fb(t)
+
+    for node in ast.walk(tree):
+        if isinstance(node, ast.Compare):
+            left = node.left
+            for right in node.comparators:
+                funcs.append(("sign", diff(left, right)))
+                left = right
+        elif isinstance(node, ast.Call) and isinstance(node.func, ast.Name):
+            name, args = node.func.id, node.args
+            if name in _KINK_FUNCTIONS and args and not (name == "where" and isinstance(args[0], ast.Compare)):
+                funcs.append(("sign", fn(args[0])))
+            elif name in _PAIR_FUNCTIONS and len(args) >= 2:
+                funcs.append(("sign", diff(args[0], args[1])))
+            elif name == "clip" and len(args) >= 3:
+                funcs.append(("sign", diff(args[0], args[1])))
+                funcs.append(("sign", diff(args[0], args[2])))
+        elif isinstance(node, ast.BinOp) and isinstance(node.op, ast.Mod):
+            a, b = fn(node.left), fn(node.right)
+            funcs.append(("floor", lambda t, a=a, b=b: a(t) / b(t)))
+    if not funcs or not t_end > 0:
+        return ()
+    tg = np.linspace(0.0, float(t_end), int(grid))
+    out = set()
+    with np.errstate(all="ignore"):
+        for kind, g in funcs:
+            try:
+                vals = np.broadcast_to(g(tg), tg.shape)
+            except (ArithmeticError, ValueError, TypeError):
+                continue
+            if kind == "floor":
+                lev = np.floor(vals)
+                idx = np.flatnonzero(np.isfinite(lev[:-1]) & np.isfinite(lev[1:]) & (lev[:-1] != lev[1:]))
+                for i in idx:
+                    k = max(lev[i], lev[i + 1])
+                    h = lambda t, g=g, k=k: float(g(np.asarray(t))) - k  # noqa: E731
+                    try:
+                        out.add(float(brentq(h, tg[i], tg[i + 1], xtol=1e-12)))
+                    except ValueError:
+                        out.add(float(tg[i + 1]))
+                continue
+            sg = np.sign(vals)
+            nz = np.flatnonzero(np.isfinite(vals) & (sg != 0))
+            for a_, b_ in zip(nz[:-1], nz[1:]):   # zeros exactly on the grid, between opposite signs
+                if b_ > a_ + 1 and sg[a_] * sg[b_] < 0:
+                    out.add(float(tg[a_ + 1]))
+            idx = np.flatnonzero(np.isfinite(vals[:-1]) & np.isfinite(vals[1:]) & (sg[:-1] * sg[1:] < 0))
+            for i in idx:
+                h = lambda t, g=g: float(g(np.asarray(t)))  # noqa: E731
+                try:
+                    out.add(float(brentq(h, tg[i], tg[i + 1], xtol=1e-12)))
+                except ValueError:
+                    out.add(float(tg[i + 1]))
+    return tuple(sorted(x for x in out if 0.0 < x < t_end))
 
 
 def _post_table(v, path, ctx):

@@ -64,6 +64,12 @@ class History:
     def arrays(self) -> dict:
         return {k: np.array(getattr(self, k)) for k in ("t", "X", "Phi", "Y", "dX", "dPhi", "dY")}
 
+    def truncate(self, t: float) -> None:
+        """Drop the points after ``t`` (a step that is taken back)."""
+        while self.t and self.t[-1] > t:
+            for lst in (self.t, self.X, self.Phi, self.Y, self.dX, self.dPhi, self.dY):
+                lst.pop()
+
     def lookup(self, target, now):
         """``(Phi(tau), Y(tau), vr(tau)/|r omega(tau)|)`` where ``X(tau) = target``, ``tau`` in ``[0, t_now]``.
 
@@ -245,12 +251,18 @@ class CharacteristicsStepper:
     # ------------------------------------------------------------------ stepper API
 
     def start(self, t, y, mode):
+        E = self.peek(t, y, mode)
+        t, y, u, th, mode, f = E[:6]
+        self.hist.put(t, y[4], y[3], y[2], f[4], f[3], f[2])
+        return E
+
+    def peek(self, t, y, mode):
+        """``start`` without recording ``(t, y)`` in the history (a step from a point of a finished run)."""
         y = [float(x) for x in y]
         u, th = self.inputs(t)
         if mode == PRESCRIBED:
             y[0], y[1] = self.V(t), self.W(t)
         f, J, out = self._eval(t, y, u, th, mode, True)
-        self.hist.put(t, y[4], y[3], y[2], f[4], f[3], f[2])
         return (t, y, u, th, mode, f, J, out)
 
     def attempt(self, E, h, left=False):
@@ -336,6 +348,44 @@ class CharacteristicsStepper:
     def holds(self, E):
         u, F = E[2], E[7][-1]
         return u < 0.0 and -self.car.r * F <= -u
+
+    # ------------------------------------------------------------------ dense output and events
+
+    def _inputs_at(self, t, left):
+        if not left:
+            return self.inputs(t)
+        tl = t - 1e-9 * max(abs(t), 1e-3)
+        return self.U(tl), self.TH(tl)
+
+    @staticmethod
+    def deriv(E) -> list:
+        """The right-hand side of a ``start`` record."""
+        return list(E[5])
+
+    def rhs_at(self, t, y, mode, left=False):
+        """Right-hand side at ``(t, y)`` without touching the history (``left``: the inputs' left limits)."""
+        u, th = self._inputs_at(t, left)
+        y = [float(x) for x in y]
+        if mode == PRESCRIBED:
+            y[0], y[1] = self.V(t), self.W(t)
+        return self._eval(t, y, u, th, mode, False)
+
+    def lock_margin(self, t, y, left=False):
+        """``min(T_b, T_b - |r F|)`` at ``(t, y)`` with the wheel locked (>= 0 while the brake holds)."""
+        u, th = self._inputs_at(t, left)
+        y = [float(x) for x in y]
+        y[1] = 0.0
+        F = self._eval(t, y, u, th, LOCKED, True)[2][-1]
+        return min(-u, self.car.r * F - u)
+
+    def evaluate(self, t, y, mode):
+        """``(state, outputs)`` at ``(t, y)`` in ``mode``, without touching the history."""
+        E = self.peek(t, y, mode)
+        return E[1], self.outputs(E)
+
+    def rollback(self, t: float) -> None:
+        """Forget the history after ``t`` (a step that is taken back)."""
+        self.hist.truncate(t)
 
     def outputs(self, E):
         t, y, u, th, mode, f, J, out = E

@@ -225,6 +225,30 @@ class LumpedStepper:
             u, F = E[4], E[13]
             return u < 0.0 and -r * F <= -u
 
+        def left_inputs(t):
+            tl = t - 1e-9 * max(abs(t), 1e-3)
+            return U0(tl), TH0(tl)
+
+        def rhs_at(t, y, mode, left=False):
+            """Right-hand side at ``(t, y)`` (``left``: the inputs' left limits at ``t``)."""
+            u, th = left_inputs(t) if left else inputs(t)
+            v, w, z = y
+            if mode == PRESCRIBED:
+                v, w = V(t), W(t)
+            return list(rhs(t, v, w, z, u, th, mode))
+
+        def lock_margin(t, y, left=False):
+            """How far the brake holds a locked wheel at ``(t, y)``: ``min(T_b, T_b - |r F|)``
+            (>= 0 while it holds, with ``T_b = -u``); ``left``: the inputs' left limits."""
+            u, th = left_inputs(t) if left else inputs(t)
+            mu = core(y[0], 0.0, y[2], th)[-1]
+            return min(-u, r * mu * Fn - u)
+
+        def evaluate(t, y, mode):
+            """``(state, outputs)`` at ``(t, y)`` in ``mode`` (prescribed kinematics replace v, omega)."""
+            E = start(t, y, mode)
+            return [E[1], E[2], E[3]], tuple(outputs(E))
+
         def outputs(E):
             t, v, w, z, u, th, mode, fv, fw, zd, jac, vr, mu, F, k0 = E
             tb = -u if u < 0.0 else 0.0
@@ -233,3 +257,12 @@ class LumpedStepper:
             return (vr, mu, zd, u, tb, th, k0, 1.0 if mode == LOCKED else 0.0, fv, fw)
 
         self.start, self.attempt, self.holds, self.outputs = start, attempt, holds, outputs
+        self.rhs_at, self.lock_margin, self.evaluate = rhs_at, lock_margin, evaluate
+
+    @staticmethod
+    def deriv(E) -> list:
+        """The right-hand side ``(dv, domega, dz)`` of a ``start`` record."""
+        return [E[7], E[8], E[9]]
+
+    def rollback(self, t: float) -> None:
+        """Forget everything after ``t`` (nothing to forget: the lumped tire has no history)."""

@@ -23,6 +23,10 @@ integrate). **Stop condition:** a run ends at ``t_end``, or when the vehicle spe
 ``v_stop`` (the quarter car has no model of a vehicle at rest; LuGre itself stays defined at
 ``v = 0``: no division by zero anywhere).
 
+**Dense output:** between its steps a run is evaluated by the integrator's own step from the last
+recorded point to the time asked (outputs, extrema, the CSV grid); events (wheel lock, unlock,
+stop) are root-found on that same one-step map, so the run ends a step exactly at each event.
+
 A stepper (see :mod:`tirecli.numerics.lumped`, :mod:`tirecli.numerics.characteristics`) provides
 ``start(t, y, mode) -> E`` (right-hand side, Jacobian and outputs at ``(t, y)``),
 ``attempt(E, h, left) -> (y_new, err)`` (``left``: the step ends on a breakpoint, use the
@@ -44,9 +48,128 @@ GAMMA = 1.0 + 1.0 / math.sqrt(2.0)
 FREE, LOCKED, PRESCRIBED = 0, 1, 2
 
 
+#: Events are located to this tolerance [s] on the step's dense output.
+EVENT_TOL = 1e-9
+
+
+def hermite(s, h, y0, y1, f0, f1):
+    """Cubic Hermite interpolant at ``s = (t - t0)/h`` in [0, 1] of a step of length ``h`` [s] with end
+    values ``y0``, ``y1`` and end slopes ``f0`` (right limit at the start), ``f1`` (left limit at the end)."""
+    s2 = s * s
+    s3 = s2 * s
+    return ((2 * s3 - 3 * s2 + 1) * y0 + (s3 - 2 * s2 + s) * h * f0 + (-2 * s3 + 3 * s2) * y1
+            + (s3 - s2) * h * f1)
+
+
+def _root(g, a, b, ga=None, gb=None, tol=EVENT_TOL):
+    """A zero of ``g`` on ``[a, b]`` where it changes sign: regula falsi with the Illinois modification
+    and bisection safeguard (superlinear, bracketing), to ``tol``. Plain Python: no scipy import on the
+    simulate path."""
+    ga = g(a) if ga is None else ga
+    gb = g(b) if gb is None else gb
+    if ga == 0.0:
+        return a
+    if gb == 0.0 or ga * gb > 0.0:
+        return b
+    side = 0
+    for _ in range(200):
+        if b - a <= tol:
+            break
+        c = b - gb * (b - a) / (gb - ga)
+        if not a < c < b:
+            c = 0.5 * (a + b)
+        gc = g(c)
+        if gc == 0.0:
+            return c
+        if gc * gb < 0.0:
+            a, ga = b, gb
+            b, gb = c, gc
+            side = 0
+        else:
+            b, gb = c, gc
+            if side == -1:
+                ga *= 0.5       # Illinois: halve the stale end's value
+            side = -1
+        if a > b:
+            a, b, ga, gb = b, a, gb, ga
+        if abs(b - a) > 0.5 * abs(c - a) + tol and side == -1 and _ > 40:
+            m = 0.5 * (a + b)   # slow progress: bisect
+            gm = g(m)
+            if gm * ga < 0.0:
+                b, gb = m, gm
+            else:
+                a, ga = m, gm
+    return 0.5 * (a + b) if abs(ga) > 0 and abs(gb) > 0 else (a if ga == 0.0 else b)
+
+
+def _minimize(f, a, b, xtol=1e-12, maxiter=200):
+    """Minimum of ``f`` on ``[a, b]``: Brent's method (golden section with parabolic steps). Plain Python."""
+    cg = 0.3819660112501051
+    x = w = v = a + cg * (b - a)
+    fx = fw = fv = f(x)
+    d = e = 0.0
+    for _ in range(maxiter):
+        m = 0.5 * (a + b)
+        tol1 = xtol + 1e-12 * abs(x)
+        tol2 = 2.0 * tol1
+        if abs(x - m) <= tol2 - 0.5 * (b - a):
+            break
+        if abs(e) > tol1:
+            r = (x - w) * (fx - fv)
+            q = (x - v) * (fx - fw)
+            p_ = (x - v) * q - (x - w) * r
+            q = 2.0 * (q - r)
+            if q > 0.0:
+                p_ = -p_
+            q = abs(q)
+            if abs(p_) < abs(0.5 * q * e) and q * (a - x) < p_ < q * (b - x):
+                e, d = d, p_ / q
+                u = x + d
+                if u - a < tol2 or b - u < tol2:
+                    d = tol1 if x < m else -tol1
+            else:
+                e = (b - x) if x < m else (a - x)
+                d = cg * e
+        else:
+            e = (b - x) if x < m else (a - x)
+            d = cg * e
+        u = x + (d if abs(d) >= tol1 else (tol1 if d > 0 else -tol1))
+        fu = f(u)
+        if fu <= fx:
+            if u < x:
+                b = x
+            else:
+                a = x
+            v, fv, w, fw, x, fx = w, fw, x, fx, u, fu
+        else:
+            if u < x:
+                a = u
+            else:
+                b = u
+            if fu <= fw or w == x:
+                v, fv, w, fw = w, fw, u, fu
+            elif fu <= fv or v == x or v == w:
+                v, fv = u, fu
+    return x, fx
+
+
+def _event_step(attempt, E, t, H, g, g0, gH, left_end=False):
+    """Length ``h`` in ``(0, H]`` of the step from ``E`` (at ``t``) that ends on the event ``g(t + h, y(h)) = 0``,
+    with ``y(h)`` the ROS2 step of length ``h`` (the integrator's own one-step map, smooth in ``h``):
+    Brent's method to ``EVENT_TOL``. ``g0``, ``gH``: the event function at both ends (a sign change).
+    Returns ``(h, y(h))``."""
+    def gh(h):
+        return g(t + h, attempt(E, h, left_end and h >= H)[0])
+
+    h = _root(gh, 0.0, H, g0, gH)
+    if h <= 0.0:
+        return 0.0, None
+    return h, attempt(E, h, left_end and h >= H)[0]
+
+
 @dataclass
 class Trajectory:
-    """A solution on the accepted steps.
+    """A solution on the accepted steps, with its dense output.
 
     Attributes
     ----------
@@ -58,9 +181,20 @@ class Trajectory:
         Output name -> array over ``t`` (``mu``, ``vr``, ``slip``, ``torque`` ...).
     events : dict
         ``lock`` (list of ``[t_lock, t_unlock or None]``), ``stop`` (time or None),
-        ``reason`` (why the run ended).
+        ``reason`` (why the run ended); event times located on the dense output to ``EVENT_TOL``.
     stats : dict
         Accepted/rejected steps, smallest/largest step.
+    dy, dy_left : ndarray
+        Time derivatives of the states at each time: the right limit (the slope the next step
+        starts with) and the left limit (the slope the previous step ends with); they differ at
+        breakpoints of the inputs and at events.
+    modes : ndarray of int
+        Wheel mode of the step that starts at each time (FREE, LOCKED, PRESCRIBED).
+    evaluate : callable or None
+        ``evaluate(t, y, mode) -> (state, outputs)`` of the stepper (no side effects).
+    advance : callable or None
+        ``advance(t_k, y_k, mode, dt) -> y``: the integrator's step of length ``dt`` from a recorded
+        point, the dense output of :meth:`sample` (and the map events are root-found on).
     """
 
     t: np.ndarray
@@ -69,9 +203,117 @@ class Trajectory:
     events: dict
     stats: dict
     y_names: tuple = field(default_factory=tuple)
+    dy: np.ndarray | None = None
+    dy_left: np.ndarray | None = None
+    modes: np.ndarray | None = None
+    evaluate: object = None
+    out_names: tuple = field(default_factory=tuple)
+    advance: object = None
 
     def state(self, name: str) -> np.ndarray:
         return self.y[:, self.y_names.index(name)]
+
+    def step_index(self, tq) -> np.ndarray:
+        """Index ``k`` of the step ``[t_k, t_k+1]`` holding each time of ``tq`` (clipped to the run)."""
+        k = np.searchsorted(self.t, np.asarray(tq, dtype=float), side="right") - 1
+        return np.clip(k, 0, max(len(self.t) - 2, 0))
+
+    def states_at(self, tq):
+        """States at the times ``tq`` [s], shape ``(len(tq), n_states)``: the cubic Hermite interpolant of
+        each step through its end values and end slopes (the right-hand side at the step's start, right
+        limit, and at its end, left limit). Exact at the steps' ends, C^1 except where the inputs or the
+        wheel's mode change (breakpoints, events: step ends). Fourth-order for the smooth speeds ``v``,
+        ``omega`` (distance, driving profiles); :meth:`sample` gives all states and outputs from the
+        integrator's own step instead.
+        """
+        tq = np.atleast_1d(np.asarray(tq, dtype=float))
+        if len(self.t) < 2:
+            return np.repeat(self.y[:1], tq.size, axis=0)
+        k = self.step_index(tq)
+        h = (self.t[k + 1] - self.t[k])[:, None]
+        th = np.clip((tq - self.t[k]) / h[:, 0], 0.0, 1.0)[:, None]
+        args = (th, h, self.y[k], self.y[k + 1], self.dy[k], self.dy_left[k + 1])
+        return hermite(*args)
+
+    def _dense(self, k: int, tt: float) -> list:
+        """State at ``tt`` inside step ``k``: the integrator's step from ``t_k`` of length ``tt - t_k``
+        (``advance``), or the Hermite interpolant when the run has no ``advance``."""
+        if self.advance is None or tt <= self.t[0] or tt >= self.t[-1]:
+            return list(self.states_at([tt])[0])
+        return list(self.advance(float(self.t[k]), list(self.y[k]), int(self.modes[k]), tt - float(self.t[k])))
+
+    def sample(self, tq) -> tuple:
+        """States and outputs at the times ``tq`` [s] from the dense output: ``(states, {name: array})``.
+
+        Between steps, the states are the integrator's own step from the last recorded point to the
+        time asked (``advance``: damped like the steps in the stiff bristle directions, where a
+        polynomial through the end slopes would amplify the step's error by the decay rate times the
+        step) and the outputs are the model's at those states; at a recorded time the recorded values
+        are returned exactly.
+        """
+        tq = np.atleast_1d(np.asarray(tq, dtype=float))
+        Y = np.empty((tq.size, self.y.shape[1]))
+        outs = np.empty((tq.size, len(self.out_names)))
+        k = self.step_index(tq)
+        last = len(self.t) - 1
+        rec = np.array([self.out[n] for n in self.out_names]).T if self.out_names else np.empty((len(self.t), 0))
+        for i, tt in enumerate(tq):
+            kk = int(k[i])
+            j = kk if abs(tt - self.t[kk]) <= 1e-12 else (min(kk + 1, last) if abs(tt - self.t[min(kk + 1, last)]) <= 1e-12 else -1)
+            if j >= 0:
+                Y[i], outs[i] = self.y[j], rec[j]
+                continue
+            yi = self._dense(kk, float(tt))
+            y_eff, outs[i] = self.evaluate(float(tt), yi, int(self.modes[kk]))
+            Y[i] = yi
+            Y[i, :2] = y_eff[:2]
+        return Y, {n: outs[:, i] for i, n in enumerate(self.out_names)}
+
+    def extremum(self, fn, which: str = "max") -> tuple:
+        """``(t*, value)`` of the largest (``max``) or smallest (``min``) value of ``fn(t, y, outputs)``
+        over the run, root-found on the dense output (bounded Brent search in the steps around the
+        best recorded time, to 1e-12 s; value accurate to about 1e-10 of its scale).
+
+        ``fn(t, state, outputs_dict) -> float`` is evaluated on recorded points (vectorised over
+        arrays) and on interpolated points (scalars).
+        """
+        sign = 1.0 if which == "max" else -1.0
+        vals = sign * np.asarray(fn(self.t, self.y, self.out), dtype=float)
+        i = int(np.nanargmax(vals))
+        best_t, best_v = float(self.t[i]), float(vals[i])
+
+        def at(tt):
+            Y, o = self.sample([tt])
+            return float(sign * fn(np.array([tt]), Y, o)[0])
+
+        for k in (i - 1, i):  # the steps on each side of the best recorded point
+            if k < 0 or k >= len(self.t) - 1:
+                continue
+            a, b = float(self.t[k]), float(self.t[k + 1])
+            if b - a <= 0:
+                continue
+            x, fx = _minimize(lambda x: -at(x), a, b, xtol=1e-12 * max(1.0, b))
+            if -fx > best_v:
+                best_t, best_v = float(x), float(-fx)
+        return best_t, sign * best_v
+
+    def distance_at(self, tq) -> np.ndarray:
+        """Travelled distance [m] at the times ``tq``: the exact integral of the Hermite interpolant of ``v`` (:meth:`states_at`)."""
+        tq = np.atleast_1d(np.asarray(tq, dtype=float))
+        t, v = self.t, self.y[:, 0]
+        if len(t) < 2:
+            return np.zeros(tq.size)
+        h = np.diff(t)
+        f0, f1 = self.dy[:-1, 0], self.dy_left[1:, 0]
+        full = h * (0.5 * (v[:-1] + v[1:]) + h * (f0 - f1) / 12.0)   # integral of the cubic over a step
+        cum = np.concatenate(([0.0], np.cumsum(full)))
+        k = self.step_index(tq)
+        hk = h[k]
+        th = np.clip((tq - t[k]) / hk, 0.0, 1.0)
+        t2, t3, t4 = th ** 2, th ** 3, th ** 4
+        part = hk * ((t4 / 2 - t3 + th) * v[k] + (t4 / 4 - 2 * t3 / 3 + t2 / 2) * hk * f0[k]
+                     + (-t4 / 2 + t3) * v[k + 1] + (t4 / 4 - t3 / 3) * hk * f1[k])
+        return cum[k] + part
 
 
 def merge_breakpoints(t0: float, t_end: float, *lists) -> list:
@@ -89,12 +331,14 @@ def integrate(stepper, y0, t0: float, t_end: float, breakpoints=(), tol: float =
     Parameters
     ----------
     stepper : object
-        Provides ``start``, ``attempt``, ``holds``, ``outputs``, ``y_names``, ``out_names``.
+        Provides ``start``, ``attempt``, ``holds``, ``outputs``, ``deriv``, ``rhs_at``,
+        ``lock_margin``, ``evaluate``, ``rollback``, ``y_names``, ``out_names``.
     y0 : sequence of float
         Initial state; ``y0[0]`` is the vehicle speed ``v`` [m/s], ``y0[1]`` the wheel speed
         ``omega`` [rad/s].
     breakpoints : sequence of float
-        Times [s] where inputs have kinks or jumps; steps end there.
+        Times [s] where inputs have kinks or jumps: integration breakpoints (a step ends there and
+        the next starts there with the inputs' right limits; no step straddles one).
     tol : float
         Local error tolerance per step, in m/s for speeds and in friction units for the
         bristle states [-].
@@ -104,33 +348,66 @@ def integrate(stepper, y0, t0: float, t_end: float, breakpoints=(), tol: float =
         Stop speed [m/s]: the run ends when ``v`` falls to it (quarter car only).
     prescribed : bool
         Open loop: the stepper's kinematics are prescribed (no wheel lock, no stop).
+
+    Notes
+    -----
+    Events are located on the step where they occur by root finding on the integrator's own
+    solution: Brent's method on the length ``h`` of that step (the ROS2 step from the same start is a
+    smooth function of ``h``), to ``EVENT_TOL``; the step then ends exactly there. Wheel lock:
+    ``omega`` reaching 0 with the wheel free; unlock: the brake's holding margin
+    ``min(T_b, T_b - |r F|)`` reaching 0 with the wheel locked (at a breakpoint, with the inputs' left
+    limits first: a jump of the input releases the wheel exactly at the breakpoint); stop: ``v``
+    reaching ``v_stop``.
     """
     bps = merge_breakpoints(t0, t_end, breakpoints)
     eps_t = 1e-12 * max(1.0, abs(t_end))
     t = float(t0)
-    y = list(map(float, y0)) if not isinstance(y0, np.ndarray) else y0.astype(float).copy()
+    y = list(map(float, y0))
     mode = PRESCRIBED if prescribed else FREE
     if mode == FREE and y[1] <= 0.0:
         y[1] = 0.0
         if stepper.holds(stepper.start(t, y, LOCKED)):
             mode = LOCKED
     locks: list = [[t, None]] if mode == LOCKED else []
-    rec_t, rec_y, rec_o = [], [], []
+    rec_t, rec_y, rec_o, rec_f, rec_fl, rec_m = [], [], [], [], [], []
     h = min(h0, h_max)
     ib = 0
     n_acc = n_rej = 0
     stop_t = None
     reason = "t_end"
-    start, attempt, outputs = stepper.start, stepper.attempt, stepper.outputs
+    start, attempt, outputs, deriv = stepper.start, stepper.attempt, stepper.outputs, stepper.deriv
+    f_left = None          # slope at the current time as the end of the previous step (None: same as the next start's)
+    prev = None            # (t, y, E, mode) of the last accepted step's start
     while True:
         E = start(t, y, mode)
         if mode == LOCKED and not stepper.holds(E):
+            # The brake no longer holds at t. If it already failed within the last (locked) step,
+            # locate the crossing of the holding margin on that step's dense output and redo the step to it.
+            fl = f_left if f_left is not None else deriv(E)
+            if prev is not None and prev[3] == LOCKED and stepper.lock_margin(t, y, True) < 0.0:
+                tp, yp, Ep, _ = prev
+                gp = stepper.lock_margin(tp, yp)
+                gt = stepper.lock_margin(t, y, True)
+                if gp >= 0.0 > gt:
+                    stepper.rollback(tp)
+                    hs, ys = _event_step(attempt, Ep, tp, t - tp, stepper.lock_margin, gp, gt, True)
+                    if 0.0 < hs < t - tp - 1e-12:
+                        ys[1] = 0.0
+                        t, y = tp + hs, ys
+                        fl = stepper.rhs_at(t, y, LOCKED)
+                    else:
+                        start(t, y, LOCKED)   # no earlier crossing: the history holds t again
+            f_left = fl
             mode = FREE
             locks[-1][1] = t
             E = start(t, y, mode)
         rec_t.append(t)
-        rec_y.append(y)
+        rec_y.append(list(y))
         rec_o.append(outputs(E))
+        rec_f.append(deriv(E))
+        rec_fl.append(f_left if f_left is not None else rec_f[-1])
+        rec_m.append(mode)
+        f_left = None
         if stop_t is not None or t >= t_end - eps_t:
             break
         if n_acc >= max_steps:
@@ -151,29 +428,43 @@ def integrate(stepper, y0, t0: float, t_end: float, breakpoints=(), tol: float =
                 if h < 1e-12 * max(1.0, t_end):
                     raise RunError(f"time step underflow at t = {t:.6g} s (state {list(y)})")
                 continue
-            if mode == FREE and y_new[1] < 0.0:
-                # the wheel would turn backwards: land on omega = 0 and lock (lugre.md §7)
-                frac = y[1] / (y[1] - y_new[1])
-                forced = True
-                if frac * hh > 1e-9:
-                    y_land, err_land = attempt(E, frac * hh)
-                    if err_land <= 1.0:
-                        hh, y_new = frac * hh, y_land
-                y_new[1] = 0.0
-                mode = LOCKED
-                locks.append([t + hh, None])
             break
         n_acc += 1
-        if mode != PRESCRIBED and y_new[0] <= v_stop:
-            frac = (y[0] - v_stop) / (y[0] - y_new[0]) if y[0] > y_new[0] else 1.0
-            frac = min(max(frac, 0.0), 1.0)
-            y_new = [a + frac * (b - a) for a, b in zip(y, y_new)] if not isinstance(y, np.ndarray) \
-                else y + frac * (y_new - y)
-            y_new[0] = min(y_new[0], v_stop) if v_stop > 0 else max(y_new[0], 0.0)
+        step_mode = mode
+        if at_bp:  # the slope this step ends with: the inputs' left limits at the breakpoint
+            f_left = stepper.rhs_at(t + hh, y_new, step_mode, True)
+        if mode == FREE and y_new[1] < 0.0:
+            # the wheel would turn backwards: lock where omega reaches 0 (lugre.md §7)
+            hs, ys = _event_step(attempt, E, t, hh, lambda tt, yy: yy[1], y[1], y_new[1], at_bp)
+            if hs <= 1e-12:
+                # omega is already 0 at this step's start: lock here (record this time again, locked)
+                fl_prev = rec_fl[-1]
+                for lst in (rec_t, rec_y, rec_o, rec_f, rec_fl, rec_m):
+                    lst.pop()
+                y = list(y)
+                y[1] = 0.0
+                mode = LOCKED
+                locks.append([t, None])
+                f_left = fl_prev
+                continue
+            end_bp = at_bp and hs >= hh
+            hh, y_new = hs, ys
+            f_left = stepper.rhs_at(t + hh, y_new, FREE, end_bp)
+            y_new[1] = 0.0
+            forced = True
+            mode = LOCKED
+            locks.append([t + hh, None])
+        if step_mode != PRESCRIBED and y_new[0] <= v_stop and hh > 0:
+            hs, ys = _event_step(attempt, E, t, hh, lambda tt, yy: yy[0] - v_stop, y[0] - v_stop, y_new[0] - v_stop,
+                                 at_bp and t + hh >= tb)
+            if 0.0 < hs < hh - 1e-12:
+                hh, y_new = hs, ys
+                f_left = stepper.rhs_at(t + hh, y_new, step_mode)
+            y_new[0] = v_stop if v_stop > 0 else max(y_new[0], 0.0)
             y_new[1] = max(y_new[1], 0.0)
-            hh *= frac
             stop_t = t + hh
             reason = "stop"
+        prev = (t, list(y), E, step_mode)
         t = tb if (stop_t is None and abs(t + hh - tb) <= 1e-9 * max(hh, 1e-300)) else t + hh
         y = y_new
         if hh > 0 and not (forced and err <= 1.0):  # a forced short step says nothing about the next one
@@ -186,5 +477,24 @@ def integrate(stepper, y0, t0: float, t_end: float, breakpoints=(), tol: float =
         events={"lock": locks, "stop": stop_t, "reason": reason},
         stats={"steps": n_acc, "rejected": n_rej, "h_min": float(hs.min()) if hs.size else 0.0,
                "h_max": float(hs.max()) if hs.size else 0.0, "tol": tol},
-        y_names=tuple(stepper.y_names),
+        y_names=tuple(stepper.y_names), dy=np.array(rec_f, dtype=float), dy_left=np.array(rec_fl, dtype=float),
+        modes=np.array(rec_m, dtype=int), evaluate=stepper.evaluate, out_names=tuple(stepper.out_names),
+        advance=_advance_of(stepper),
     )
+
+
+def _advance_of(stepper):
+    """The dense output of a run: ``advance(t_k, y_k, mode, dt)`` is the integrator's own step of length
+    ``dt`` from a recorded point (the one-step map that events are root-found on). Unlike a polynomial
+    through the step's end slopes it is damped like the steps in the stiff bristle directions, so the
+    outputs between steps are as accurate as at the steps."""
+    peek = getattr(stepper, "peek", stepper.start)
+    attempt = stepper.attempt
+
+    def advance(t, y, mode, dt):
+        y_new = list(attempt(peek(t, y, mode), dt, False)[0])
+        if mode == LOCKED or (mode == FREE and y_new[1] < 0.0):
+            y_new[1] = 0.0     # within the event tolerance of a lock: the wheel does not turn backwards
+        return y_new
+
+    return advance

@@ -17,7 +17,7 @@ from tirecli.models.lugre_pde import patch_reduction
 from tirecli.models.profiles import Constant
 from tirecli.models.variants import FrictionVariant
 from tirecli.models.vehicle import QuarterCarParams
-from tirecli.numerics.ros2 import Trajectory, integrate
+from tirecli.numerics.ros2 import PRESCRIBED, Trajectory, integrate
 
 #: Default local error tolerance per model (m/s for speeds, friction units for the tire states).
 #: Measured on the FM braking: lumped 1e-3 gives max |dmu| 6e-4 (in the first milliseconds),
@@ -76,7 +76,7 @@ def quarter_car(variant: FrictionVariant, p: LuGreParams, car: QuarterCarParams,
     tol = options.tol_for(variant)
     st = _stepper(variant, p, car, torque.at, theta.at, tol=tol)
     tr = integrate(st, _initial_state(variant, st, v0, omega0), 0.0, t_end,
-                   tuple(torque.breakpoints()) + tuple(theta.breakpoints()) + tuple(sample_times), tol=tol,
+                   tuple(torque.breakpoints(t_end)) + tuple(theta.breakpoints(t_end)) + tuple(sample_times), tol=tol,
                    h_max=options.h_max, v_stop=options.v_stop)
     return _finish(tr, car)
 
@@ -87,7 +87,7 @@ def open_loop(variant: FrictionVariant, p: LuGreParams, car: QuarterCarParams, v
     tol = options.tol_for(variant)
     zero = Constant(0.0)
     st = _stepper(variant, p, car, zero.at, theta.at, v_profile.at, omega_profile.at, tol=tol)
-    bps = tuple(v_profile.breakpoints()) + tuple(omega_profile.breakpoints()) + tuple(theta.breakpoints())
+    bps = tuple(v_profile.breakpoints(t_end)) + tuple(omega_profile.breakpoints(t_end)) + tuple(theta.breakpoints(t_end))
     tr = integrate(st, _initial_state(variant, st, v_profile.at(0.0), omega_profile.at(0.0)), 0.0, t_end, bps,
                    tol=tol, h_max=options.h_max, prescribed=True)
     tr.out["torque"][:] = np.nan
@@ -96,18 +96,21 @@ def open_loop(variant: FrictionVariant, p: LuGreParams, car: QuarterCarParams, v
 
 
 class HermiteProfile:
-    """Cubic Hermite profile through ``(t_i, y_i, dy_i)``: the dense output of a run (fourth-order accurate).
+    """Cubic Hermite profile through ``(t_i, y_i)`` with slopes: the dense output of a run.
 
-    Has the profile interface of :mod:`tirecli.models.profiles` (``__call__``, ``at``,
-    ``breakpoints``, ``record``); constant outside ``[t_0, t_n]``. It is smooth (C^1) between the
-    given ``breakpoints`` (the kinks of the run's inputs), so a run it drives need not stop at
-    every node.
+    ``dy`` are the slopes each interval starts with (right limits), ``dy_left`` those each ends
+    with (left limits; default ``dy``): they differ at the run's breakpoints and events, where the
+    profile has a kink. Has the profile interface of :mod:`tirecli.models.profiles` (``__call__``,
+    ``at``, ``breakpoints``, ``record``); constant outside ``[t_0, t_n]``. It is smooth (C^1) between
+    the given ``breakpoints`` (the kinks of the run's inputs and its events), so a run it drives
+    need not stop at every node.
     """
 
-    def __init__(self, t, y, dy, source: str = "", breakpoints=()):
+    def __init__(self, t, y, dy, source: str = "", breakpoints=(), dy_left=None):
         self.t = [float(x) for x in t]
         self.y = [float(x) for x in y]
         self.dy = [float(x) for x in dy]
+        self.dyl = self.dy if dy_left is None else [float(x) for x in dy_left]
         self.source = source
         self._bps = tuple(float(b) for b in breakpoints)
 
@@ -123,14 +126,14 @@ class HermiteProfile:
         s2 = s * s
         s3 = s2 * s
         return ((2 * s3 - 3 * s2 + 1) * self.y[i] + (s3 - 2 * s2 + s) * h * self.dy[i]
-                + (-2 * s3 + 3 * s2) * self.y[i + 1] + (s3 - s2) * h * self.dy[i + 1])
+                + (-2 * s3 + 3 * s2) * self.y[i + 1] + (s3 - s2) * h * self.dyl[i + 1])
 
     def __call__(self, t):
         if np.ndim(t):
             return np.array([self.at(float(x)) for x in np.ravel(t)]).reshape(np.shape(t))
         return self.at(float(t))
 
-    def breakpoints(self) -> tuple:
+    def breakpoints(self, t_end: float | None = None) -> tuple:
         return self._bps
 
     def record(self) -> dict:
@@ -138,14 +141,25 @@ class HermiteProfile:
 
 
 def kinematics_of(tr: Trajectory, source: str = "", breakpoints=()):
-    """Profiles ``(v(t) [m/s], omega(t) [rad/s])`` of a coupled run (cubic Hermite through its steps), to drive another model.
+    """Profiles ``(v(t) [m/s], omega(t) [rad/s])`` of a coupled run (its dense output, cubic Hermite), to drive another model.
 
     ``breakpoints``: the kinks of the run's inputs (and any times the driven run must hit exactly);
     wheel lock/unlock times are added.
     """
     bps = tuple(breakpoints) + tuple(t for pair in tr.events["lock"] for t in pair if t is not None)
-    return (HermiteProfile(tr.t, tr.y[:, 0], tr.out["dv"], source, bps),
-            HermiteProfile(tr.t, tr.y[:, 1], tr.out["domega"], source, bps))
+    return (HermiteProfile(tr.t, tr.y[:, 0], tr.dy[:, 0], source, bps, tr.dy_left[:, 0]),
+            HermiteProfile(tr.t, tr.y[:, 1], tr.dy[:, 1], source, bps, tr.dy_left[:, 1]))
+
+
+def distance_at(tr: Trajectory, tq) -> np.ndarray:
+    """Travelled distance [m] at ``tq`` [s]: the exact integral of the dense output of ``v`` (a coupled
+    run); for an open-loop run (``v`` prescribed) the trapezoid rule over its steps, interpolated."""
+    tq = np.atleast_1d(np.asarray(tq, dtype=float))
+    if tr.modes is not None and np.all(tr.modes == PRESCRIBED):
+        v = tr.y[:, 0]
+        cum = np.concatenate(([0.0], np.cumsum(0.5 * (v[1:] + v[:-1]) * np.diff(tr.t))))
+        return np.interp(tq, tr.t, cum)
+    return tr.distance_at(tq)
 
 
 def _finish(tr: Trajectory, car: QuarterCarParams) -> Trajectory:
@@ -154,6 +168,5 @@ def _finish(tr: Trajectory, car: QuarterCarParams) -> Trajectory:
     tr.out["romega"] = car.r * omega
     if "zbar" not in tr.out:
         tr.out["zbar"] = tr.y[:, 2].copy()
-    # travelled distance [m]: trapezoid over the accepted steps
-    tr.out["distance"] = np.concatenate(([0.0], np.cumsum(0.5 * (v[1:] + v[:-1]) * np.diff(tr.t))))
+    tr.out["distance"] = distance_at(tr, tr.t)
     return tr

@@ -199,8 +199,8 @@ class _Reciprocal:
     def at(self, t):
         return 1.0 / self.prof.at(t)
 
-    def breakpoints(self):
-        return self.prof.breakpoints()
+    def breakpoints(self, t_end=None):
+        return self.prof.breakpoints(t_end)
 
     def record(self):
         return {"kind": "reciprocal (theta_obs -> theta_fm)", "of": self.prof.record()}
@@ -218,8 +218,8 @@ class _Scaled:
     def at(self, t):
         return self.factor * self.prof.at(t) + 0.0  # no negative zero
 
-    def breakpoints(self):
-        return self.prof.breakpoints()
+    def breakpoints(self, t_end=None):
+        return self.prof.breakpoints(t_end)
 
     def record(self):
         return {"kind": self.what, "factor": self.factor, "of": self.prof.record()}
@@ -333,8 +333,8 @@ class _SlipOmega:
         v = self.vp.at(t)
         return (v * (1.0 + s) if s <= 0.0 else v / (1.0 - s)) / self.r
 
-    def breakpoints(self):
-        return tuple(self.vp.breakpoints()) + tuple(self.sp.breakpoints())
+    def breakpoints(self, t_end=None):
+        return tuple(self.vp.breakpoints(t_end)) + tuple(self.sp.breakpoints(t_end))
 
     def record(self):
         return {"kind": "omega from v and slip", "v": self.vp.record(), "slip": self.sp.record()}
@@ -431,17 +431,22 @@ def _sample_times(meas, t_end):
     return tuple(np.round(np.arange(n + 1) * dt, 12))
 
 
-def _events(tr, case: Case) -> dict:
-    s, mu = tr.out["slip"], tr.out["mu"]
-    i = int(np.argmax(np.abs(s)))
-    j = int(np.argmax(np.abs(mu)))
+def _events(tr, case: Case, r: float) -> dict:
+    """Facts of one run: events (lock intervals, stop) and extrema, root-found on the dense output."""
+    def slip(t, Y, O):
+        return slip_from_speeds(Y[:, 0], Y[:, 1], r)
+
+    t_s, s_pk = tr.extremum(lambda t, Y, O: np.abs(slip(t, Y, O)), "max")
+    t_smin, s_min = tr.extremum(slip, "min")
+    t_mu, mu_pk = tr.extremum(lambda t, Y, O: np.abs(O["mu"]), "max")
     stop = tr.events["stop"]
     locks = [[a, b] for a, b in tr.events["lock"]]
     ev = {
         "case": case.label, "mode": case.mode, "model": case.variant.default_label(),
         "t_final": float(tr.t[-1]), "end": tr.events["reason"],
-        "peak_abs_slip": float(abs(s[i])), "t_peak_abs_slip": float(tr.t[i]),
-        "min_slip": float(s.min()), "peak_abs_mu": float(abs(mu[j])), "t_peak_abs_mu": float(tr.t[j]),
+        "peak_abs_slip": float(s_pk), "t_peak_abs_slip": float(t_s),
+        "min_slip": float(s_min), "t_min_slip": float(t_smin),
+        "peak_abs_mu": float(mu_pk), "t_peak_abs_mu": float(t_mu),
         "wheel_lock": locks, "locked_at_end": bool(tr.out["locked"][-1] > 0.5),
         "stop_time": stop, "stopping_distance": float(tr.out["distance"][-1]) if stop is not None else None,
         "distance": float(tr.out["distance"][-1]), "v_final": float(tr.y[-1, 0]),
@@ -450,25 +455,47 @@ def _events(tr, case: Case) -> dict:
     return ev
 
 
+def _event_rows(ev: dict) -> list:
+    """Long-format rows of data/events.csv: each lock as an interval, the stop, the extrema, the end."""
+    base = {"case": ev["case"], "mode": ev["mode"], "model": ev["model"]}
+    rows = [{**base, "event": "wheel_lock", "t": a, "t_end": b, "value": np.nan, "unit": ""} for a, b in ev["wheel_lock"]]
+    if ev["stop_time"] is not None:
+        rows.append({**base, "event": "stop", "t": ev["stop_time"], "t_end": np.nan, "value": ev["stopping_distance"],
+                     "unit": "m (stopping distance)"})
+    rows += [
+        {**base, "event": "peak_abs_slip", "t": ev["t_peak_abs_slip"], "t_end": np.nan, "value": ev["peak_abs_slip"], "unit": "-"},
+        {**base, "event": "min_slip", "t": ev["t_min_slip"], "t_end": np.nan, "value": ev["min_slip"], "unit": "-"},
+        {**base, "event": "peak_abs_mu", "t": ev["t_peak_abs_mu"], "t_end": np.nan, "value": ev["peak_abs_mu"], "unit": "-"},
+        {**base, "event": "end", "t": ev["t_final"], "t_end": np.nan, "value": ev["v_final"], "unit": f"m/s ({ev['end']})"},
+    ]
+    return rows
+
+
 def _frame(tr, case: Case, dt: float, r: float, gain: float) -> pd.DataFrame:
+    """The time series of a run on the output grid, from the integrator's dense output (states
+    interpolated by the step's cubic Hermite, outputs evaluated by the model there)."""
     t = tr.t
     if dt > 0:
         n = int(np.floor(t[-1] / dt + 1e-9))
         tg = np.round(np.arange(n + 1) * dt, 12)
         if tg[-1] < t[-1] - 1e-12:
             tg = np.append(tg, t[-1])
+        Y, O = tr.sample(tg)
+        distance = runs.distance_at(tr, tg)
     else:
-        tg = t
-    cols = {"v": tr.y[:, 0], "omega": tr.y[:, 1]}
-    cols.update({k: tr.out[k] for k in ("romega", "slip", "vr", "mu", "torque", "brake_torque", "theta", "zbar",
-                                        "zdot", "kappa0", "distance")})
-    out = {"case": case.label, "mode": case.mode, "model": case.variant.default_label(), "t": tg}
-    for k, y in cols.items():
-        out[k] = np.interp(tg, t, y) if dt > 0 else y
-    locked = tr.out["locked"]
-    out["locked"] = (locked[np.clip(np.searchsorted(t, tg, side="right") - 1, 0, len(t) - 1)] > 0.5).astype(int)
+        tg, Y, O, distance = t, tr.y, tr.out, tr.out["distance"]
+    out = {"case": case.label, "mode": case.mode, "model": case.variant.default_label(), "t": tg,
+           "v": Y[:, 0], "omega": Y[:, 1], "romega": r * Y[:, 1]}
+    for k in ("vr", "mu", "torque", "brake_torque", "theta", "zdot", "kappa0"):
+        out[k] = np.asarray(O[k], dtype=float)
+    out["zbar"] = np.asarray(O["zbar"], dtype=float) if "zbar" in O else Y[:, 2]
+    if case.mode != "coupled":  # the tire alone: no wheel torque
+        out["torque"] = np.full(tg.size, np.nan)
+        out["brake_torque"] = np.full(tg.size, np.nan)
+    out["locked"] = (np.asarray(O["locked"]) > 0.5).astype(int)
+    out["distance"] = distance
     out["pressure"] = out["brake_torque"] / gain
-    out["slip"] = slip_from_speeds(out["v"], out["omega"], r)  # exact function of the interpolated speeds
+    out["slip"] = slip_from_speeds(out["v"], out["omega"], r)
     order = ["case", "mode", "model", "t", "v", "omega", "romega", "slip", "vr", "mu", "torque", "brake_torque",
              "pressure", "theta", "zbar", "zdot", "kappa0", "locked", "distance"]
     return pd.DataFrame({k: out[k] for k in order})
@@ -484,11 +511,12 @@ def _measure(trs: dict, labels: list, meas: dict, r: float, gain: float):
         tr = trs[lab]
         n = int(np.floor(tr.t[-1] / dt + 1e-9))
         ts = np.round(np.arange(n + 1) * dt, 12)
-        v = np.interp(ts, tr.t, tr.y[:, 0])
-        rw = np.interp(ts, tr.t, tr.out["romega"])
-        mu = np.interp(ts, tr.t, tr.out["mu"])
-        torque = np.interp(ts, tr.t, tr.out["torque"])
-        pres = np.interp(ts, tr.t, tr.out["brake_torque"]) / gain
+        Y, O = tr.sample(ts)   # the sample times are step ends: exact values (dense output elsewhere)
+        v = Y[:, 0]
+        rw = r * Y[:, 1]
+        mu = np.asarray(O["mu"], dtype=float)
+        torque = np.asarray(O["torque"], dtype=float)
+        pres = np.asarray(O["brake_torque"], dtype=float) / gain
         base = {"braking": k + 1, "case": lab, "t": ts, "t_record": ts + t0}
         clean.append(pd.DataFrame({**base, "pressure": pres, "torque": torque + 0.0, "v": v, "romega": rw,
                                    "s": slip_from_speeds(v, rw / r, r), "mu": mu}))
@@ -516,13 +544,13 @@ def run_cases(cases, p, car, t_end, sample_times=(), progress=None) -> dict:
             if c.drive_case is not None:
                 drv = trs[c.drive_case]
                 dcase = next(d for d in cases if d.label == c.drive_case)
-                bps = tuple(dcase.torque.breakpoints()) + tuple(dcase.theta.breakpoints()) + tuple(sample_times)
+                bps = tuple(dcase.torque.breakpoints(t_end)) + tuple(dcase.theta.breakpoints(t_end)) + tuple(sample_times)
                 vp, wp = runs.kinematics_of(drv, c.drive_case, bps)
                 c.drive = (vp, wp)
                 te = float(drv.t[-1])
             else:
                 vp, wp = c.drive
-                bps = [b for b in tuple(vp.breakpoints()) + tuple(wp.breakpoints())]
+                bps = [b for b in tuple(vp.breakpoints(t_end)) + tuple(wp.breakpoints(t_end))]
                 te = min(t_end, max(bps)) if isinstance(vp, Table) and bps else t_end
             trs[c.label] = runs.open_loop(c.variant, p, car, vp, wp, c.theta or Constant(1.0), te, c.solver)
         if progress is not None:
@@ -542,9 +570,9 @@ def run_simulate(config: Config, progress=None) -> StudyResult:
     gain = (checked["input"] or {}).get("pressure_gain") or DEFAULT_PRESSURE_GAIN
     trs = run_cases(cases, p, car, t_end, _sample_times(meas, t_end), progress)
     frames = [_frame(trs[c.label], c, checked["output"]["dt"], car.r, gain) for c in cases]
-    events = [_events(trs[c.label], c) for c in cases]
+    events = [_events(trs[c.label], c, car.r) for c in cases]
     data = {"timeseries": pd.concat(frames, ignore_index=True),
-            "events": pd.DataFrame([{k: (str(v) if isinstance(v, list) else v) for k, v in e.items()} for e in events])}
+            "events": pd.DataFrame([row for e in events for row in _event_rows(e)])}
     synthetic = False
     if meas is not None:
         labels = meas["cases"] or [c.label for c in cases if c.mode == "coupled"]
