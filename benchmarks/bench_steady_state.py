@@ -4,7 +4,7 @@ Run: ``python benchmarks/bench_steady_state.py`` (after ``pip install .``). Prin
 table; the README quotes its numbers. Goals (issue 2): the uniform-load steady state over 10^6
 points in under 0.1 s on a 2-core machine, also given as a ratio to a bare numpy ``exp`` over
 the same array (the practical floor); ``tirecli sweep`` on each example under 2 s wall,
-start-up included.
+start-up included. Also the root-found peaks of 1000 curves (issue 12), which every sweep computes.
 """
 from __future__ import annotations
 
@@ -46,7 +46,19 @@ def steady_state(n=1_000_000):
         ("uniform-load steady state (FM eq. 4), 10^6 points", t_model, t_model / t_exp),
         ("lumped steady state with kappa0(Z) (FM eq. 10), 10^6 points", t_lumped, t_lumped / t_exp),
         ("numpy exp over the same array (floor)", t_exp, 1.0),
-    ]
+    ] + peaks(p)
+
+
+def peaks(p, n=1000):
+    """Root-found peaks (slip to 1e-12) of n braking curves at held speeds 1-30 m/s."""
+    from tirecli.models.steady_peaks import curve_peaks
+    from tirecli.models.variants import FrictionVariant
+
+    speeds = np.linspace(1.0, 30.0, n)
+    t_u = best_of(lambda: curve_peaks(FrictionVariant(), p, speeds), repeat=3)
+    t_p = best_of(lambda: curve_peaks(FrictionVariant(load="parabolic"), p, speeds), repeat=3)
+    return [(f"root-found peaks of {n} curves, uniform load (FM eq. 4)", t_u, None),
+            (f"root-found peaks of {n} curves, parabolic load (quadrature)", t_p, None)]
 
 
 def import_floor():

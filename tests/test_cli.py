@@ -168,9 +168,11 @@ sweep:
     panels = [ax for ax in fig.axes if ax.get_label() != "<colorbar>"]
     assert [ax.get_title().rsplit(" ", 1)[-1] for ax in panels] == ["(braking)", "(driving)"]
     assert len(fig.axes) == 3                                  # two panels and the colour bar
-    assert all(len(ax.get_lines()) == 22 for ax in panels)      # 11 speeds x 2 theta
+    for ax in panels:  # 11 speeds x 2 theta: a curve and its peak marker each
+        assert len([ln for ln in ax.get_lines() if ln.get_linestyle() != "None"]) == 22
+        assert len([ln for ln in ax.get_lines() if ln.get_linestyle() == "None" and ln.get_marker() == "o"]) == 22
     labels = [t.get_text() for t in panels[0].get_legend().get_texts()]
-    assert labels == ["theta = 1", "theta = 0.6"]
+    assert labels == ["peak of each curve (root-found, data/peaks.csv)", "theta = 1", "theta = 0.6"]
 
 
 def test_progress_covers_evaluation_drawing_and_writing(tmp_path):
@@ -191,7 +193,7 @@ def test_progress_covers_evaluation_drawing_and_writing(tmp_path):
 
     rec = Recorder()
     run_config("sweep", EXAMPLES / "fm-fig1-left.yaml", out=tmp_path, progress=rec)
-    assert [p[0] for p in rec.phases] == ["sweep", "figures", "writing"]
+    assert [p[0] for p in rec.phases] == ["sweep", "peaks", "figures", "writing"]
     assert all(total == done and closed for _, total, done, closed in rec.phases)
 
 

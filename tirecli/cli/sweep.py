@@ -10,8 +10,9 @@ from tirecli.cli.common import ConfigArg, OutOpt, SetOpt, overrides, progress, r
 def sweep(config: Path = ConfigArg, out: Optional[Path] = OutOpt, set_: Optional[List[str]] = SetOpt) -> None:
     """Steady-state friction sweep: mu over slip x speed x theta x model variant.
 
-    Writes run.json, data/sweep.csv (long format: model, v, theta, slip, mu, ...) and the
-    figures as PNG and SVG.
+    Writes run.json, data/sweep.csv (long format: model, v, theta, slip, mu, ...), for LuGre
+    tires data/peaks.csv (the root-found peak and sliding level of each curve) and the figures
+    as PNG and SVG.
     """
     from tirecli.app import run_config
 

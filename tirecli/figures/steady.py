@@ -9,6 +9,10 @@ from matplotlib.figure import Figure
 from tirecli.figures.style import COLORS, LINESTYLES, finish, new_figure
 from tirecli.studies.base import Check
 
+#: Caption sentence of the peak markers.
+PEAK_CAPTION = (" Circles: each curve's peak, root-found on the model (not the grid), value in the legend "
+                "(data/peaks.csv).")
+
 MU_TOL = 5e-4   # spec values are printed to 4 decimals
 S_TOL = 2e-3    # peak slip, printed to 3 decimals
 
@@ -29,17 +33,21 @@ def curve(df, model=None, speed=None, theta=None, direction="braking"):
     return s[order], mu[order]
 
 
-def peak(s, mu):
-    """Peak ``(|s|, |mu|)`` of a sampled curve, refined by a parabola through the top 3 samples."""
-    i = int(np.argmax(mu))
-    if 0 < i < len(mu) - 1:
-        y0, y1, y2 = mu[i - 1], mu[i], mu[i + 1]
-        den = y0 - 2 * y1 + y2
-        if den < 0:
-            d = 0.5 * (y0 - y2) / den
-            h = s[i + 1] - s[i]
-            return s[i] + d * h, y1 - 0.25 * (y0 - y2) * d
-    return s[i], mu[i]
+def curve_peak(result, model, speed, theta=1.0, direction="braking"):
+    """``(|s|, |mu|, |mu(1)|)`` of one curve's root-found peak (``data/peaks.csv``), or None.
+
+    The peak is found on the model function (:mod:`tirecli.models.steady_peaks`), not on the
+    sweep's grid; ``|mu(1)|`` is the sliding level at ``|s| = 1``.
+    """
+    pk = result.data.get("peaks")
+    if pk is None or pk.empty:
+        return None
+    sel = ((pk["model"] == model) & np.isclose(pk["speed"], speed) & np.isclose(pk["theta"], theta)
+           & (pk["direction"] == direction))
+    if not sel.any():
+        return None
+    r = pk[sel].iloc[0]
+    return abs(float(r["slip_peak"])), abs(float(r["mu_peak"])), abs(float(r["mu_slide"]))
 
 
 def value_at(s, mu, s0):
@@ -47,11 +55,40 @@ def value_at(s, mu, s0):
     return float(np.interp(s0, s, mu))
 
 
-def peak_checks(s, mu, ref_peak, ref_slip, tag, what, source):
-    """Two checks of a curve's peak: its height ``|mu|`` and its slip ``|s|``."""
-    ps, pm = peak(s, mu)
+def peak_checks(pk, ref_peak, ref_slip, tag, what, source):
+    """Two checks of a curve's root-found peak ``pk = (|s|, |mu|, ...)``: its height ``|mu|`` and its slip ``|s|``."""
+    ps, pm = pk[0], pk[1]
     return [Check(f"peak-{tag}", f"peak |mu| {what}", float(pm), ref_peak, MU_TOL, "-", source),
             Check(f"speak-{tag}", f"|s| of the peak {what}", float(ps), ref_slip, S_TOL, "-", source)]
+
+
+def peak_text(pk) -> str:
+    """``peak 1.055 at |s| = 0.212`` (legend text of a curve's peak; empty without one)."""
+    if pk is None or not np.isfinite(pk[0]):
+        return ""
+    return f"peak {pk[1]:.4f} at |s| = {pk[0]:.3f}"
+
+
+def mark_peak(ax, pk, color, xmax=1.0, **kw):
+    """A marker at a curve's root-found peak ``pk = (|s|, |mu|, ...)`` when it lies in ``[0, xmax]``."""
+    if pk is None or not np.isfinite(pk[0]) or pk[0] > xmax + 1e-12:
+        return
+    style = {"marker": "o", "ms": 5, "mfc": "white", "mew": 1.3, "ls": "none", "zorder": 4} | kw
+    ax.plot([pk[0]], [pk[1]], color=color, **style)
+
+
+def peak_handle():
+    """Legend entry of the peak markers."""
+    from matplotlib.lines import Line2D
+
+    return Line2D([], [], marker="o", ms=5, mfc="white", mew=1.3, color="0.3", ls="none",
+                  label="peak of each curve (root-found, data/peaks.csv)")
+
+
+def _with_peak_legend(ax, **kw):
+    handles, labels = ax.get_legend_handles_labels()
+    h = peak_handle()
+    ax.legend(handles + [h], labels + [h.get_label()], fontsize=8, **kw)
 
 
 def _tire_label(result) -> str:
@@ -73,7 +110,9 @@ def _legend_label(parts: dict, varying: set) -> str:
 
 @register("sweep-mu-slip", paper="generic", label="sweep", title="Friction vs slip",
           caption="Steady-state |mu| against |s| for every model, speed and adhesion of the sweep; "
-                  "braking solid, driving dashed. The held speed is v when braking and r*omega when driving.")
+                  "braking solid, driving dashed. The held speed is v when braking and r*omega when driving. "
+                  "Circles: each curve's peak, root-found on the model (not the grid); with few curves the legend "
+                  "gives its value (every peak is in data/peaks.csv).")
 def draw_sweep_mu_slip(result):
     df = result.data["sweep"]
     keys = ["model", "speed", "theta"]
@@ -81,7 +120,7 @@ def draw_sweep_mu_slip(result):
     groups = list(df.groupby(keys, sort=False).groups)
     title = result.meta.get("title") or "Steady-state friction"
     if len(groups) * df["direction"].nunique() > _FEW_CURVES:  # legend entries
-        return _sweep_many_curves(df, groups, varying, title)
+        return _sweep_many_curves(result, df, groups, varying, title)
     fig, ax = new_figure()
     for i, (model, speed, theta) in enumerate(groups):
         for direction, ls in (("braking", "-"), ("driving", "--")):
@@ -91,8 +130,13 @@ def draw_sweep_mu_slip(result):
             lab = _legend_label({"model": model, "speed": speed, "theta": theta}, set(varying))
             if df["direction"].nunique() > 1:
                 lab += f" ({direction})"
+            pk = curve_peak(result, model, speed, theta, direction)
+            if peak_text(pk):
+                lab += f": {peak_text(pk)}"
             ax.plot(s, mu, ls, color=COLORS[i % len(COLORS)], label=lab)
-    finish(ax, "slip |s| [-]", "friction |mu| = |F|/F_n [-]", title)
+            mark_peak(ax, pk, COLORS[i % len(COLORS)], xmax=s.max())
+    finish(ax, "slip |s| [-]", "friction |mu| = |F|/F_n [-]", title, legend=False)
+    _with_peak_legend(ax)
     ax.set_xlim(left=0)
     ax.set_ylim(bottom=0)
     return fig
@@ -104,7 +148,7 @@ _FEW_CURVES = 8
 _KEY_LABELS = {"speed": "held speed [m/s]", "theta": "theta (FM convention) [-]", "model": "model"}
 
 
-def _sweep_many_curves(df, groups, varying, title):
+def _sweep_many_curves(result, df, groups, varying, title):
     """The generic sweep figure for many curves: one panel per direction, colour = the key with the
     most values (colour bar), line style = the other varying keys (a short legend)."""
     import matplotlib as mpl
@@ -132,10 +176,13 @@ def _sweep_many_curves(df, groups, varying, title):
             if len(s):
                 ax.plot(s, mu, ls=style[tuple(g[keys_index(k)] for k in others)], lw=1.0,
                         color=colour[g[keys_index(c_key)]])
+                mark_peak(ax, curve_peak(result, *g, direction), colour[g[keys_index(c_key)]], xmax=s.max(),
+                          ms=3.5, mew=1.0)
         ax.set_xlim(left=0)
         ax.set_ylim(bottom=0)
         finish(ax, "slip |s| [-]", "friction |mu| = |F|/F_n [-]" if ax is axes[0] else "",
                f"{title} ({direction})" if len(directions) > 1 else title, legend=False)
+    pk_handle = peak_handle()
     if others and len(combos) > 1:
         shown = combos[: len(_DASHES)]
         handles = [mpl.lines.Line2D([], [], color="0.3", ls=style[c]) for c in shown]
@@ -143,7 +190,9 @@ def _sweep_many_curves(df, groups, varying, title):
         if len(combos) > len(shown):
             handles.append(mpl.lines.Line2D([], [], color="none"))
             labels.append(f"... {len(combos) - len(shown)} more, styles repeat (see data/sweep.csv)")
-        axes[0].legend(handles, labels, fontsize=7, loc="upper right")
+        axes[0].legend([pk_handle] + handles, [pk_handle.get_label()] + labels, fontsize=7, loc="lower right")
+    elif norm is not None:
+        axes[0].legend([pk_handle], [pk_handle.get_label()], fontsize=7, loc="lower right")
     if norm is not None:
         fig.colorbar(mpl.cm.ScalarMappable(norm=norm, cmap="viridis"), ax=list(axes), label=_KEY_LABELS[c_key])
     else:
@@ -152,6 +201,9 @@ def _sweep_many_curves(df, groups, varying, title):
         if len(cvals) > 10:
             handles.append(mpl.lines.Line2D([], [], color="none"))
             labels.append(f"... {len(cvals) - 10} more (see data/sweep.csv)")
+        if not (others and len(combos) > 1):
+            handles.append(pk_handle)
+            labels.append(pk_handle.get_label())
         axes[-1].legend(handles, labels, fontsize=7)
     return fig
 
@@ -180,6 +232,16 @@ def _surface(result, title):
     fig = Figure(figsize=(6.6, 5.0))
     ax = fig.add_subplot(projection="3d")
     ax.plot_surface(S, V, piv.to_numpy(), cmap="viridis", linewidth=0, antialiased=True, alpha=0.9)
+    ridge = []
+    for v in piv.index:
+        pk = curve_peak(result, model, v, theta)
+        if pk is not None and np.isfinite(pk[0]) and pk[0] <= S.max() + 1e-12:
+            ridge.append(pk + (v,))
+    if ridge:  # the peak of each speed's curve, where it lies inside the swept slips
+        ps, pm, _, pv = np.array(ridge).T
+        ax.plot(ps, pv, pm, "o-", color="#D55E00", ms=3, lw=1.2, zorder=5,
+                label=f"peak |mu| at each speed (root-found; {pm.min():.4g}-{pm.max():.4g})")
+        ax.legend(fontsize=8, loc="upper right")
     ax.set_xlabel("slip |s| [-]")
     ax.set_ylabel("speed v [m/s]")
     ax.zaxis.set_rotate_label(False)
@@ -191,7 +253,8 @@ def _surface(result, title):
 
 
 @register("sweep-surface", paper="generic", label="sweep", title="Friction surface over slip and speed",
-          caption="Steady-state |mu| over |s| and the held speed (braking) for the first model and adhesion of the sweep.")
+          caption="Steady-state |mu| over |s| and the held speed (braking) for the first model and adhesion of the sweep; "
+                  "the line marks each speed's root-found peak where it lies in the swept slips (data/peaks.csv).")
 def draw_sweep_surface(result):
     return _surface(result, result.meta.get("title") or "Steady-state friction surface")
 
@@ -214,15 +277,17 @@ _REF_THETA = {  # lugre.md §5: theta_fm -> (peak, at |s|, |mu(1)|) at v = 20 m/
 }
 
 
-def _speed_checks(df, model, theta=1.0, source="lugre.md §9"):
+def _speed_checks(result, model, theta=1.0, source="lugre.md §9"):
+    df = result.data["sweep"]
     out = []
     for v, (pk, sp, m05, m1) in _REF_SPEEDS.items():
         s, mu = curve(df, model, v, theta)
-        if len(s) == 0:
+        peak_ = curve_peak(result, model, v, theta)
+        if len(s) == 0 or peak_ is None:
             continue
-        out += peak_checks(s, mu, pk, sp, f"v{v}", f"at v = {v} m/s", source) + [
+        out += peak_checks(peak_, pk, sp, f"v{v}", f"at v = {v} m/s", source) + [
             Check(f"mu005-v{v}", f"|mu(0.05)| at v = {v} m/s", value_at(s, mu, 0.05), m05, MU_TOL, "-", source),
-            Check(f"mu1-v{v}", f"|mu(1)| (locked wheel) at v = {v} m/s", value_at(s, mu, 1.0), m1, MU_TOL, "-", source),
+            Check(f"mu1-v{v}", f"|mu(1)| (locked wheel) at v = {v} m/s", peak_[2], m1, MU_TOL, "-", source),
         ]
     return out
 
@@ -238,31 +303,46 @@ def _slope_check(result, v=20.0):
 
 def _fig1_left_checks(result):
     df = result.data["sweep"]
-    return _speed_checks(df, _first_model(df)) + [_slope_check(result)]
+    return _speed_checks(result, _first_model(df)) + [_slope_check(result)]
 
 
 def _theta_label(theta_fm, convention):
     return f"theta_obs = {1.0 / theta_fm:.3g}" if convention == "obs" else f"theta = {theta_fm:g}"
 
 
-def _draw_speed_family(ax, df, model, theta=1.0, dashed_model=None, dashed_speed=20.0):
+def _with_peak(label, pk):
+    text = peak_text(pk)
+    return f"{label}: {text}" if text else label
+
+
+def _draw_speed_family(ax, result, model, theta=1.0, dashed_model=None, dashed_speed=20.0):
+    """Curves at every speed of the sweep, each with its root-found peak (marker, value in the legend)."""
+    df = result.data["sweep"]
     speeds = sorted(df["speed"].unique())
     for i, v in enumerate(speeds):
         s, mu = curve(df, model, v, theta)
-        ax.plot(s, mu, color=COLORS[i % len(COLORS)], label=f"v = {v:g} m/s ({v * 3.6:.0f} km/h)")
+        pk = curve_peak(result, model, v, theta)
+        ax.plot(s, mu, color=COLORS[i % len(COLORS)], label=_with_peak(f"v = {v:g} m/s ({v * 3.6:.0f} km/h)", pk))
+        mark_peak(ax, pk, COLORS[i % len(COLORS)], xmax=s.max() if len(s) else 0.0)
     if dashed_model is not None:
         s, mu = curve(df, dashed_model, dashed_speed, theta)
-        ax.plot(s, mu, "k--", lw=1.2, label=f"{dashed_model}, v = {dashed_speed:g} m/s")
+        pk = curve_peak(result, dashed_model, dashed_speed, theta)
+        ax.plot(s, mu, "k--", lw=1.2, label=_with_peak(f"{dashed_model}, v = {dashed_speed:g} m/s", pk))
+        mark_peak(ax, pk, "k", xmax=s.max() if len(s) else 0.0)
     ax.set_xlim(0, 1)
     ax.set_ylim(bottom=0)
 
 
-def _draw_theta_family(ax, df, model, speed, convention):
+def _draw_theta_family(ax, result, model, speed, convention):
+    """Curves at every adhesion of the sweep at one speed, each with its root-found peak."""
+    df = result.data["sweep"]
     thetas = sorted(df["theta"].unique(), reverse=True)
     for i, th in enumerate(thetas):
         s, mu = curve(df, model, speed, th)
+        pk = curve_peak(result, model, speed, th)
         ax.plot(s, mu, color=COLORS[i % len(COLORS)], ls=LINESTYLES[i % len(LINESTYLES)],
-                label=_theta_label(th, convention))
+                label=_with_peak(_theta_label(th, convention), pk))
+        mark_peak(ax, pk, COLORS[i % len(COLORS)], xmax=s.max() if len(s) else 0.0)
     ax.set_xlim(0, 1)
     ax.set_ylim(bottom=0)
 
@@ -272,7 +352,7 @@ def _draw_theta_family(ax, df, model, speed, convention):
     title="Steady-state friction vs slip at several vehicle speeds",
     caption="Distributed LuGre model, uniform normal load (FM eq. 4), braking at constant vehicle speed "
             "v = 5-30 m/s, Table 1 parameters with the Stribeck exponent alpha = 1 [assumed]. All curves share "
-            "the initial slope sigma0 L/2 + sigma2 v; peak height and peak slip fall as v grows.",
+            "the initial slope sigma0 L/2 + sigma2 v; peak height and peak slip fall as v grows." + PEAK_CAPTION,
     paper_shows="|mu| against |s| in [0, 1] for several vehicle speeds (braking, uniform load, Table 1): a common "
                 "linear rise, a peak that is lower and earlier at higher speed, then a decay towards the sliding level.",
     checks=_fig1_left_checks,
@@ -280,9 +360,10 @@ def _draw_theta_family(ax, df, model, speed, convention):
 def draw_fm_fig1_left(result):
     df = result.data["sweep"]
     fig, ax = new_figure()
-    _draw_speed_family(ax, df, _first_model(df))
+    _draw_speed_family(ax, result, _first_model(df))
     finish(ax, "slip |s| [-]", "friction |mu| = |F|/F_n [-]",
-           f"FM Fig. 1 (left): braking, uniform load, {_tire_label(result)}")
+           f"FM Fig. 1 (left): braking, uniform load, {_tire_label(result)}", legend=False)
+    _with_peak_legend(ax)
     return fig
 
 
@@ -291,11 +372,11 @@ def _fig1_right_checks(result):
     model = _first_model(df)
     out = []
     for th, (pk, sp, m1) in _REF_THETA.items():
-        s, mu = curve(df, model, 20.0, th)
-        if len(s) == 0:
+        peak_ = curve_peak(result, model, 20.0, th)
+        if peak_ is None:
             continue
-        out += peak_checks(s, mu, pk, sp, f"th{th:g}", f"for theta_fm = {th:g}, v = 20 m/s", "lugre.md §5") + [
-            Check(f"mu1-th{th:g}", f"|mu(1)| for theta_fm = {th:g}", value_at(s, mu, 1.0), m1, MU_TOL, "-", "lugre.md §5"),
+        out += peak_checks(peak_, pk, sp, f"th{th:g}", f"for theta_fm = {th:g}, v = 20 m/s", "lugre.md §5") + [
+            Check(f"mu1-th{th:g}", f"|mu(1)| for theta_fm = {th:g}", peak_[2], m1, MU_TOL, "-", "lugre.md §5"),
         ]
     return out + [_slope_check(result)]
 
@@ -305,7 +386,8 @@ def _fig1_right_checks(result):
     title="Steady-state friction vs slip for several road adhesions at 72 km/h",
     caption="Distributed LuGre model, uniform load, braking at v = 20 m/s, Table 1 (alpha = 1 [assumed]), "
             "adhesion theta = 1, 0.8, 0.6, 0.4 in the FM convention (g -> theta g) [assumed values]. Lower "
-            "adhesion lowers peak and sliding level and moves the peak to smaller slip; the initial slope is unchanged.",
+            "adhesion lowers peak and sliding level and moves the peak to smaller slip; the initial slope is unchanged."
+            + PEAK_CAPTION,
     paper_shows="|mu| against |s| at v = 20 m/s = 72 km/h for several road conditions theta: same initial slope, "
                 "lower peaks and plateaus for lower adhesion.",
     checks=_fig1_right_checks,
@@ -313,9 +395,10 @@ def _fig1_right_checks(result):
 def draw_fm_fig1_right(result):
     df = result.data["sweep"]
     fig, ax = new_figure()
-    _draw_theta_family(ax, df, _first_model(df), 20.0, "fm")
+    _draw_theta_family(ax, result, _first_model(df), 20.0, "fm")
     finish(ax, "slip |s| [-]", "friction |mu| = |F|/F_n [-]",
-           f"FM Fig. 1 (right): v = 20 m/s, adhesion theta (FM convention), {_tire_label(result)}")
+           f"FM Fig. 1 (right): v = 20 m/s, adhesion theta (FM convention), {_tire_label(result)}", legend=False)
+    _with_peak_legend(ax)
     return fig
 
 
@@ -326,14 +409,14 @@ def _obs_fig1_checks(result):
     df = result.data["sweep"]
     models = list(dict.fromkeys(df["model"]))
     dist = models[0]
-    out = _speed_checks(df, dist, 1.0)
-    s, mu = curve(df, dist, 20.0, 0.4)
-    if len(s):
-        out += peak_checks(s, mu, 0.4764, 0.128, "thobs2.5", "for theta_obs = 2.5 at v = 20 m/s",
+    out = _speed_checks(result, dist, 1.0)
+    pk = curve_peak(result, dist, 20.0, 0.4)
+    if pk is not None:
+        out += peak_checks(pk, 0.4764, 0.128, "thobs2.5", "for theta_obs = 2.5 at v = 20 m/s",
                            "figures.md OBS Fig. 1")
-    if len(models) > 1:
-        s, mu = curve(df, models[1], 20.0, 1.0)
-        out += peak_checks(s, mu, 0.9767, 0.272, "lumped-k2", "of the lumped model, kappa0 = 2 (kappa = 10 1/m), "
+    pk = curve_peak(result, models[1], 20.0, 1.0) if len(models) > 1 else None
+    if pk is not None:
+        out += peak_checks(pk, 0.9767, 0.272, "lumped-k2", "of the lumped model, kappa0 = 2 (kappa = 10 1/m), "
                            "v = 20 m/s", "lugre.md §4.2 check (c)")
     return out
 
@@ -344,7 +427,7 @@ def _obs_fig1_checks(result):
     caption="(a) Distributed LuGre model, uniform load, braking, OBS Fig. 1 parameters (= FM Table 1, alpha = 1 "
             "[assumed]) at v = 5-30 m/s [assumed speeds]; dashed: the lumped model with kappa = 10 1/m (kappa0 = 2) at "
             "20 m/s, which peaks lower and later. (b) Adhesion theta in the OBS convention (theta_obs = 1/theta_fm: "
-            "1 dry, larger = less grip) at v = 20 m/s [assumed values].",
+            "1 dry, larger = less grip) at v = 20 m/s [assumed values]." + PEAK_CAPTION,
     paper_shows="Fig. 1(a): mu against slip for several vehicle speeds; Fig. 1(b): for several road conditions theta "
                 "(OBS convention, theta > 1 less grip). Same figure as FM Fig. 1.",
     checks=_obs_fig1_checks,
@@ -353,10 +436,12 @@ def draw_obs_fig1(result):
     df = result.data["sweep"]
     models = list(dict.fromkeys(df["model"]))
     fig, (a, b) = new_figure(ncols=2, width=11.0, height=4.2)
-    _draw_speed_family(a, df, models[0], 1.0, dashed_model=models[1] if len(models) > 1 else None)
-    finish(a, "slip |s| [-]", "friction |mu| [-]", "(a) several speeds, theta_obs = 1")
-    _draw_theta_family(b, df, models[0], 20.0, "obs")
-    finish(b, "slip |s| [-]", "friction |mu| [-]", "(b) several road conditions, v = 20 m/s")
+    _draw_speed_family(a, result, models[0], 1.0, dashed_model=models[1] if len(models) > 1 else None)
+    finish(a, "slip |s| [-]", "friction |mu| [-]", "(a) several speeds, theta_obs = 1", legend=False)
+    _with_peak_legend(a)
+    _draw_theta_family(b, result, models[0], 20.0, "obs")
+    finish(b, "slip |s| [-]", "friction |mu| [-]", "(b) several road conditions, v = 20 m/s", legend=False)
+    _with_peak_legend(b)
     fig.suptitle(f"OBS Fig. 1: {_tire_label(result)}", fontsize=10)
     return fig
 
@@ -371,10 +456,10 @@ def _fig6_surface_checks(result):
     model = _first_model(df)
     out = []
     for v, (pk, sp) in _REF_T2.items():
-        s, mu = curve(df, model, v, 1.0)
-        if len(s) == 0:
+        peak_ = curve_peak(result, model, v, 1.0)
+        if peak_ is None:
             continue
-        out += peak_checks(s, mu, pk, sp, f"v{v}", f"of the Table 2 surface at v = {v} m/s", "figures.md FM Fig. 6")
+        out += peak_checks(peak_, pk, sp, f"v{v}", f"of the Table 2 surface at v = {v} m/s", "figures.md FM Fig. 6")
     return out
 
 
@@ -383,7 +468,8 @@ def _fig6_surface_checks(result):
     title="Identified steady-state surface |mu|(|s|, v), Table 2",
     caption="Steady state of the distributed model with uniform load (equivalently lumped with kappa0(Z)) for the "
             "Table 2 parameters, alpha = 2, over |s| in [0, 0.3] and v = 5-25 m/s: rising in |s|, flattening, lower at "
-            "higher speed. The measured samples of the paper are replaced by synthetic ones in the identification study.",
+            "higher speed; the line marks the root-found peak at each speed (data/peaks.csv). The measured samples of "
+            "the paper are replaced by synthetic ones in the identification study.",
     paper_shows="3-D plot of the measured (mu, s, v) samples of braking #2 and the identified steady-state surface (alpha = 2).",
     checks=_fig6_surface_checks,
 )

@@ -12,6 +12,8 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+import numpy as np
+
 from tirecli.models import lugre
 
 MODELS = ("distributed", "lumped")
@@ -94,6 +96,29 @@ class FrictionVariant:
         if self.load == "exponential":
             return lugre.mu_ss_exponential(vr, romega, p, self.lam, theta)
         return lugre.mu_ss_density(vr, romega, p, self.density(), theta)
+
+    def shape_slope(self, x, p: lugre.LuGreParams):
+        """Slope ``dS/dx`` [-] of this variant's shape ``S(x)``, ``x = L/Z``, where
+        ``|mu| = theta g S(x) + sigma2 |vr|`` (the steady states of :meth:`mu_ss`):
+
+        - uniform load, and lumped ``kappa0(Z)`` (equal to it, FM eq. (10)): ``h'(x)``;
+        - exponential load (FM eq. (6)): ``lam/(1 - e^-lam) h'(lam + x)``;
+        - other densities: ``int_0^1 w(u) u e^{-x u} du``;
+        - lumped, constant ``kappa0`` (FM eqs. (8)-(9)): ``S = x/(x + kappa0)``, ``S' = kappa0/(x + kappa0)^2``.
+        """
+        x = np.asarray(x, dtype=float)
+        if self.model == "lumped":
+            k0 = self.lumped_kappa0(p)
+            if k0 == "Z":
+                return lugre.h_uniform_slope(x)
+            with np.errstate(over="ignore"):
+                return np.where(np.isinf(x), 0.0, k0 / np.square(x + k0))
+        if self.load == "uniform" or (self.load == "exponential" and self.lam < 1e-8):
+            return lugre.h_uniform_slope(x)
+        if self.load == "exponential":
+            lam = self.lam
+            return lam / -np.expm1(-lam) * lugre.h_uniform_slope(lam + x)
+        return lugre.density_shape_slope(x, self.density())
 
     def record(self) -> dict:
         out = {"model": self.model, "load": self.load, "label": self.label}

@@ -37,13 +37,14 @@ torque, v, romega, s, mu`` with and without noise).
 """
 from __future__ import annotations
 
+import copy
 from pathlib import Path
 
 import numpy as np
 import pandas as pd
 
 from tirecli.config.loader import Config
-from tirecli.config.schema import AnyOf, ListOf, Map, Num, Raw, Str, collect
+from tirecli.config.schema import AnyOf, ListOf, Map, Nullable, Num, Raw, Str, collect
 from tirecli.conventions import THETA_CONVENTIONS, omega_from_slip, slip_from_speeds
 from tirecli.errors import ConfigError, DataError
 from tirecli.models.profiles import Constant, Table, profile_from_checked, profile_spec
@@ -102,11 +103,11 @@ INITIAL = Map(fields={**INITIAL_FIELDS, "v": Num(unit="m/s", gt=0, default=20.0,
 INITIAL_OVERRIDE = Map(fields={k: _optional(Num(**{**s.__dict__})) for k, s in INITIAL_FIELDS.items()})
 
 SOLVER = Map(fields={
-    "tol": Num(unit="-", gt=0, lt=0.1, default=None,
-               doc="local error tolerance (m/s, friction units); null: 1e-3 lumped, 3e-4 distributed"),
+    "tol": Nullable(spec=Num(unit="-", gt=0, lt=0.1), default=None,
+                    doc="local error tolerance (m/s, friction units); null: 1e-3 lumped, 3e-4 distributed"),
     "h_max": Num(unit="s", gt=0, le=0.5, default=0.05, doc="largest time step"),
 })
-SOLVER_OVERRIDE = Map(fields={k: _optional(Num(**{**s.__dict__})) for k, s in SOLVER.fields.items()})
+SOLVER_OVERRIDE = Map(fields={k: _optional(copy.copy(s)) for k, s in SOLVER.fields.items()})
 
 
 def _drive_post(v, path, ctx):

@@ -16,8 +16,22 @@ Config (``tirecli sweep CONFIG``)::
         - {model: lumped, kappa0: 2}          # constant kappa0, or Z for FM eq. (10)
     figures: [sweep-mu-slip]
 
-Output frame ``sweep`` (long format): ``model, direction, speed, v, romega, theta,
-theta_obs, slip, mu``; the variants (load, lambda, kappa0) are described in ``run.json``.
+Output frames:
+
+- ``sweep`` (long format): ``model, direction, speed, v, romega, theta, theta_obs, slip, mu,
+  kappa0, Z``. ``kappa0`` [-] is the lumped coefficient used at that point (the constant, or
+  ``kappa0(Z)`` of FM eq. (10) there) and ``Z = |r omega| theta g / (sigma0 |vr|)`` [m] the
+  characteristic length of that point (``inf`` at ``vr = 0``, 0 for a locked wheel); both are
+  empty (NaN) on the rows of distributed models. The variants (load, lambda, kappa0) are
+  described in ``run.json``.
+- ``peaks``: one row per curve (model, held speed, adhesion, direction with slips in the sweep):
+  ``model, variant, load, lambda, kappa0, direction, speed, theta, theta_obs, slip_peak, mu_peak,
+  mu_slide``. ``slip_peak`` and ``mu_peak`` are the root-found peak of ``|mu|`` over
+  ``0 < |s| <= 1`` (to 1e-12 in slip, on the model function, not the sweep's grid;
+  :mod:`tirecli.models.steady_peaks`), ``mu_slide`` is ``mu`` at full slide ``|s| = 1``; all three
+  signed like ``slip`` and ``mu`` (negative when braking). ``lambda`` is empty unless the load is
+  exponential; ``kappa0`` is the lumped constant or ``Z``, empty for distributed models. The same
+  rows are ``meta.facts.peaks`` of ``run.json``.
 """
 from __future__ import annotations
 
@@ -28,6 +42,8 @@ from tirecli.config.loader import Config
 from tirecli.config.schema import AnyOf, Context, Grid, ListOf, Map, Num, Raw, Str, collect
 from tirecli.conventions import THETA_CONVENTIONS, speeds_from_slip, theta_obs_from_fm, to_theta_fm
 from tirecli.errors import ConfigError
+from tirecli.models import lugre
+from tirecli.models.steady_peaks import curve_peaks
 from tirecli.models.variants import LOADS, MODELS, FrictionVariant
 from tirecli.studies.base import StudyResult, common_fields, register_study
 
@@ -107,6 +123,13 @@ def sweep_frame(variants, p, slips, speeds, thetas_fm, progress=None) -> pd.Data
         for th in thetas_fm:
             mu = var.mu_ss(vr, romega, p, th)
             n = mu.size
+            kappa0, z_len = np.full(n, np.nan), np.full(n, np.nan)
+            if var.model == "lumped":
+                x = lugre.patch_ratio(vr, romega, p, th).ravel()
+                k0 = var.lumped_kappa0(p)
+                kappa0 = lugre.kappa0_of_x(x) if k0 == "Z" else np.full(n, float(k0))
+                with np.errstate(divide="ignore"):
+                    z_len = p.L / x  # x = L/Z; 0 -> inf (no slip), inf -> 0 (locked wheel)
             frames.append(pd.DataFrame({
                 "model": var.label,
                 "direction": np.where(S.ravel() <= 0.0, "braking", "driving"),
@@ -117,12 +140,65 @@ def sweep_frame(variants, p, slips, speeds, thetas_fm, progress=None) -> pd.Data
                 "theta_obs": np.full(n, float(theta_obs_from_fm(th))),
                 "slip": S.ravel(),
                 "mu": mu.ravel(),
+                "kappa0": kappa0,
+                "Z": z_len,
             }))
             if progress is not None:
                 progress.advance(1)
     if progress is not None:
         progress.close()
     return pd.concat(frames, ignore_index=True)
+
+
+PEAK_COLUMNS = ["model", "variant", "load", "lambda", "kappa0", "direction", "speed", "theta", "theta_obs",
+                "slip_peak", "mu_peak", "mu_slide"]
+
+
+def peaks_frame(variants, p, slips, speeds, thetas_fm, progress=None) -> pd.DataFrame:
+    """One row per curve of a sweep: its identifying columns and its root-found peak (see module doc).
+
+    A direction has curves when the sweep has slips of that sign (``s < 0`` braking, ``s > 0``
+    driving). Peaks are taken over the whole range ``0 < |s| <= 1`` whatever the sweep's grid
+    (:func:`tirecli.models.steady_peaks.curve_peaks`).
+    """
+    slips = np.asarray(slips, dtype=float)
+    speeds = np.asarray(speeds, dtype=float)
+    directions = [d for d, sign in (("braking", -1.0), ("driving", 1.0)) if np.any(slips * sign > 0.0)]
+    rows = []
+    if progress is not None:
+        progress.start(len(variants) * len(thetas_fm), "peaks")
+    for var in variants:
+        k0 = var.lumped_kappa0(p) if var.model == "lumped" else None
+        ident = {"model": var.label, "variant": var.model, "load": var.load,
+                 "lambda": float(var.lam) if var.load == "exponential" else np.nan,
+                 "kappa0": k0 if k0 == "Z" or k0 is None else float(k0)}
+        for th in thetas_fm:
+            for direction in directions:
+                sign = -1.0 if direction == "braking" else 1.0
+                pk = curve_peaks(var, p, speeds, th, braking=direction == "braking")
+                for j, speed in enumerate(speeds):
+                    rows.append(ident | {
+                        "direction": direction, "speed": float(speed), "theta": float(th),
+                        "theta_obs": float(theta_obs_from_fm(th)),
+                        "slip_peak": sign * float(pk.slip[j]), "mu_peak": sign * float(pk.mu[j]),
+                        "mu_slide": sign * float(pk.mu_slide[j]),
+                    })
+            if progress is not None:
+                progress.advance(1)
+    if progress is not None:
+        progress.close()
+    df = pd.DataFrame(rows, columns=PEAK_COLUMNS)
+    df["kappa0"] = df["kappa0"].astype(object)
+    return df
+
+
+def peak_records(peaks: pd.DataFrame) -> list[dict]:
+    """The rows of a peaks frame as JSON-ready dicts (NaN and empty cells become null)."""
+    out = []
+    for row in peaks.to_dict(orient="records"):
+        out.append({k: (None if v is None or (isinstance(v, float) and not np.isfinite(v)) else v)
+                    for k, v in row.items()})
+    return out
 
 
 def plan(config: Config):
@@ -156,13 +232,18 @@ def run_sweep(config: Config, progress=None) -> StudyResult:
     p = tire.model()
     sw = checked["sweep"]
     df = sweep_frame(variants, p, sw["slip"], sw["speeds"], thetas_fm, progress)
+    peaks = peaks_frame(variants, p, sw["slip"], sw["speeds"], thetas_fm, progress)
     return StudyResult(
         study="sweep",
         config=config,
         parameter_sets={"tire": tire},
-        data={"sweep": df},
+        data={"sweep": df, "peaks": peaks},
         meta={
             "variants": [v.record() for v in variants],
+            "facts": {"peaks": peak_records(peaks),
+                      "peaks_note": "one row per curve: slip_peak, mu_peak root-found on the model function "
+                                    "(0 < |s| <= 1, to 1e-12 in slip), mu_slide = mu at |s| = 1; signed like "
+                                    "slip and mu (negative when braking); also data/peaks.csv"},
             "theta_convention_input": sw["theta_convention"],
             "theta_stored": "fm (g -> theta*g; theta_obs = 1/theta)",
             "held_speed": "v for braking (slip < 0), r*omega for driving (slip > 0)",
