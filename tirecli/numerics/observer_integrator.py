@@ -609,7 +609,8 @@ def simulate_adaptive(plant: ObserverPlant, gains: ObserverGains, scenario: Scen
     h_max : float or None
         Largest step [s] (``None``: unlimited).
     output_dt : float
-        Output grid [s] (plus every segment end), from the solver's interpolant.
+        Output grid [s] (at most half the sampling period; plus every segment start, the right
+        limit after a jump), from the solver's interpolant.
     rhs : callable or None
         ``f(t, X, y)`` to integrate instead of :func:`scalar_rhs` (tests).
     """
@@ -632,6 +633,8 @@ def simulate_adaptive(plant: ObserverPlant, gains: ObserverGains, scenario: Scen
     c = plant.car
     X = np.array([scenario.v0, scenario.omega0, scenario.z0, c.r * c.m * scenario.vhat0 + c.J * y_hold,
                   c.J * y_hold + plant.P * scenario.z_hat0, scenario.z_hat0, scenario.theta_hat0, 0.0][:nx])
+    if not sensor.ideal:
+        output_dt = min(output_dt, 0.5 * sensor.period)  # mid-sample states on the grid (held value unambiguous)
     n_out = max(int(round(T / output_dt)), 1)
     t_out = np.linspace(0.0, T, n_out + 1)
     ts, Xs, ys = [], [], []
