@@ -165,7 +165,8 @@ def test_observe_command(cli, tmp_path):
     assert code == 0, err
     assert "max |v_hat - v|" in out and "v_r zero crossings" in out and "assumed:" in out
     run = json.loads((tmp_path / "run.json").read_text())
-    assert run["meta"]["runs"][0]["metrics"]["phases"][0]["rms"] == 0.0
+    # exact start: theta_hat stays on theta to the adaptive method's tolerance (auto: LSODA, rtol 1e-7)
+    assert run["meta"]["runs"][0]["metrics"]["phases"][0]["rms"] < 1e-6
     assert run["meta"]["assumed"]
     assert (tmp_path / "figures" / "obs-fig2.png").exists() and (tmp_path / "figures" / "obs-fig2.svg").exists()
     head = (tmp_path / "data" / "observer.csv").read_text().splitlines()[0].split(",")

@@ -1,4 +1,9 @@
-"""Plant + observer in one simulation: a fast structured fixed-step scheme and a Radau reference.
+"""Plant + observer in one simulation: a structured fixed-step scheme, adaptive scipy methods, ``auto``.
+
+:func:`simulate` runs the method of ``solver:`` (:class:`SolverOptions`): ``fixed``
+(:func:`simulate_fast`), ``lsoda``/``radau``/``bdf`` (:func:`simulate_adaptive`, split at every
+breakpoint and sample) or ``auto`` (:func:`choose_method`: LSODA for the ideal measurement, the
+fixed scheme for a sampled one when ``lambda_f``, ``h rho_slow`` and ``h rho_block`` allow it).
 
 The coupled system (observer.md §1-§3) is stiff twice over: the plant's wheel/bristle modes reach
 -2.5e3 1/s and the observer's output-error mode ``lambda_f = C K_eff`` is about -3.9e6 1/s for the
@@ -21,9 +26,10 @@ OBS gains. :func:`simulate_fast` exploits the structure:
    follows each jump ``Delta`` (width ``1/lambda_f``) is applied in closed form:
    ``x_hat += K_eff Delta/lambda_f`` and ``theta_hat`` gains ``gamma (phi_hat Delta + alpha Delta^2/2)/lambda_f``.
 
-:func:`simulate_reference` integrates the full 7-state system (plant ``(v, omega, z)`` by
-:func:`tirecli.models.quarter_car.rhs`, observer by OBS (14)) with ``scipy.integrate.solve_ivp``
-(Radau); it is the straightforward implementation the fast scheme is validated and timed against.
+:func:`simulate_adaptive` integrates the full 7-state system (plant ``(v, omega, z)``, observer
+OBS (14); :func:`scalar_rhs`) with ``scipy.integrate.solve_ivp``; :func:`simulate_reference` is it
+with the spec's Radau settings. :func:`full_rhs` is the same system built from
+:func:`tirecli.models.quarter_car.rhs` (the straightforward form the benchmark once timed).
 """
 from __future__ import annotations
 
