@@ -252,7 +252,8 @@ def simulate_fast(plant: ObserverPlant, gains: ObserverGains, scenario: Scenario
                        f"fast scheme's singular-perturbation reduction (needs >= {MIN_FAST_RATE:g} 1/s); "
                        "use an adaptive method (solver.method: lsoda)")
     samples = sensor.sample_times(scenario.duration)
-    grid = time_grid(scenario.duration, min(step, sensor.period) if not sensor.ideal else step,
+    # sampled: at least one grid point inside each hold interval (mid-sample states on the grid)
+    grid = time_grid(scenario.duration, min(step, 0.5 * sensor.period) if not sensor.ideal else step,
                      scenario.breakpoints, samples)
     u0a, u1a, th0a, th1a, thma = _profiles(scenario, grid)
     # a profile jumps at grid point n when its right limit differs from the left limit
@@ -771,7 +772,7 @@ def choose_method(plant: ObserverPlant, gains: ObserverGains, scenario: Scenario
     if not lam >= MIN_FAST_RATE:
         return "lsoda", (f"observer fast mode lambda_f = {lam:.3g} 1/s < {MIN_FAST_RATE:g} 1/s: the fixed scheme's "
                          "reduction does not apply")
-    h = min(opts.step, sensor.period)
+    h = min(opts.step, 0.5 * sensor.period)
     hs = h * slow_rate(plant, gains, scenario.theta_hat0)
     if hs > SLOW_RATE_LIMIT:
         return "lsoda", (f"step x slow-mode rate = {hs:.3g} > {SLOW_RATE_LIMIT:g}: the fixed step is inaccurate "
