@@ -133,6 +133,23 @@ class Sampler:
             tau = 2.0 * c / (w0 + math.sqrt(disc)) if disc > 0 and w0 + math.sqrt(disc) > 0 else c / max(w0, 1e-12)
             self.prev_edge, self.last_edge = self.last_edge, t0 + min(max(tau, 0.0), h)
 
+    def advance_angle(self, angle1: float, edge_time) -> None:
+        """Advance to the exact wheel angle ``angle1`` [rad]; ``edge_time(a)`` gives the time [s] the angle was ``a``.
+
+        The adaptive integrators carry the angle as a state and root-find the tooth edges on their
+        interpolant (instead of :meth:`advance`'s linear ``omega`` within a step).
+        """
+        if self.sensor.teeth is None:
+            return
+        a0 = self.angle
+        self.angle = angle1
+        p = self.pitch
+        k0, k1 = math.floor(a0 / p), math.floor(angle1 / p)
+        if k1 <= k0 or self.sensor.method != "period":
+            return
+        for k in range(max(k0 + 1, k1 - 1), k1 + 1):
+            self.prev_edge, self.last_edge = self.last_edge, float(edge_time(k * p))
+
     def sample(self, t: float, omega: float) -> float:
         """The measured wheel speed at sampling instant ``t`` [s] (true speed ``omega`` [rad/s])."""
         s = self.sensor

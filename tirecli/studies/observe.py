@@ -17,7 +17,7 @@ Config (``tirecli observe CONFIG``)::
       assumed: "why these scenario values are assumed"    # flagged in every output
     estimate: {v_error: 0, z: 0, theta: 1}               # observer's initial state
     measurement: {rate: 1000, noise: {std: 0.01, seed: 1}, encoder: {teeth: 48, method: period}}
-    numerics: {method: fast, step: 0.0025}               # or method: reference (Radau)
+    solver: {method: auto, rtol: 1.0e-7, step: 0.0025}   # auto | fixed | lsoda | radau | bdf
     metrics: {phases: [0, 5, 10, 15, 20], crossing_margin: 0.5, settle_tolerance: 0.05,
               excitation_threshold: 0.05, min_excitation: 0.5}
     cases:                                # optional variants, each overriding parts of the above
@@ -34,7 +34,7 @@ forward motion) are listed in ``meta["warnings"]``.
 """
 from __future__ import annotations
 
-from dataclasses import dataclass, replace
+from dataclasses import asdict, dataclass, replace
 
 import numpy as np
 import pandas as pd
@@ -95,11 +95,25 @@ SCENARIO = Map(fields={
     "assumed": Str(default="", doc="why the scenario values are assumed defaults (flagged in outputs)"),
 })
 
+SOLVER_METHODS = ("auto", "fixed", "lsoda", "radau", "bdf")
+
+SOLVER = Map(fields={
+    "method": Str(choices=SOLVER_METHODS, default="auto",
+                  doc="auto: the fastest stable and accurate method for the gains and the measurement; fixed: the "
+                      "structured fixed-step scheme; lsoda, radau, bdf: adaptive (scipy) on the full system"),
+    "rtol": Num(unit="-", gt=0, lt=1, default=1e-7, doc="relative tolerance of the adaptive methods"),
+    "atol": Num(unit="-", gt=0, default=None,
+                doc="absolute tolerance of the adaptive methods (default: rtol times each state's typical size)"),
+    "step": Num(unit="s", gt=0, le=0.05, default=2.5e-3, doc="largest step of the fixed scheme"),
+    "h_max": Num(unit="s", gt=0, default=None, doc="largest step of the adaptive methods (default: unlimited)"),
+}, default=None)
+
+#: Deprecated ``numerics:`` block (``fast``: the fixed scheme, ``reference``: Radau); use ``solver:``.
 NUMERICS = Map(fields={
     "method": Str(choices=("fast", "reference"), default="fast",
-                  doc="fast: structured fixed-step scheme; reference: Radau on the full system (slow)"),
-    "step": Num(unit="s", gt=0, le=0.05, default=2.5e-3, doc="largest step of the fast scheme"),
-    "rtol": Num(unit="-", gt=0, lt=1, default=1e-8, doc="relative tolerance of the reference"),
+                  doc="deprecated (use solver.method): fast = fixed, reference = radau"),
+    "step": Num(unit="s", gt=0, le=0.05, default=2.5e-3, doc="deprecated (use solver.step)"),
+    "rtol": Num(unit="-", gt=0, lt=1, default=1e-8, doc="deprecated (use solver.rtol)"),
 }, default=None)
 
 METRICS = Map(fields={
@@ -133,6 +147,7 @@ SPEC = Map(fields=common_fields() | {
     "scenario": SCENARIO,
     "estimate": _estimate(required=True),
     "measurement": MEASUREMENT,
+    "solver": SOLVER,
     "numerics": NUMERICS,
     "metrics": METRICS,
     "cases": ListOf(item=CASE, default=None, doc="variants of the run"),
@@ -216,8 +231,9 @@ class Plan:
     gain_set: object
     plant: lo.ObserverPlant
     cases: list
-    numerics: dict
+    solver: object            # tirecli.numerics.observer_integrator.SolverOptions
     metrics: dict
+    deprecated: list
 
 
 def plan(config: Config) -> Plan:
@@ -252,7 +268,7 @@ def plan(config: Config) -> Plan:
                                     c["measurement"] if c["measurement"] is not None else meas, config, r))
     else:
         cases.append(_make_case("nominal", gains, checked, sc["theta"], sc["torque"], est, meas, config, r))
-    numerics = checked["numerics"] or {"method": "fast", "step": 2.5e-3, "rtol": 1e-8}
+    solver, deprecated = _solver(checked, config)
     met = checked["metrics"] or {}
     dur = sc["duration"]
     metrics = {
@@ -266,20 +282,35 @@ def plan(config: Config) -> Plan:
     if any(b <= a for a, b in zip(ph, ph[1:])) or ph[-1] > dur + 1e-9:
         raise ConfigError(config.origins.problem(("metrics", "phases"),
                                                  f"phase boundaries must increase and end by the duration ({dur:g} s)"))
-    return Plan(checked, tire, vehicle, gain_set, plant, cases, numerics, metrics)
+    return Plan(checked, tire, vehicle, gain_set, plant, cases, solver, metrics, deprecated)
 
 
 # --------------------------------------------------------------------------- run
 
 
+def _solver(checked: dict, config: Config):
+    """``SolverOptions`` from ``solver:`` (or the deprecated ``numerics:``) and the deprecation notes."""
+    from tirecli.numerics.observer_integrator import SolverOptions
+
+    sol, num = checked["solver"], checked["numerics"]
+    if sol is not None and num is not None:
+        raise ConfigError(config.origins.problem(("numerics",), "give 'solver' only ('numerics' is its deprecated "
+                                                                "old name)"))
+    if num is not None:
+        opts = (SolverOptions(method="fixed", step=num["step"]) if num["method"] == "fast"
+                else SolverOptions(method="radau", rtol=num["rtol"], atol=num["rtol"] * 1e-2, h_max=5e-3))
+        new = ("{method: fixed, step: %g}" % opts.step if opts.method == "fixed"
+               else "{method: radau, rtol: %g, atol: %g, h_max: 0.005}" % (opts.rtol, opts.atol))
+        return opts, [f"'numerics' is deprecated: write solver: {new}"]
+    sol = sol or {}
+    return SolverOptions(**{k: v for k, v in sol.items() if v is not None}), []
+
+
 def simulate_case(plan_: Plan, case: Case):
-    """Run one case with the configured integrator; returns a Trajectory."""
+    """Run one case with the configured solver (``auto``: :func:`tirecli.numerics.observer_integrator.choose_method`)."""
     from tirecli.numerics import observer_integrator as oi
 
-    if plan_.numerics["method"] == "reference":
-        return oi.simulate_reference(plan_.plant, case.gains, case.scenario, case.sensor, rtol=plan_.numerics["rtol"],
-                                     atol=plan_.numerics["rtol"] * 1e-2)
-    return oi.simulate_fast(plan_.plant, case.gains, case.scenario, case.sensor, step=plan_.numerics["step"])
+    return oi.simulate(plan_.plant, case.gains, case.scenario, case.sensor, plan_.solver)
 
 
 def case_metrics(plant: lo.ObserverPlant, tr, case: Case, m: dict) -> dict:
@@ -387,7 +418,8 @@ def run_observe(config: Config, progress=None) -> StudyResult:
     checked = p.checked
     sc = checked["scenario"]
     dt_out = (checked["output"] or {}).get("dt", 0.01)
-    frames, rows, runs, warnings, trajs = [], [], [], [], []
+    frames, rows, runs, trajs = [], [], [], []
+    warnings = list(p.deprecated)
     designs = {}
     if progress is not None:
         progress.start(len(p.cases), "observe")
@@ -436,7 +468,7 @@ def run_observe(config: Config, progress=None) -> StudyResult:
             "plant": "quarter car, lumped LuGre with constant kappa = kappa0/L = "
                      f"{p.plant.kappa:g} 1/m, sigma2 in the vehicle equation only (OBS (3)-(5))",
             "assumed": assumed,
-            "numerics": p.numerics,
+            "solver": asdict(p.solver),
             "metric_settings": p.metrics,
             "design": list(designs.values()),
             "runs": runs,
