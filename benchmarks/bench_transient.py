@@ -9,6 +9,11 @@ a straightforward ``scipy.integrate.solve_ivp(method="Radau")`` of the same lump
 (:func:`tirecli.models.quarter_car.rhs`, finite-difference Jacobian) timed at equal accuracy, with
 the speed-up (goal: at least 5x).
 
+Second table (issue 12): a 1100 N m braking that locks the wheel (linear release over 2.0-2.6 s),
+the lock and unlock times against an independent Radau reference with event location (rtol 1e-9,
+tests/reference_quarter_car.py), and the 1 ms output grid of the 5 s braking: the cost of sampling it
+from the dense output and its mu error against the reference, beside linear interpolation of the steps.
+
 Accuracy is the largest deviation of slip and friction from a tight reference at each method's
 own output points (Radau rtol 1e-11 for the lumped model; tirecli at tol 1e-7 for the distributed
 one). "Equal accuracy": the loosest Radau tolerance whose slip and friction errors are both at
@@ -18,6 +23,7 @@ from __future__ import annotations
 
 import sys
 import time
+from pathlib import Path
 
 import numpy as np
 
@@ -127,6 +133,40 @@ def main():
         print(f"speed-up over Radau at equal accuracy: {speedup:.0f}x (goal >= 5x: {'met' if speedup >= 5 else 'MISSED'})")
     else:
         print("Radau did not reach tirecli's accuracy at rtol >= 1e-7")
+    events_and_dense(p, car, torque, theta, tr, ref)
+
+
+def events_and_dense(p, car, torque, theta, tr, ref):
+    """Lock/unlock times against the Radau event reference; the 1 ms output grid from the dense output."""
+    sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
+    from reference_quarter_car import reference_run
+
+    from tirecli.models.profiles import Change, Transitions
+    from tirecli.models.variants import FrictionVariant
+    from tirecli.numerics import runs
+
+    lock_torque = Transitions(0.0, (Change(0.5, -1100.0, 1.5, "linear"), Change(2.0, 0.0, 0.6, "linear")))
+    lumped = FrictionVariant("lumped", kappa0=2.0)
+    _, _, _, ev = reference_run(p, car, 2.0, lock_torque, 2.4, 20.0, 20.0 / car.r)
+    (r_lock, r_unlock), = ev["lock"]
+    print("\n| lumped kappa0 2, 1100 N m braking to 2.4 s | wall time | lock time error | unlock time error |")
+    print("|---|---|---|---|")
+    for tol in (None, 1e-5):
+        t_run, trl = best_of(lambda: runs.quarter_car(lumped, p, car, lock_torque, theta, 20.0, 20.0 / car.r, 2.4,
+                                                      runs.SolverOptions(tol=tol)), 5)
+        (t_lock, t_unlock), = trl.events["lock"]
+        name = "default tol 1e-3" if tol is None else f"tol {tol:g}"
+        print(f"| {name} | {t_run * 1e3:.1f} ms | {abs(t_lock - r_lock):.1e} s | {abs(t_unlock - r_unlock):.1e} s |")
+
+    grid = np.arange(0.0, T_END + 1e-12, 1e-3)
+    grid = grid[grid <= tr.t[-1]]
+    t_s, (_, O) = best_of(lambda: tr.sample(grid), 3)
+    _, mu_ref = lumped_outputs(p, car, torque, grid, ref.sol(grid))
+    e_dense = float(np.max(np.abs(O["mu"] - mu_ref)))
+    e_lin = float(np.max(np.abs(np.interp(grid, tr.t, tr.out["mu"]) - mu_ref)))
+    print(f"\n1 ms output grid of the 5 s lumped braking ({grid.size} points, {tr.t.size} steps): sampled from the "
+          f"dense output in {t_s * 1e3:.0f} ms; max |mu error| {e_dense:.1e} (linear interpolation of the steps: "
+          f"{e_lin:.1e})")
 
 
 if __name__ == "__main__":

@@ -37,6 +37,8 @@ FENCE = re.compile(r"^```yaml[ \t]*\n(.*?)^```", re.S | re.M)
 FRAGMENTS = {
     ("README.md", "tire: canudas2003-table1                         # a built-in set"): "study: sweep",
     ("README.md", "tire: chrono-185-80r14                    # a built-in tyre (tirecli params list)"): "study: sweep",
+    ("docs/observer.md", "solver:"): ("study: observe\ntire: canudas2003-table1\nestimate: {v_error: 0}\n"
+                                      "scenario: {duration: 5, theta: 1, torque: 0, v0: 20}"),
 }
 
 #: Size reductions of the default (fast) run, per study, as ``--set`` values: a top-level key always,

@@ -189,3 +189,21 @@ cases: [{model: lumped, kappa0: 2, label: L}]
     run = json.loads((tmp_path / "o" / "run.json").read_text())
     assert run["meta"]["events"][0]["wheel_lock"][0][1] == pytest.approx(lock["t_end"].iloc[0])
     assert "wheel lock: 1.8499-2.18" in out
+
+
+def test_paper_checks_only_for_figures_asked_for(cli, tmp_path):
+    """A custom observe run without ``figures:`` prints its own facts and runs no paper checks; asking for
+    the paper's figure by name runs its checks (and on a custom scenario they fail, as they should)."""
+    cfg = tmp_path / "custom.yaml"
+    cfg.write_text("study: observe\ntire: canudas2003-table1\n"
+                   "scenario: {duration: 8, v0: 25, theta: {initial: 1, changes: [{at: 3, to: 1.5, shape: step}]},\n"
+                   "           torque: {initial: 300, changes: [{at: 5, duration: 1, to: -200}]}}\n"
+                   "estimate: {v_error: 0, z: 0, theta: 1}\n")
+    code, out, err = cli("observe", cfg, "--out", tmp_path / "a")
+    assert code == 0, err
+    assert json.loads((tmp_path / "a" / "run.json").read_text())["checks"] == []
+    text = (out + err).replace(str(tmp_path), "")
+    assert "check failed" not in text and "checks" not in text and "max |v_hat - v|" in text
+    code, out, err = cli("observe", cfg, "--out", tmp_path / "b", "--set", "figures=[obs-fig2]")
+    checks = json.loads((tmp_path / "b" / "run.json").read_text())["checks"]
+    assert len(checks) > 10 and any(not c["passed"] for c in checks)

@@ -242,6 +242,14 @@ class Trajectory:
             return list(self.states_at([tt])[0])
         return list(self.advance(float(self.t[k]), list(self.y[k]), int(self.modes[k]), tt - float(self.t[k])))
 
+    def _recorded(self) -> np.ndarray:
+        """The recorded outputs as one array ``(len(t), len(out_names))`` (built once)."""
+        rec = self.__dict__.get("_rec")
+        if rec is None or rec.shape[0] != len(self.t):
+            rec = np.array([self.out[n] for n in self.out_names]).T if self.out_names else np.empty((len(self.t), 0))
+            self.__dict__["_rec"] = rec
+        return rec
+
     def sample(self, tq) -> tuple:
         """States and outputs at the times ``tq`` [s] from the dense output: ``(states, {name: array})``.
 
@@ -256,7 +264,7 @@ class Trajectory:
         outs = np.empty((tq.size, len(self.out_names)))
         k = self.step_index(tq)
         last = len(self.t) - 1
-        rec = np.array([self.out[n] for n in self.out_names]).T if self.out_names else np.empty((len(self.t), 0))
+        rec = self._recorded()
         for i, tt in enumerate(tq):
             kk = int(k[i])
             j = kk if abs(tt - self.t[kk]) <= 1e-12 else (min(kk + 1, last) if abs(tt - self.t[min(kk + 1, last)]) <= 1e-12 else -1)
@@ -490,9 +498,12 @@ def _advance_of(stepper):
     outputs between steps are as accurate as at the steps."""
     peek = getattr(stepper, "peek", stepper.start)
     attempt = stepper.attempt
+    last = [None, None]   # the start record of the last step used (several output times share a step)
 
     def advance(t, y, mode, dt):
-        y_new = list(attempt(peek(t, y, mode), dt, False)[0])
+        if last[0] != (t, mode):
+            last[0], last[1] = (t, mode), peek(t, y, mode)
+        y_new = list(attempt(last[1], dt, False)[0])
         if mode == LOCKED or (mode == FREE and y_new[1] < 0.0):
             y_new[1] = 0.0     # within the event tolerance of a lock: the wheel does not turn backwards
         return y_new

@@ -40,7 +40,7 @@ import numpy as np
 import pandas as pd
 
 from tirecli.config.loader import Config
-from tirecli.config.schema import ListOf, Map, Num, Raw, Str
+from tirecli.config.schema import ListOf, Map, Nullable, Num, Raw, Str
 from tirecli.conventions import (THETA_CONVENTIONS, slip_from_speeds, theta_fm_from_obs, theta_obs_from_fm,
                                  to_theta_fm)
 from tirecli.errors import ConfigError
@@ -102,10 +102,11 @@ SOLVER = Map(fields={
                   doc="auto: the fastest stable and accurate method for the gains and the measurement; fixed: the "
                       "structured fixed-step scheme; lsoda, radau, bdf: adaptive (scipy) on the full system"),
     "rtol": Num(unit="-", gt=0, lt=1, default=1e-7, doc="relative tolerance of the adaptive methods"),
-    "atol": Num(unit="-", gt=0, default=None,
+    "atol": Nullable(spec=Num(unit="-", gt=0), default=None,
                 doc="absolute tolerance of the adaptive methods (default: rtol times each state's typical size)"),
     "step": Num(unit="s", gt=0, le=0.05, default=2.5e-3, doc="largest step of the fixed scheme"),
-    "h_max": Num(unit="s", gt=0, default=None, doc="largest step of the adaptive methods (default: unlimited)"),
+    "h_max": Nullable(spec=Num(unit="s", gt=0), default=None,
+                      doc="largest step of the adaptive methods (null: unlimited)"),
 }, default=None)
 
 #: Deprecated ``numerics:`` block (``fast``: the fixed scheme, ``reference``: Radau); use ``solver:``.
