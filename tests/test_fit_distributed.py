@@ -205,7 +205,7 @@ def test_fit_command_with_the_distributed_model(cli, tmp_path, braking_csv, tabl
     assert {"t", "mu", "mu_model", "residual", "used"} <= set(dist.columns) and len(dist) == 351
     assert (tmp_path / "o" / "data" / "correlation_distributed.csv").exists()
     tab = pd.read_csv(tmp_path / "o" / "figures" / "fm-table2.csv", comment="#")
-    assert "distributed model" in tab.columns and "FM procedure" in tab.columns
+    assert {"distributed model", "distributed model 95% CI", "FM procedure", "FM procedure 95% CI"} <= set(tab.columns)
     fitted = (tmp_path / "o" / "fitted.yaml").read_text()
     assert "distributed model in the loop" in fitted
     assert cli("params", "validate", tmp_path / "o" / "fitted.yaml")[0] == 0

@@ -14,25 +14,32 @@ integrals ``S_j``) is then a chain of scalar *linear* ODEs ``dx/dt = f(t) - lamb
     z(zeta, t) = Y(t) - exp(Phi(tau) - Phi(t)) Y(tau),   X(tau) = X(t) - zeta   (characteristics)
 
 (``D`` lower triangular, so the ``S_j`` follow one another) and FM eq. (2) gives
-``mu = sigma0 w.S + sigma1 w.dS/dt + sigma2 vr``. Each linear ODE is solved on a fixed time grid
-by the exponential integrator that is exact for a rate constant and a source linear over a step::
+``mu = sigma0 w.S + sigma1 w.dS/dt + sigma2 vr``. Each linear ODE is solved on a fixed time grid by
+an exponential integrator: over a step ``[t_n, t_n + h]``, with ``u = t_{n+1} - s``,
 
-    x_{n+1} = e^{-beta} x_n + h (phi2(beta) f_n + (phi1(beta) - phi2(beta)) f_{n+1}),
-    beta = h (lambda_n + lambda_{n+1})/2,   phi1 = (1 - e^{-beta})/beta,   phi2 = (phi1 - e^{-beta})/beta
+    x_{n+1} = e^{-beta_n} x_n + int_0^h exp(-lambda_{n+1} u + lambda' u^2/2) f(t_{n+1} - u) du,
+    beta_n = h (lambda_n + lambda_{n+1})/2,   lambda' = (lambda_{n+1} - lambda_n)/h,
 
-— unconditionally stable in the stiff bristle rate ``b`` and second order in the step — and the
-recurrence itself is evaluated without a loop over steps (cumulative sums in blocks short enough
-that ``exp(int lambda)`` cannot overflow). The deflections at the tracked points come from the grid
-values by cubic Hermite interpolation in time (the rates ``dY/dt``, ``b``, ``|r omega|`` are known
-at every node; ``tau`` from one Newton step on the Hermite ``X``), as in
-:mod:`tirecli.numerics.characteristics`. Everything also broadcasts over a leading axis of
-parameter sets, so a finite-difference Jacobian of the identification (:mod:`tirecli.numerics.identify`)
-costs one call.
+with ``f`` linear over the step and ``exp(lambda' u^2/2) ~ 1 + lambda' u^2/2``: the integral is a
+combination of the moments ``m_k(A) = int_0^1 s^k e^{-A s} ds`` (``A = h lambda_{n+1}``, k = 0..3).
+It is unconditionally stable in the stiff bristle rate ``b``, second order in the step, and keeps
+the stiff limit exact (``x_{n+1} -> f_{n+1}/lambda_{n+1}``; a step-averaged rate would leave a
+first-order error there). The recurrence is evaluated without a loop over steps (cumulative sums in
+blocks short enough that ``exp(int lambda)`` cannot overflow). The deflections at the tracked points
+come from the grid values by cubic Hermite interpolation in time (the rates ``dY/dt``, ``b``,
+``|r omega|`` are known at every node; ``tau`` from one Newton step on the Hermite ``X``), as in
+:mod:`tirecli.numerics.characteristics`. Everything broadcasts over a leading axis of parameter
+sets, so a finite-difference Jacobian of the identification (:mod:`tirecli.numerics.identify`) costs
+one call.
 
-The kinematics enter only through their values on the grid: :func:`drive_from_samples` builds the
-grid from measured samples (cubic spline through them, or linear), so the samples are grid nodes.
-Elements in the patch at ``t = 0`` start undeflected (``z(zeta, 0) = 0``). Measured accuracy:
-tests/test_driven.py against ``solve_ivp`` (DOP853, rtol 1e-10) with quadrature over the patch.
+:class:`DrivenDistributed` solves on two grids (``m`` and ``2 m`` steps per sample interval) and
+extrapolates (Richardson) the sample values. The kinematics enter only through their values on the
+grid: :func:`drive_from_samples` builds it from measured samples (cubic spline through them, or
+linear), so the samples are grid nodes. Elements in the patch at the first sample start undeflected
+(``z(zeta, t_0) = 0``); after one patch transit (``X >= L``) the solution no longer depends on that
+assumption. Measured accuracy at 100 Hz samples, ``m = 4``, against ``solve_ivp`` (DOP853, rtol
+1e-12) with adaptive quadrature over the patch (tests/test_fit_distributed.py): max ``|mu|`` error
+6e-7 (uniform load), 1e-7 (exponential), 6e-5 (parabolic: three coupled patch moments).
 """
 from __future__ import annotations
 
@@ -363,6 +370,9 @@ class DrivenDistributed:
         return (4.0 * z2 - z1) / 3.0, (4.0 * d2 - d1) / 3.0
 
     def mu(self, p, theta: float = 1.0) -> np.ndarray:
-        """``mu`` [-] at the samples (FM eq. (2)) for a :class:`~tirecli.models.lugre.LuGreParams` (its ``L`` must be ``self.L``)."""
+        """``mu`` [-] at the samples (FM eq. (2)) for a :class:`~tirecli.models.lugre.LuGreParams`.
+
+        Its ``L`` must be ``self.L`` (the lookups were built for it).
+        """
         z, zd = self.states(p.sigma0, p.mu_c, p.mu_s, p.v_s, p.alpha, theta)
         return p.sigma0 * z[0] + p.sigma1 * zd[0] + p.sigma2 * self.vr

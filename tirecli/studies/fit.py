@@ -153,7 +153,8 @@ MODEL = AnyOf(options=(
         "interpolation": Str(choices=INTERPOLATIONS, default=None,
                              doc="kinematics between samples: cubic spline (default) or linear"),
     }, post=_model_post),
-), default="lumped", what="lumped, distributed, or a mapping {model: distributed, load, window, substeps, interpolation}")
+), default="lumped",
+    what="lumped, distributed, or a mapping {model: distributed, load, window, substeps, interpolation}")
 
 FIT = Map(fields={
     "parameters": ListOf(item=Str(choices=identify.STEADY_PARAMETERS),
