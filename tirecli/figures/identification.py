@@ -36,14 +36,13 @@ def _dist(result):
 
 @register("fit-steady", paper="generic", label="fit", title="Steady-state fit: samples and model",
           caption="|mu| against |s| of the samples used by the steady-state fit (coloured by vehicle speed) and the fitted "
-                  "FM eq. (4) at the minimum, middle and maximum sample speed (stage 1; with model: distributed also the "
-                  "steady state of the distributed-model fit, dashed); below, the residuals mu_model - mu of all samples "
-                  "against the stage-1 fit (grey: not used: outside the window or |s| below the threshold).")
+                  "FM eq. (4) at the minimum, middle and maximum sample speed (stage 1 of the FM procedure; the "
+                  "distributed-model fit is in fm-fig6 and fit-transient); below, the residuals mu_model - mu of all "
+                  "samples (grey: not used: outside the window or |s| below the threshold).")
 def draw_fit_steady(result):
     require(result, "fit", "fit-steady")
     d = result.data["samples"]
     p = _fm(result)
-    pd_ = result.payload["fitted"] if _dist(result) is not None else None
     used = d["used"].to_numpy() > 0
     fig, (a, b) = new_figure(nrows=2, width=7.0, height=7.0, height_ratios=(2.2, 1))
     sc = a.scatter(np.abs(d["s"][used]), np.abs(d["mu"][used]), c=d["v"][used], s=9, cmap="viridis", label="samples used")
@@ -53,9 +52,6 @@ def draw_fit_steady(result):
     vs = d["v"][used]
     for k, v in enumerate(sorted({float(vs.min()), float(vs.median()), float(vs.max())})):
         a.plot(ss, _surface_mu(p, ss, v), color=COLORS[(k + 1) % len(COLORS)], lw=1.2, label=f"fit, v = {v:.1f} m/s")
-        if pd_ is not None:
-            a.plot(ss, _surface_mu(pd_, ss, v), color=COLORS[(k + 1) % len(COLORS)], lw=1.0, ls="--",
-                   label="dashed: distributed-model fit" if k == 0 else None)
     finish(a, "slip |s| [-]", "|mu| [-]", result.meta.get("title") or "Steady-state fit", loc="lower right")
     b.plot(d["t"][~used], d["residual"][~used], ".", color="0.7", ms=3, label="not used")
     b.plot(d["t"][used], d["residual"][used], ".", color=COLORS[0], ms=3, label="used")

@@ -120,7 +120,8 @@ def _stats(J, resid, names, estimate, lo, hi, confidence):
     corr = np.where(np.outer(se, se) > 0, corr, np.nan)
     est = np.array([estimate[k] for k in names])
     span = np.array([hi[k] - lo[k] for k in names])
-    at_bound = {k: bool(min(abs(estimate[k] - lo[k]), abs(hi[k] - estimate[k])) <= 1e-6 * max(s_, 1e-12))
+    # on (or, for mu_s = mu_c + d_mu, beyond: the split coordinates bound d_mu, not mu_s) a bound
+    at_bound = {k: bool(min(estimate[k] - lo[k], hi[k] - estimate[k]) <= 1e-6 * max(s_, 1e-12))
                 for k, s_ in zip(names, span)}
     # Wald intervals, clipped to the bounds (a parameter on a bound has no interval beyond it)
     low = np.maximum(est - tq * se, [lo[k] for k in names])
