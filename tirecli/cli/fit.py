@@ -19,9 +19,11 @@ def fit(config: Path = ConfigArg, out: Optional[Path] = OutOpt, set_: Optional[L
         data: Optional[Path] = DataOpt, map_: Optional[List[str]] = MapOpt) -> None:
     """Identify sigma0, sigma2, mu_c, mu_s, v_s (and alpha) from (s, mu, v) samples, then sigma1 from the transient.
 
+    With fit.model: distributed, then all of them at once from mu(t) with the distributed model in the loop.
     Writes fitted.yaml (a parameter set every command accepts: tire: {set: fitted.yaml}),
     run.json (estimates, standard errors, confidence intervals, correlation matrix, residual RMS),
-    data/parameters.csv, data/correlation.csv, data/samples.csv, data/transient.csv and the figures.
+    data/parameters.csv, data/correlation.csv, data/samples.csv, data/transient.csv (and data/distributed.csv,
+    data/correlation_distributed.csv) and the figures.
     """
     from tirecli.app import run_config
     from tirecli.studies.fit import overrides_for
@@ -29,10 +31,20 @@ def fit(config: Path = ConfigArg, out: Optional[Path] = OutOpt, set_: Optional[L
     summary = run_config("fit", config, overrides(set_) + overrides_for(str(data) if data else None, map_), out,
                          progress())
     df = summary.result.data["parameters"]
-    for _, r in df.iterrows():
-        flag = " (on a bound)" if r["at_bound"] else ""
-        result_line(f"  {r['parameter']:7s} {r['estimate']:12.6g} +/- {r['se']:.3g} {r['unit']:4s} "
-             f"CI [{r['ci_low']:.6g}, {r['ci_high']:.6g}]{flag}")
-    result_line(f"  residual RMS (steady state): {summary.result.meta['steady_state']['residual_rms']:.3g}")
+    meta = summary.result.meta
+    two = meta.get("distributed") is not None
+    for fit_name, rows in df.groupby("fit", sort=False):
+        if two:
+            result_line("FM procedure (steady state, then sigma1):" if fit_name != "distributed"
+                        else "distributed model (all at once, model in the loop):")
+        for _, r in rows.iterrows():
+            flag = " (on a bound)" if r["at_bound"] else ""
+            result_line(f"  {r['parameter']:7s} {r['estimate']:12.6g} +/- {r['se']:.3g} {r['unit']:4s} "
+                        f"CI [{r['ci_low']:.6g}, {r['ci_high']:.6g}]{flag}")
+        if fit_name != "distributed":
+            result_line(f"  residual RMS (steady state): {meta['steady_state']['residual_rms']:.3g}")
+        else:
+            result_line(f"  residual RMS of mu(t): {meta['distributed']['residual_rms']:.3g} "
+                        f"({meta['distributed']['samples_used']} samples)")
     report_run(summary, "fit", overridden=bool(set_))
     result_line(f"wrote {Path(summary.out) / 'fitted.yaml'}")

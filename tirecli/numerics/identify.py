@@ -120,13 +120,76 @@ def _stats(J, resid, names, estimate, lo, hi, confidence):
     corr = np.where(np.outer(se, se) > 0, corr, np.nan)
     est = np.array([estimate[k] for k in names])
     span = np.array([hi[k] - lo[k] for k in names])
-    at_bound = {k: bool(min(abs(estimate[k] - lo[k]), abs(hi[k] - estimate[k])) <= 1e-6 * max(s_, 1e-12))
+    # on (or, for mu_s = mu_c + d_mu, beyond: the split coordinates bound d_mu, not mu_s) a bound
+    at_bound = {k: bool(min(estimate[k] - lo[k], hi[k] - estimate[k]) <= 1e-6 * max(s_, 1e-12))
                 for k, s_ in zip(names, span)}
     # Wald intervals, clipped to the bounds (a parameter on a bound has no interval beyond it)
     low = np.maximum(est - tq * se, [lo[k] for k in names])
     high = np.minimum(est + tq * se, [hi[k] for k in names])
     return dict(cov=cov, se=dict(zip(names, se)), ci_low=dict(zip(names, low)),
                 ci_high=dict(zip(names, high)), corr=corr, at_bound=at_bound, dof=dof, cond=cond)
+
+
+class _Space:
+    """Bounded internal coordinates of a fit (module doc): ``(mu_c, d_mu = mu_s - mu_c >= 0)`` when both are free.
+
+    ``public(xi)`` maps internal values to a ``{name: value}`` dict of the free parameters;
+    ``T`` is ``d public / d internal`` (Jacobians: ``J_internal = J_public @ T``).
+    """
+
+    def __init__(self, free, start: LuGreParams, bounds: dict | None, initial: dict | None, order, pad=1e-9):
+        self.free = [k for k in order if k in free]
+        lo = {k: DEFAULT_BOUNDS[k][0] for k in DEFAULT_BOUNDS}
+        hi = {k: DEFAULT_BOUNDS[k][1] for k in DEFAULT_BOUNDS}
+        for k, (a, b) in (bounds or {}).items():
+            lo[k], hi[k] = float(a), float(b)
+        self.x0 = {k: float((initial or {}).get(k, getattr(start, k))) for k in self.free}
+        self.split = split = "mu_c" in self.free and "mu_s" in self.free
+        self.inames = ["d_mu" if (split and k == "mu_s") else k for k in self.free]
+        ilo = {**lo, "d_mu": 0.0}
+        ihi = {**hi, "d_mu": hi["mu_s"] - lo["mu_c"]}
+        if not split and "mu_c" in self.free:
+            ihi["mu_c"] = min(hi["mu_c"], start.mu_s)      # mu_c <= fixed mu_s
+        if not split and "mu_s" in self.free:
+            ilo["mu_s"] = max(lo["mu_s"], start.mu_c)      # mu_s >= fixed mu_c
+        x0 = self.x0
+        xi0 = [x0["mu_s"] - x0["mu_c"] if k == "d_mu" else x0[k] for k in self.inames]
+        self.lb = np.array([ilo[k] for k in self.inames])
+        self.ub = np.array([ihi[k] for k in self.inames])
+        pad = pad * (self.ub - self.lb)
+        self.xi0 = np.clip(xi0, self.lb + pad, self.ub - pad)
+        self.plo = {k: (lo[k] if k != "mu_s" or split else ilo["mu_s"]) for k in self.free}
+        self.phi = {k: (hi[k] if k != "mu_c" or split else ihi["mu_c"]) for k in self.free}
+        T = np.eye(len(self.inames))
+        if split:
+            T[self.free.index("mu_s"), self.inames.index("mu_c")] = 1.0   # d mu_s / d mu_c
+        self.T = T
+
+    def public(self, xi) -> dict:
+        d = dict(zip(self.inames, (float(x) for x in xi)))
+        if self.split:
+            d["mu_s"] = d["mu_c"] + d.pop("d_mu")
+        return {k: d[k] for k in self.free}
+
+    def snap(self, x):
+        """Estimates resting on a bound, snapped onto it."""
+        lb, ub = self.lb, self.ub
+        x = np.where(np.abs(x - lb) <= 1e-12 * (ub - lb), lb, x)
+        return np.where(np.abs(ub - x) <= 1e-12 * (ub - lb), ub, x)
+
+    def result(self, Jp, resid, xi, confidence, n, sol, extra=None) -> "FitResult":
+        """A :class:`FitResult` from the public Jacobian and residuals at the optimum ``xi``."""
+        pub = self.public(xi)
+        st = _stats(Jp, resid, self.free, pub, self.plo, self.phi, confidence)
+        if self.split:  # the constraint mu_c <= mu_s is the bound d_mu >= 0
+            dm = pub["mu_s"] - pub["mu_c"]
+            if dm <= 1e-9 * max(1.0, pub["mu_s"]):
+                st["at_bound"]["mu_s"] = st["at_bound"]["mu_c"] = True
+        return FitResult(names=self.free, estimate=pub, se=st["se"], ci_low=st["ci_low"], ci_high=st["ci_high"],
+                         corr=st["corr"], cov=st["cov"], at_bound=st["at_bound"],
+                         residual_rms=float(np.sqrt(np.mean(resid ** 2))), n=n, dof=st["dof"],
+                         confidence=confidence, cond=st["cond"], success=bool(sol.success), message=str(sol.message),
+                         nfev=int(sol.nfev), extra={"start": dict(self.x0), **(extra or {})})
 
 
 def fit_steady_state(s, v, mu, start: LuGreParams, free=("sigma0", "sigma2", "mu_c", "mu_s", "v_s"),
@@ -149,66 +212,121 @@ def fit_steady_state(s, v, mu, start: LuGreParams, free=("sigma0", "sigma2", "mu
     s, v, mu = (np.asarray(a, dtype=float) for a in (s, v, mu))
     rw = romega_of(s, v)
     vr = rw - v
-    free = [k for k in STEADY_PARAMETERS if k in free]
-    lo = {k: DEFAULT_BOUNDS[k][0] for k in DEFAULT_BOUNDS}
-    hi = {k: DEFAULT_BOUNDS[k][1] for k in DEFAULT_BOUNDS}
-    for k, (a, b) in (bounds or {}).items():
-        lo[k], hi[k] = float(a), float(b)
-    x0 = {k: float((initial or {}).get(k, getattr(start, k))) for k in free}
-    split = "mu_c" in free and "mu_s" in free   # internal (mu_c, d = mu_s - mu_c >= 0)
-    inames = ["d_mu" if (split and k == "mu_s") else k for k in free]
-    ilo = {**lo, "d_mu": 0.0}
-    ihi = {**hi, "d_mu": hi["mu_s"] - lo["mu_c"]}
-    if not split and "mu_c" in free:
-        ihi["mu_c"] = min(hi["mu_c"], start.mu_s)      # mu_c <= fixed mu_s
-    if not split and "mu_s" in free:
-        ilo["mu_s"] = max(lo["mu_s"], start.mu_c)      # mu_s >= fixed mu_c
-    xi0 = [x0["mu_s"] - x0["mu_c"] if k == "d_mu" else x0[k] for k in inames]
-    lb = np.array([ilo[k] for k in inames])
-    ub = np.array([ihi[k] for k in inames])
-    pad = 1e-9 * (ub - lb)
-    xi0 = np.clip(xi0, lb + pad, ub - pad)
-
-    def public(xi):
-        d = dict(zip(inames, xi))
-        if split:
-            d["mu_s"] = d["mu_c"] + d.pop("d_mu")
-        return d
+    sp = _Space(free, start, bounds, initial, STEADY_PARAMETERS)
 
     def model(xi):
-        return replace(start, **public(xi))
+        return replace(start, **sp.public(xi))
 
     def resid(xi):
         return mu_ss_uniform(vr, rw, model(xi)) - mu
 
-    sol = least_squares(resid, xi0, bounds=(lb, ub), jac="3-point", x_scale="jac", method="trf",
+    sol = least_squares(resid, sp.xi0, bounds=(sp.lb, sp.ub), jac="3-point", x_scale="jac", method="trf",
                         xtol=1e-14, ftol=1e-14, gtol=1e-14, max_nfev=2000)
-    J = sol.jac
-    x = np.where(np.abs(sol.x - lb) <= 1e-12 * (ub - lb), lb, sol.x)   # snap estimates resting on a bound
-    x = np.where(np.abs(ub - x) <= 1e-12 * (ub - lb), ub, x)
-    sol.x = x
-    pub = public(sol.x)
-    # Jacobian in public coordinates: mu_s = mu_c + d_mu
-    if split:
-        T = np.eye(len(inames))
-        ic, idm = inames.index("mu_c"), inames.index("d_mu")
-        T[idm, ic] = 1.0            # d mu_s / d mu_c
-        Jp = J @ np.linalg.inv(T)   # residual sensitivities to (…, mu_c, mu_s, …) with mu_c, mu_s independent
-    else:
-        Jp = J
-    plo = {k: (lo[k] if k != "mu_s" or split else ilo["mu_s"]) for k in free}
-    phi = {k: (hi[k] if k != "mu_c" or split else ihi["mu_c"]) for k in free}
-    st = _stats(Jp, sol.fun, free, pub, plo, phi, confidence)
-    if split:  # the constraint mu_c <= mu_s is the bound d_mu >= 0
-        dm = pub["mu_s"] - pub["mu_c"]
-        if dm <= 1e-9 * max(1.0, pub["mu_s"]):
-            st["at_bound"]["mu_s"] = st["at_bound"]["mu_c"] = True
-    res = FitResult(names=free, estimate=pub, se=st["se"], ci_low=st["ci_low"], ci_high=st["ci_high"],
-                    corr=st["corr"], cov=st["cov"], at_bound=st["at_bound"],
-                    residual_rms=float(np.sqrt(np.mean(sol.fun ** 2))), n=len(mu), dof=st["dof"],
-                    confidence=confidence, cond=st["cond"], success=bool(sol.success), message=str(sol.message),
-                    nfev=int(sol.nfev), extra={"start": x0})
-    return res, model(sol.x)
+    x = sp.snap(sol.x)
+    # Jacobian in public coordinates (mu_c, mu_s independent): J_internal = J_public @ T
+    Jp = sol.jac @ np.linalg.inv(sp.T)
+    res = sp.result(Jp, sol.fun, x, confidence, len(mu), sol)
+    return res, model(x)
+
+
+#: Parameters of the transient fit with the distributed model in the loop (:func:`fit_distributed`).
+DISTRIBUTED_PARAMETERS = ("sigma0", "sigma1", "sigma2", "mu_c", "mu_s", "v_s", "alpha")
+#: Relative finite-difference step of the Jacobian columns of the nonlinear parameters (central differences).
+FD_STEP = 1e-6
+
+
+def fit_distributed(t, v, romega, mu, start: LuGreParams, free=("sigma0", "sigma1", "sigma2", "mu_c", "mu_s", "v_s"),
+                    bounds: dict | None = None, initial: dict | None = None, confidence: float = 0.95,
+                    use=None, red=None, substeps: int = 4, interpolation: str = "cubic"):
+    """Stage 3: all transient parameters by least squares of ``mu(t)`` with the distributed model in the loop.
+
+    The distributed LuGre tire (FM eqs. (1)-(2), load ``red``; default uniform) is driven open loop
+    by the measured ``v(t)``, ``r omega(t)`` from ``z = 0`` at the first sample
+    (:class:`tirecli.numerics.driven.DrivenDistributed`) and::
+
+        min_p  sum_{i in use} (mu_model(t_i; p) - mu_i)^2,   p within bounds, mu_c <= mu_s
+
+    by ``scipy.optimize.least_squares`` (dogbox trust region, start values moved 1e-3 of their
+    range inside the bounds). Jacobian: exact columns for
+    ``sigma1`` and ``sigma2`` (``mu`` is linear in them: ``dz/dt`` and ``vr``), central differences
+    for the others, all parameter sets of one Jacobian in one vectorised model call. Statistics as
+    the steady-state fit (module doc).
+
+    Parameters
+    ----------
+    t, v, romega, mu : array_like
+        Sample times [s] (increasing), speed [m/s], ``r omega`` [m/s] and friction [-].
+    start : LuGreParams
+        Starting values (and the fixed ``L``, ``alpha`` unless free, ...).
+    free : sequence of str
+        Among :data:`DISTRIBUTED_PARAMETERS`.
+    use : array_like of bool or None
+        Samples compared (all by default); the others still drive the model.
+    Returns
+    -------
+    (FitResult, LuGreParams, dict)
+        The fit, the fitted set and ``{"mu_model", "zbar", "zdot"}`` at every sample.
+    """
+    from scipy.optimize import least_squares
+
+    from tirecli.numerics.driven import DrivenDistributed
+
+    t, v, romega, mu = (np.asarray(a, dtype=float) for a in (t, v, romega, mu))
+    use = np.ones(len(t), dtype=bool) if use is None else np.asarray(use, dtype=bool)
+    model = DrivenDistributed(t, v, romega, start.L, red, substeps, interpolation)
+    vr = model.vr
+    # starting values a little inside the bounds: the dogbox method cannot leave a start on a bound
+    sp = _Space(free, start, bounds, initial, DISTRIBUTED_PARAMETERS, pad=1e-3)
+    nonlin = [k for k in ("sigma0", "mu_c", "mu_s", "v_s", "alpha") if k in sp.free]
+    base = start.as_dict()
+    cache = {}
+
+    def rows(pub_list):
+        """``(mu, zbar, zdot)`` at the samples for a list of public parameter dicts (one model call)."""
+        cols = {k: np.array([{**base, **pp}[k] for pp in pub_list]) for k in
+                ("sigma0", "sigma1", "sigma2", "mu_c", "mu_s", "v_s", "alpha")}
+        z, zd = model.states(cols["sigma0"], cols["mu_c"], cols["mu_s"], cols["v_s"], cols["alpha"])
+        m = cols["sigma0"][:, None] * z + cols["sigma1"][:, None] * zd + cols["sigma2"][:, None] * vr[None, :]
+        return m, z, zd
+
+    def fun(xi):
+        key = np.asarray(xi).tobytes()
+        if key not in cache:
+            cache.clear()
+            m, z, zd = rows([sp.public(xi)])
+            cache[key] = (m[0], z[0], zd[0])
+        return cache[key][0][use] - mu[use]
+
+    def jac_public(xi):
+        pub = sp.public(xi)
+        steps, sets = [], []
+        for k in nonlin:
+            hk = FD_STEP * max(abs(pub[k]), 1e-3)
+            steps.append(hk)
+            sets += [{**pub, k: pub[k] + hk}, {**pub, k: pub[k] - hk}]
+        J = np.empty((int(use.sum()), len(sp.free)))
+        if sets:
+            m, _, _ = rows(sets)
+            for i, (k, hk) in enumerate(zip(nonlin, steps)):
+                J[:, sp.free.index(k)] = (m[2 * i] - m[2 * i + 1])[use] / (2.0 * hk)
+        fun(xi)
+        _, z, zd = cache[np.asarray(xi).tobytes()]
+        if "sigma1" in sp.free:
+            J[:, sp.free.index("sigma1")] = zd[use]
+        if "sigma2" in sp.free:
+            J[:, sp.free.index("sigma2")] = vr[use]
+        return J
+
+    # dogbox: on this ill-conditioned problem (mu_c, v_s correlated) 3-4x fewer iterations than trf, same optimum
+    sol = least_squares(fun, sp.xi0, jac=lambda xi: jac_public(xi) @ sp.T, bounds=(sp.lb, sp.ub), x_scale="jac",
+                        method="dogbox", xtol=1e-12, ftol=1e-12, gtol=1e-12, max_nfev=200)
+    x = sp.snap(sol.x)
+    resid = fun(x)
+    res = sp.result(jac_public(x), resid, x, confidence, int(use.sum()), sol,
+                    extra={"njev": int(sol.njev or 0), "substeps": int(substeps), "interpolation": interpolation})
+    p = replace(start, **sp.public(x))
+    m, z, zd = cache[np.asarray(x).tobytes()]
+    return res, p, {"mu_model": m, "zbar": z, "zdot": zd}
 
 
 def fit_sigma1(mu, z, zdot, vr, p: LuGreParams, bounds=(0.0, 100.0), confidence: float = 0.95) -> FitResult:

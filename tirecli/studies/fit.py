@@ -19,13 +19,24 @@ Config (``tirecli fit CONFIG``)::
       bounds: {v_s: [0.5, 20]}      # default: identify.DEFAULT_BOUNDS
       confidence: 0.95
       sigma1: {model: {model: lumped, kappa0: Z}, bounds: [0, 100]}   # or false
+      model: lumped                 # default: the FM procedure (stages 1-2) only
+      # model: distributed          # ... then stage 3, or with options:
+      # model: {model: distributed, load: uniform, window: {start: 0.05}, substeps: 4, interpolation: cubic}
       name: fitted-braking          # name of the fitted set
     figures: [fit-steady, fit-transient]
 
 Stage 1 fits FM eq. (4) to the ``(s, v, mu)`` samples; stage 2 fits ``sigma1`` to ``mu(t)`` with
 the tire model driven by the measured ``v(t)``, ``s(t)`` over the whole selection (see
-:mod:`tirecli.numerics.identify`). Output: ``fitted.yaml``, a parameter set every command accepts
-(``tire: {set: fitted.yaml}``), and frames ``parameters``, ``correlation``, ``samples``, ``transient``.
+:mod:`tirecli.numerics.identify`). With ``model: distributed``, stage 3 starts from their result
+and fits the parameters of ``fit.parameters`` and ``sigma1`` (unless ``sigma1: false``) together
+to ``mu(t)`` with the distributed model (FM eqs. (1)-(2), uniform load unless ``load`` says
+otherwise) driven open loop by the measured ``v(t)``, ``r omega(t)`` in the least-squares loop
+(:func:`tirecli.numerics.identify.fit_distributed`): no lumped approximation biases the estimates.
+The model starts undeflected at the first sample; ``window`` selects the samples compared (earlier
+samples still drive it). Output: ``fitted.yaml`` (the last stage's set), a parameter set every
+command accepts (``tire: {set: fitted.yaml}``), and frames ``parameters`` (column ``fit``:
+``FM 4.3`` for stages 1-2, ``distributed`` for stage 3), ``correlation``, ``samples``,
+``transient`` and, with stage 3, ``distributed`` and ``correlation_distributed``.
 """
 from __future__ import annotations
 
@@ -43,6 +54,7 @@ from tirecli.io.yamlio import dump_yaml
 from tirecli.numerics import identify, runs
 from tirecli.models.profiles import Constant, Table
 from tirecli.studies.base import StudyResult, builtin_config, builtin_config_names, common_fields, register_study
+from tirecli.models.variants import LOADS
 from tirecli.studies.sweep import VARIANT, make_variant
 
 DEFAULT_VEHICLE = "canudas2003-obs-quarter-car"
@@ -106,6 +118,44 @@ SIGMA1 = Map(fields={
     "window": WINDOW,
 })
 
+FIT_MODELS = ("lumped", "distributed")
+INTERPOLATIONS = ("cubic", "linear")
+MODEL_OPTIONS = ("load", "lambda", "u", "f", "window", "substeps", "interpolation")
+
+
+def _model_post(v, path, ctx):
+    if v["model"] == "lumped":
+        for k in MODEL_OPTIONS:
+            if v[k] is not None:
+                ctx.fail(path + (k,), "applies to model: distributed only (model: lumped is the FM procedure, "
+                                      "stages 1-2)")
+        return
+    from tirecli.studies.sweep import _variant_post
+
+    _variant_post({**v, "load": v["load"] or "uniform", "kappa0": None, "label": ""}, path, ctx)
+    w = v["window"]
+    if w and w["start"] is not None and w["end"] is not None and w["end"] <= w["start"]:
+        ctx.fail(path + ("window", "end"), "must be after start")
+
+
+MODEL = AnyOf(options=(
+    Str(choices=FIT_MODELS),
+    Map(fields={
+        "model": Str(choices=FIT_MODELS, doc="lumped: FM procedure only; distributed: then stage 3"),
+        "load": Str(choices=LOADS, default=None, doc="normal-load density of the distributed model (uniform)"),
+        "lambda": Num(unit="-", ge=0, default=None, doc="exponential load decay", eq="FM eq. (5)"),
+        "u": ListOf(item=Num(unit="-", ge=0, le=1), min_len=2, default=None, doc="tabulated load positions zeta/L"),
+        "f": ListOf(item=Num(unit="N/m", ge=0), min_len=2, default=None, doc="tabulated load density samples"),
+        "window": Map(fields={"start": Num(unit="s", default=None, doc="first time compared"),
+                              "end": Num(unit="s", default=None, doc="last time compared")}, default=None),
+        "substeps": Num(unit="-", integer=True, ge=1, le=64, default=None,
+                        doc="grid steps per sample interval (coarse grid; default 4)"),
+        "interpolation": Str(choices=INTERPOLATIONS, default=None,
+                             doc="kinematics between samples: cubic spline (default) or linear"),
+    }, post=_model_post),
+), default="lumped",
+    what="lumped, distributed, or a mapping {model: distributed, load, window, substeps, interpolation}")
+
 FIT = Map(fields={
     "parameters": ListOf(item=Str(choices=identify.STEADY_PARAMETERS),
                          default=["sigma0", "sigma2", "mu_c", "mu_s", "v_s"], doc="steady-state parameters to fit"),
@@ -113,9 +163,10 @@ FIT = Map(fields={
     "bounds": Map(open_keys=ListOf(item=Num(), min_len=1), default=None, doc="{name: [low, high]}"),
     "confidence": Num(unit="-", gt=0, lt=1, default=0.95, doc="level of the confidence intervals"),
     "sigma1": AnyOf(options=(Bool(), SIGMA1), default={}, what="false, or {model, bounds, window}"),
+    "model": MODEL,
     "name": Str(default="fitted", doc="name of the fitted parameter set"),
 }, post=_fit_post, default={"parameters": ["sigma0", "sigma2", "mu_c", "mu_s", "v_s"], "initial": None, "bounds": None,
-                            "confidence": 0.95, "sigma1": {}, "name": "fitted"})
+                            "confidence": 0.95, "sigma1": {}, "model": "lumped", "name": "fitted"})
 
 SPEC = Map(fields=common_fields() | {
     "tire": Raw(doc="LuGre set with the starting values and the fixed parameters"),
@@ -223,17 +274,28 @@ def plan(config: Config):
     return checked, tire, vehicle
 
 
+STAGES = {"steady": "steady state (FM eq. 4)", "sigma1": "transient (sigma1)",
+          "distributed": "transient, distributed model (all at once)"}
+#: The ``fit`` column of frame ``parameters``: the FM procedure (stages 1-2) or stage 3.
+FIT_FM, FIT_DISTRIBUTED = "FM 4.3", "distributed"
+
+
 def fitted_set(name: str, start_set, p, steady: identify.FitResult, s1: identify.FitResult | None, source: str,
-               synthetic: bool) -> dict:
-    """A parameter-set document (kind lugre) of the fitted values, with estimates and intervals as notes."""
+               synthetic: bool, dist: identify.FitResult | None = None) -> dict:
+    """A parameter-set document (kind lugre) of the fitted values, with estimates and intervals as notes.
+
+    ``dist`` (stage 3), when given, supersedes the estimates of stages 1-2 for the parameters it fitted.
+    """
     values = {}
-    fits = {**{k: steady for k in steady.names}, **({"sigma1": s1} if s1 is not None else {})}
+    fits = {**{k: steady for k in steady.names}, **({"sigma1": s1} if s1 is not None else {}),
+            **({k: dist for k in dist.names} if dist is not None else {})}
     for key in ("sigma0", "sigma1", "sigma2", "mu_c", "mu_s", "v_s", "L", "alpha", "kappa0", "sigma_w"):
         val = float(getattr(p, key))
         if key in fits:
             f = fits[key]
             lvl = int(round(100 * f.confidence))
-            note = (f"fitted: {f.estimate[key]:.6g} +/- {f.se[key]:.3g} (SE), {lvl}% CI [{f.ci_low[key]:.6g}, "
+            how = " with the distributed model in the loop" if f is dist else ""
+            note = (f"fitted{how}: {f.estimate[key]:.6g} +/- {f.se[key]:.3g} (SE), {lvl}% CI [{f.ci_low[key]:.6g}, "
                     f"{f.ci_high[key]:.6g}]" + ("; on a bound" if f.at_bound[key] else ""))
             values[key] = {"value": val, "note": note}
         elif key in start_set.assumed:
@@ -243,18 +305,42 @@ def fitted_set(name: str, start_set, p, steady: identify.FitResult, s1: identify
             values[key] = {"value": val, "note": f"not identified (fixed, from {start_set.name}"
                                                 + (f", set at {origin})" if key in start_set.overridden else ")")}
     label = "SYNTHETIC data" if synthetic else "data"
+    procedure = ("procedure of FM §4.3: steady-state least squares of FM eq. 4, then sigma1 from the transient"
+                 + ("; then all fitted parameters at once by least squares of mu(t) with the distributed model "
+                    "(FM eqs. 1-2) driven by the measured kinematics" if dist is not None else ""))
     return {
         "name": name, "kind": "lugre",
         "title": f"LuGre tire identified by tirecli fit from {label}: {source}",
-        "citation": "tirecli fit (procedure of FM §4.3: steady-state least squares of FM eq. 4, then sigma1 from the "
-                    f"transient); {label} {source}",
+        "citation": f"tirecli fit ({procedure}); {label} {source}",
         "values": values,
     }
+
+
+def _distributed_options(raw) -> dict | None:
+    """Stage-3 options from a checked ``fit.model`` (None for ``lumped``)."""
+    if raw == "lumped" or (isinstance(raw, dict) and raw["model"] == "lumped"):
+        return None
+    o = raw if isinstance(raw, dict) else {}
+    from tirecli.models.variants import FrictionVariant
+
+    variant = FrictionVariant(model="distributed", load=o.get("load") or "uniform", lam=o.get("lambda") or 0.0,
+                              u=tuple(o["u"]) if o.get("u") else None, f=tuple(o["f"]) if o.get("f") else None)
+    return {"variant": variant, "window": o.get("window"), "substeps": o.get("substeps") or 4,
+            "interpolation": o.get("interpolation") or "cubic"}
+
+
+def _parameter_rows(f: identify.FitResult, stage: str, fit: str, start, initial) -> list:
+    return [{"fit": fit, "parameter": k, "estimate": f.estimate[k], "se": f.se[k], "ci_low": f.ci_low[k],
+             "ci_high": f.ci_high[k], "unit": identify.UNITS.get(k, "-"), "at_bound": f.at_bound[k],
+             "start": f.extra.get("start", {}).get(k, (initial or {}).get(k, getattr(start, k))), "stage": stage}
+            for k in f.names]
 
 
 @register_study("fit", check=plan)
 def run_fit(config: Config, progress=None) -> StudyResult:
     """Run a fit config (see module doc)."""
+    import time
+
     checked, tire, vehicle = plan(config)
     start, car = tire.model(), vehicle.model()
     d, fc = checked["data"], checked["fit"]
@@ -300,20 +386,44 @@ def run_fit(config: Config, progress=None) -> StudyResult:
                                   "mu_steady": mu_model[wm], "z": z, "zdot": zd})
         transient["residual"] = transient["mu_model"] - transient["mu"]
         frames["transient"] = transient
-    rows = []
-    for f in [steady] + ([s1] if s1 is not None else []):
-        for k in f.names:
-            rows.append({"parameter": k, "estimate": f.estimate[k], "se": f.se[k], "ci_low": f.ci_low[k],
-                         "ci_high": f.ci_high[k], "unit": identify.UNITS.get(k, "-"), "at_bound": f.at_bound[k],
-                         "start": (fc["initial"] or {}).get(k, getattr(start, k)),
-                         "stage": "steady state (FM eq. 4)" if f is steady else "transient (sigma1)"})
+    # stage 3: the distributed model in the least-squares loop
+    p_fm, dist, dopt = p_fit, None, _distributed_options(fc["model"])
+    if dopt is not None:
+        dfree = [k for k in identify.DISTRIBUTED_PARAMETERS
+                 if k in free or (k == "sigma1" and s1 is not None)]
+        use = _window_mask(t, dopt["window"])
+        need = MIN_SAMPLES_PER_PARAMETER * len(dfree) + 1
+        if int(use.sum()) < need:
+            raise DataError(f"{data['source']}: too few samples for the distributed-model fit: {int(use.sum())} in "
+                            f"fit.model.window (of {len(t)}); need at least {need} for {len(dfree)} parameters")
+        dbounds = {**bounds, **({"sigma1": tuple(s1cfg["bounds"])} if s1 is not None else {})}
+        var = dopt["variant"]
+        from tirecli.models.lugre_pde import patch_reduction
+
+        red = patch_reduction(var.load, var.lam, var.u, var.f)
+        w0 = time.perf_counter()
+        dist, p_fit, dout = identify.fit_distributed(t, v, rw, mu, p_fm, dfree, dbounds, None, fc["confidence"],
+                                                     use, red, dopt["substeps"], dopt["interpolation"])
+        dist.extra["wall_time_s"] = round(time.perf_counter() - w0, 3)
+        frames["distributed"] = pd.DataFrame({"t": t, "v": v, "s": s, "mu": mu, "mu_model": dout["mu_model"],
+                                              "residual": dout["mu_model"] - mu, "used": use.astype(int),
+                                              "z": dout["zbar"], "zdot": dout["zdot"]})
+    rows = _parameter_rows(steady, STAGES["steady"], FIT_FM, start, fc["initial"])
+    if s1 is not None:
+        rows += _parameter_rows(s1, STAGES["sigma1"], FIT_FM, start, fc["initial"])
+    if dist is not None:
+        rows += _parameter_rows(dist, STAGES["distributed"], FIT_DISTRIBUTED, start, fc["initial"])
     frames["parameters"] = pd.DataFrame(rows)
     corr = pd.DataFrame(steady.corr, columns=steady.names)
     corr.insert(0, "parameter", steady.names)
     frames["correlation"] = corr
     frames["samples"] = pd.DataFrame({"t": t, "v": v, "s": s, "mu": mu, "used": sel.astype(int),
                                       "mu_model": mu_model, "residual": mu_model - mu})
-    set_doc = fitted_set(fc["name"], tire, p_fit, steady, s1, data["source"], data["synthetic"])
+    if dist is not None:
+        dc = pd.DataFrame(dist.corr, columns=dist.names)
+        dc.insert(0, "parameter", dist.names)
+        frames["correlation_distributed"] = dc
+    set_doc = fitted_set(fc["name"], tire, p_fit, steady, s1, data["source"], data["synthetic"], dist)
     meta = {
         "title": checked["title"],
         "data": {"source": data["source"], "samples": int(len(t)), "used_steady": int(sel.sum()),
@@ -322,7 +432,15 @@ def run_fit(config: Config, progress=None) -> StudyResult:
         "steady_state": steady.record(),
         "sigma1": s1.record() if s1 is not None else None,
         "sigma1_model": _variant(s1cfg["model"]).record() if s1 is not None else None,
-        "fixed": {k: getattr(start, k) for k in ("L", "alpha", "sigma1", "kappa0", "sigma_w") if k not in free},
+        "model": "distributed" if dist is not None else "lumped",
+        "distributed": ({**dist.record(), "model": dopt["variant"].record(), "window": dopt["window"],
+                         "samples_used": int(dist.n),
+                         "drive": f"v(t), r omega(t) through the samples ({dopt['interpolation']}), "
+                                  f"{dopt['substeps']} and {2 * dopt['substeps']} grid steps per sample interval "
+                                  "(Richardson extrapolation)",
+                         "initial_state": "undeflected at the first sample"} if dist is not None else None),
+        "fixed": {k: getattr(start, k) for k in ("L", "alpha", "sigma1", "kappa0", "sigma_w")
+                  if k not in free and not (k == "sigma1" and s1 is not None)},
         "fitted_set": "fitted.yaml",
     }
     from tirecli.parameters.sets import ParameterSet
@@ -336,8 +454,8 @@ def run_fit(config: Config, progress=None) -> StudyResult:
     return StudyResult(
         study="fit", config=config, parameter_sets={"start": tire, "fitted": fitted_ps, "vehicle": vehicle},
         data=frames, meta=meta, figures=checked["figures"] or ["fit-steady", "fit-transient"],
-        payload={"start": start, "fitted": p_fit, "table2": _table2(), "steady": steady, "sigma1": s1, "samples": data, "used": sel,
-                 "car": car, "checked": checked},
+        payload={"start": start, "fitted": p_fit, "fitted_fm": p_fm, "table2": _table2(), "steady": steady,
+                 "sigma1": s1, "distributed": dist, "samples": data, "used": sel, "car": car, "checked": checked},
         synthetic=data["synthetic"], files={"fitted.yaml": dump_yaml(set_doc)},
     )
 
