@@ -207,3 +207,21 @@ def test_paper_checks_only_for_figures_asked_for(cli, tmp_path):
     code, out, err = cli("observe", cfg, "--out", tmp_path / "b", "--set", "figures=[obs-fig2]")
     checks = json.loads((tmp_path / "b" / "run.json").read_text())["checks"]
     assert len(checks) > 10 and any(not c["passed"] for c in checks)
+
+
+def test_open_loop_after_step_release_with_measurement_block(p, car):
+    """The issue's case: a coupled braking at 950 N m with a step release, sampled at 100 Hz (the sample times
+    are breakpoints), drives the lumped kappa0(Z) tire open loop through the wheel's spin-up (was |dmu| 0.34)."""
+    torque = Transitions(0.0, (Change(0.5, -950.0, 1.5, "linear"), Change(2.6, 0.0, 0.0, "step")))
+    samples = np.round(np.arange(0.0, 3.5 + 1e-9, 0.01), 10)
+    grid = np.round(np.linspace(0.0, 3.5, 3501), 10)
+    for tol, bound in ((None, 1e-3), (1e-6, 5e-6)):
+        tr = runs.quarter_car(FrictionVariant("lumped", kappa0=2.0), p, car, torque, Constant(1.0), 20.0, 20.0 / car.r,
+                              3.5, runs.SolverOptions(tol=tol), sample_times=samples)
+        vp, wp = runs.kinematics_of(tr, "coupled", tuple(torque.breakpoints(3.5)) + tuple(samples))
+        ol = runs.open_loop(FrictionVariant("lumped", kappa0="Z"), p, car, vp, wp, Constant(1.0), 3.5,
+                            runs.SolverOptions(tol=tol))
+        ref = reference_open_loop(p, car, "Z", vp.at, wp.at, vp.breakpoints(), 3.5, grid)
+        _, O = ol.sample(grid)
+        off = np.abs(grid - 2.6) > 1e-9
+        assert np.max(np.abs(O["mu"] - ref)[off]) < bound, tol

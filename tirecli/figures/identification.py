@@ -98,8 +98,9 @@ def draw_fit_transient(result):
 # --------------------------------------------------------------------------- FM Fig. 6
 
 #: Measured deviations of the distributed-model fit from Table 2 on the noise-free synthetic braking #2
-#: (fm-fig6 study; the residual there is the data's own numerical error, see the Table 2 caption), with margin.
-DIST_TOLERANCE = {"sigma0": 0.6, "sigma1": 0.03, "mu_s": 0.006}
+#: (fm-fig6 study, data solved at tol 1e-6: 0.03, 3.5e-3, 2.2e-4; the residual there is the data's own
+#: numerical error, see the Table 2 caption), with margin.
+DIST_TOLERANCE = {"sigma0": 0.15, "sigma1": 0.01, "mu_s": 0.001}
 
 
 def _fig6_checks(result):
@@ -121,11 +122,16 @@ def _fig6_checks(result):
             if k in f.names:
                 out.append(Check(f"dist-{k}", f"{k} of the distributed-model fit against the generating value",
                                  float(f.estimate[k]), TABLE2[k], tol, units.get(k, "-"), src3))
+        outside = [k for k in f.names if k in TABLE2 and not f.ci_low[k] <= TABLE2[k] <= f.ci_high[k]]
+        lvl = int(round(100 * f.confidence))
+        out.append(Check("dist-ci", f"generating values outside the distributed-model fit's {lvl}% intervals"
+                                    + (f" ({', '.join(outside)})" if outside else ""), float(len(outside)), 0.0, 0.0,
+                         "-", src3, bound="max"))
         s1 = result.payload.get("sigma1")
         if s1 is not None:
             out.append(Check("dist-rms", "residual RMS of mu(t): distributed-model fit at most the FM procedure's "
                                          "(stage 2, lumped model)", f.residual_rms, s1.residual_rms, 0.0, "-",
-                             "no model bias (issue 12, item 8)", bound="max"))
+                             "no model bias: the data's model in the loop", bound="max"))
     return out
 
 
@@ -141,12 +147,16 @@ def _caption_fig6(result):
     if f is None:
         return base + " See Table 2 for the estimates with 95% intervals (which cover the residual scatter, not the bias)."
     e = f.estimate
+    outside = [k for k in f.names if k in TABLE2 and not f.ci_low[k] <= TABLE2[k] <= f.ci_high[k]]
+    lvl = int(round(100 * f.confidence))
+    cover = (f"Table 2 lies inside all {lvl}% intervals of this fit" if not outside
+             else f"Table 2 lies outside the {lvl}% intervals of {', '.join(outside)}")
     return (base + " Right: the fit with the distributed model in the least-squares loop (all six parameters to mu(t) of "
             f"the whole braking, the model driven by the sampled v(t), r omega(t)): mu_c = {e.get('mu_c', float('nan')):.3g}, "
-            f"v_s = {e.get('v_s', float('nan')):.3g} m/s, residual RMS {f.residual_rms:.2g}. It removes the model bias, "
-            "but what is left of the residual is the data's own numerical error (the generating run's tolerance and the "
-            "100 Hz sampling of the fast wheel transients), to which mu_c and v_s remain very sensitive; on data "
-            "consistent to 1e-7 the same fit returns Table 2 to 1e-4 (tests). See Table 2 for the intervals.")
+            f"v_s = {e.get('v_s', float('nan')):.3g} m/s, residual RMS {f.residual_rms:.2g}. It removes the model bias: "
+            f"{cover}. What is left of the residual is the data's own numerical error (the generating run's tolerance "
+            "and the 100 Hz sampling of the fast wheel transients), to which mu_c and v_s remain sensitive (wide "
+            "intervals); on data consistent to 1e-7 the same fit returns Table 2 to 1e-4 (tests). See Table 2.")
 
 
 @register(
