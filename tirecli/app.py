@@ -12,6 +12,7 @@ import time
 from dataclasses import dataclass
 from pathlib import Path
 
+from tirecli import limits
 from tirecli.config.loader import Config, load_config
 from tirecli.errors import UsageError
 from tirecli.figures import registry
@@ -101,7 +102,7 @@ def default_out(config: Config, command: str) -> Path:
 
 
 def run_config(command: str, config_path: str | Path, overrides=(), out: str | Path | None = None,
-               progress=None) -> RunSummary:
+               progress=None, max_samples: int | None = None) -> RunSummary:
     """Run the study of ``config_path`` as ``tirecli COMMAND`` and write its outputs.
 
     Parameters
@@ -114,10 +115,14 @@ def run_config(command: str, config_path: str | Path, overrides=(), out: str | P
         Output directory (default ``tirecli-out/COMMAND-CONFIGSTEM``).
     progress : object or None
         Progress reporter with ``start(total, label)``, ``advance(n)``, ``close()``.
+    max_samples : int or None
+        Sample budget (``--max-samples``; default: the config's ``run.max_samples``, else
+        :data:`tirecli.limits.DEFAULT_MAX_SAMPLES`).
     """
     t0 = time.perf_counter()
     config = load_config(config_path, overrides)
-    result = run_study(config, expected=command, progress=progress)
+    with limits.budget(limits.resolve(config, max_samples)):
+        result = run_study(config, expected=command, progress=progress)
     figs, checks = draw(result, progress=progress)
     out = Path(out) if out is not None else default_out(config, command)
     wall = time.perf_counter() - t0
@@ -154,8 +159,9 @@ def show_parameter_set(ref: str) -> str:
     return "\n".join(lines)
 
 
-def validate_file(path: str | Path) -> str:
-    """Check a parameter-set file or a study config without running it; ConfigError lists problems."""
+def validate_file(path: str | Path, max_samples: int | None = None) -> str:
+    """Check a parameter-set file or a study config without running it (its sample budget included:
+    ``max_samples`` as in :func:`run_config`); ConfigError lists problems."""
     from tirecli.io.yamlio import load_yaml
     from tirecli.parameters.sets import parse_set
     from tirecli.studies.base import check_study
@@ -171,5 +177,6 @@ def validate_file(path: str | Path) -> str:
         ps = parse_set(data, origins, label=str(path))
         return f"{path}: valid {ps.kind} parameter set {ps.name!r} ({len(ps.values)} values)"
     config = load_config(path)
-    name = check_study(config)
+    with limits.budget(limits.resolve(config, max_samples)):
+        name = check_study(config)
     return f"{path}: valid {name} config"

@@ -202,7 +202,8 @@ def _echo_ok(lines: list[bytes], facts: dict, header: list[str], n: int, mapped:
 
 
 def mf_eval(tire_ref: str, points: str | Path, out: str | Path, convention: str = "mfeval", side: str | None = None,
-            limits: bool = True, mapping: dict | None = None, threads: int | None = None) -> dict:
+            limits: bool = True, mapping: dict | None = None, threads: int | None = None,
+            max_samples: int | None = None) -> dict:
     """Evaluate a tyre at the points of a CSV and write the result CSV (``tirecli mf eval``).
 
     ``points`` has the columns ``kappa, alpha, gamma, fz`` (rad, N) and optionally ``p`` [Pa] and
@@ -210,12 +211,21 @@ def mf_eval(tire_ref: str, points: str | Path, out: str | Path, convention: str 
     columns (inputs copied verbatim when the file is a plain CSV in that column order, else written
     exactly) followed by ``fx, fy, mz, mx, my`` (ISO-W, N and N m, 17 significant digits). Bad
     input (missing column, non-numeric or NaN cell, p <= 0) is a DataError naming the column and
-    row, and nothing is written.
+    row, and nothing is written. A points file of more rows than the sample budget (``max_samples``,
+    default :data:`tirecli.limits.DEFAULT_MAX_SAMPLES`) is refused before it is parsed.
     """
-    from tirecli.io.data import read_columns
+    from tirecli import limits as budgets
+
+    with budgets.budget(max_samples, config_key=False):
+        return _mf_eval(tire_ref, points, out, convention, side, limits, mapping, threads)
+
+
+def _mf_eval(tire_ref, points, out, convention, side, limits, mapping, threads) -> dict:
+    from tirecli.io.data import check_size, read_columns
     from tirecli.io.fastcsv import format_rows, read_lines, write_rows
     from tirecli.models.magic_formula import evaluate
 
+    check_size(points)  # a points file over the budget is refused before anything is loaded
     ps, tire = load_tire(tire_ref)
     if side is not None and tire.side == "unknown" and tire.family == "mf":
         raise UsageError(f"--side {side}: the tyre {tire_ref} does not say which side it was measured on "

@@ -15,6 +15,10 @@ ConfigArg = typer.Argument(..., metavar="CONFIG", help="YAML config file of the 
 OutOpt = typer.Option(None, "--out", "-o", help="Output directory [default: tirecli-out/COMMAND-CONFIG].")
 SetOpt = typer.Option(None, "--set", "-s", metavar="KEY=VALUE",
                       help="Override a config value, e.g. --set tire.sigma0=170 (repeatable).")
+MaxSamplesOpt = typer.Option(None, "--max-samples", metavar="N",
+                             help="Sample budget of the run: rows, output times and solver steps it may store "
+                                  "[default: the config's run.max_samples, else 1000000]. A run over it is refused "
+                                  "with its estimate.")
 
 
 def echo(msg: str = "") -> None:
@@ -75,6 +79,13 @@ def progress() -> TerminalProgress:
 
 def overrides(values: Optional[List[str]]) -> list[str]:
     return list(values or [])
+
+
+def max_samples(text: Optional[str]) -> Optional[int]:
+    """The value of ``--max-samples`` (UsageError if it is not a whole number >= 1)."""
+    from tirecli.limits import parse_max_samples
+
+    return parse_max_samples(text)
 
 
 def report_run(summary, what: str, overridden: bool = False) -> None:

@@ -4,10 +4,12 @@ from __future__ import annotations
 from pathlib import Path
 from typing import List, Optional
 
-from tirecli.cli.common import ConfigArg, OutOpt, SetOpt, overrides, progress, report_run, result_line
+from tirecli.cli.common import (ConfigArg, MaxSamplesOpt, OutOpt, SetOpt, max_samples, overrides, progress, report_run,
+                                result_line)
 
 
-def compare(config: Path = ConfigArg, out: Optional[Path] = OutOpt, set_: Optional[List[str]] = SetOpt) -> None:
+def compare(config: Path = ConfigArg, out: Optional[Path] = OutOpt, set_: Optional[List[str]] = SetOpt,
+        max_samples_: Optional[str] = MaxSamplesOpt) -> None:
     """Stationary MCPS tire (complete model and/or solid carcass) against a Magic Formula tyre.
 
     Runs a 'study: mcps-stationary' config (MCPS Figs. 7-11): Fx(kappa), Fy and Mz(alpha), combined
@@ -18,7 +20,7 @@ def compare(config: Path = ConfigArg, out: Optional[Path] = OutOpt, set_: Option
     """
     from tirecli.app import run_config
 
-    summary = run_config("compare", config, overrides(set_), out, progress())
+    summary = run_config("compare", config, overrides(set_), out, progress(), max_samples(max_samples_))
     for line in summary.result.meta.get("summary", []):
         result_line(f"  {line}")
     if "calibrated.yaml" in summary.result.files:

@@ -6,7 +6,8 @@ from typing import List, Optional
 
 import typer
 
-from tirecli.cli.common import ConfigArg, OutOpt, SetOpt, overrides, progress, report_run, result_line
+from tirecli.cli.common import (ConfigArg, MaxSamplesOpt, OutOpt, SetOpt, max_samples, overrides, progress, report_run,
+                                result_line)
 
 DataOpt = typer.Option(None, "--data", "-d", metavar="CSV",
                        help="Data file instead of the config's data source (columns t, v, s or romega, mu).")
@@ -16,7 +17,8 @@ MapOpt = typer.Option(None, "--map", "-m", metavar="FILE_COLUMN=NAME",
 
 
 def fit(config: Path = ConfigArg, out: Optional[Path] = OutOpt, set_: Optional[List[str]] = SetOpt,
-        data: Optional[Path] = DataOpt, map_: Optional[List[str]] = MapOpt) -> None:
+        data: Optional[Path] = DataOpt, map_: Optional[List[str]] = MapOpt,
+        max_samples_: Optional[str] = MaxSamplesOpt) -> None:
     """Identify sigma0, sigma2, mu_c, mu_s, v_s (and alpha) from (s, mu, v) samples, then sigma1 from the transient.
 
     With fit.model: distributed, then all of them at once from mu(t) with the distributed model in the loop.
@@ -29,7 +31,7 @@ def fit(config: Path = ConfigArg, out: Optional[Path] = OutOpt, set_: Optional[L
     from tirecli.studies.fit import overrides_for
 
     summary = run_config("fit", config, overrides(set_) + overrides_for(str(data) if data else None, map_), out,
-                         progress())
+                         progress(), max_samples(max_samples_))
     df = summary.result.data["parameters"]
     meta = summary.result.meta
     two = meta.get("distributed") is not None

@@ -80,6 +80,12 @@ def main(argv: list[str] | None = None) -> int:
     except KeyboardInterrupt:
         _error("interrupted")
         code = 130
+    except MemoryError:  # the sample budget's estimates should prevent this; never a traceback if not
+        _error("out of memory: this run needs more memory than is available; make it smaller "
+               "(or lower --max-samples, the samples a run may store)")
+        code = 2
+        if common.STATE["debug"]:
+            traceback.print_exc()
     except Exception as exc:  # noqa: BLE001 - the one place internal errors become exit code 1
         _error(f"internal error: {type(exc).__name__}: {exc} (run with --debug for the traceback)")
         code = 1

@@ -6,7 +6,7 @@ from typing import List, Optional
 
 import typer
 
-from tirecli.cli.common import echo, result_line
+from tirecli.cli.common import echo, max_samples, result_line
 
 app = typer.Typer(help="Magic Formula tyre model (MF 6.1 / 6.2 / 5.2 / PAC89).", no_args_is_help=True)
 
@@ -39,6 +39,8 @@ def eval_(
                                                               "low-speed handling (§11)."),
     map_: Optional[List[str]] = typer.Option(None, "--map", metavar="FILE_COLUMN=NAME",
                                              help="Use a differently named column, e.g. --map slip=kappa (repeatable)."),
+    max_samples_: Optional[str] = typer.Option(None, "--max-samples", metavar="N",
+                                               help="Most points (CSV rows) one run may evaluate [default: 1000000]."),
 ) -> None:
     """Evaluate a Magic Formula tyre at the points of a CSV (ISO-W axes, SI units).
 
@@ -53,7 +55,7 @@ def eval_(
     if side is not None and side.lower() not in ("left", "right"):
         raise UsageError(f"--side {side!r}: expected left or right")
     s = mf_eval(tire, points, out, convention=convention, side=side.lower() if side else None,
-                limits=not no_limits, mapping=_mapping(map_))
+                limits=not no_limits, mapping=_mapping(map_), max_samples=max_samples(max_samples_))
     extra = []
     if s["pressure_default"] is not None:
         extra.append(f"p = {s['pressure_default']:g} Pa (tyre default)")

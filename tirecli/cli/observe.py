@@ -5,7 +5,8 @@ import sys
 from pathlib import Path
 from typing import List, Optional
 
-from tirecli.cli.common import ConfigArg, OutOpt, SetOpt, echo, overrides, progress, report_run, result_line
+from tirecli.cli.common import (ConfigArg, MaxSamplesOpt, OutOpt, SetOpt, echo, max_samples, overrides, progress, report_run,
+                                result_line)
 
 
 def _fmt(x, spec=".4g") -> str:
@@ -37,7 +38,8 @@ def metrics_table(result) -> list[str]:
     return lines
 
 
-def observe(config: Path = ConfigArg, out: Optional[Path] = OutOpt, set_: Optional[List[str]] = SetOpt) -> None:
+def observe(config: Path = ConfigArg, out: Optional[Path] = OutOpt, set_: Optional[List[str]] = SetOpt,
+        max_samples_: Optional[str] = MaxSamplesOpt) -> None:
     """Simulate the quarter car with the nonlinear adhesion/speed observer (OBS Theorem 1).
 
     Writes run.json (metrics, design checks, warnings), data/observer.csv (t, theta, theta_hat
@@ -47,7 +49,7 @@ def observe(config: Path = ConfigArg, out: Optional[Path] = OutOpt, set_: Option
     """
     from tirecli.app import run_config
 
-    summary = run_config("observe", config, overrides(set_), out, progress())
+    summary = run_config("observe", config, overrides(set_), out, progress(), max_samples(max_samples_))
     res = summary.result
     for line in metrics_table(res):
         result_line(line)

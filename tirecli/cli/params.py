@@ -2,10 +2,11 @@
 from __future__ import annotations
 
 from pathlib import Path
+from typing import Optional
 
 import typer
 
-from tirecli.cli.common import result_line
+from tirecli.cli.common import MaxSamplesOpt, max_samples, result_line
 
 app = typer.Typer(help="List, show and validate parameter sets.", no_args_is_help=True)
 
@@ -29,8 +30,9 @@ def show(name: str = typer.Argument(..., help="Built-in set name or a parameter-
 
 
 @app.command("validate")
-def validate(file: Path = typer.Argument(..., help="A parameter-set file or a study config.")) -> None:
-    """Check a parameter-set file or a study config; one line per problem, exit 2 if any."""
+def validate(file: Path = typer.Argument(..., help="A parameter-set file or a study config."),
+             max_samples_: Optional[str] = MaxSamplesOpt) -> None:
+    """Check a parameter-set file or a study config (its sample budget included); one line per problem, exit 2 if any."""
     from tirecli.app import validate_file
 
-    result_line(validate_file(file))
+    result_line(validate_file(file, max_samples(max_samples_)))

@@ -4,10 +4,12 @@ from __future__ import annotations
 from pathlib import Path
 from typing import List, Optional
 
-from tirecli.cli.common import ConfigArg, OutOpt, SetOpt, overrides, progress, report_run, result_line
+from tirecli.cli.common import (ConfigArg, MaxSamplesOpt, OutOpt, SetOpt, max_samples, overrides, progress, report_run,
+                                result_line)
 
 
-def simulate(config: Path = ConfigArg, out: Optional[Path] = OutOpt, set_: Optional[List[str]] = SetOpt) -> None:
+def simulate(config: Path = ConfigArg, out: Optional[Path] = OutOpt, set_: Optional[List[str]] = SetOpt,
+        max_samples_: Optional[str] = MaxSamplesOpt) -> None:
     """Transient runs: quarter-car brakings with LuGre tires, or the MCPS tire's time-domain studies.
 
     'study: simulate' writes run.json (cases, events: wheel lock, stop, peak |slip|, stopping distance
@@ -19,7 +21,7 @@ def simulate(config: Path = ConfigArg, out: Optional[Path] = OutOpt, set_: Optio
     """
     from tirecli.app import run_config
 
-    summary = run_config("simulate", config, overrides(set_), out, progress())
+    summary = run_config("simulate", config, overrides(set_), out, progress(), max_samples(max_samples_))
     for line in summary.result.meta.get("summary", []):
         result_line(f"  {line}")
     for ev in summary.result.meta.get("events", []):

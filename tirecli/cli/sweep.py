@@ -4,10 +4,11 @@ from __future__ import annotations
 from pathlib import Path
 from typing import List, Optional
 
-from tirecli.cli.common import ConfigArg, OutOpt, SetOpt, overrides, progress, report_run
+from tirecli.cli.common import ConfigArg, MaxSamplesOpt, OutOpt, SetOpt, max_samples, overrides, progress, report_run
 
 
-def sweep(config: Path = ConfigArg, out: Optional[Path] = OutOpt, set_: Optional[List[str]] = SetOpt) -> None:
+def sweep(config: Path = ConfigArg, out: Optional[Path] = OutOpt, set_: Optional[List[str]] = SetOpt,
+          max_samples_: Optional[str] = MaxSamplesOpt) -> None:
     """Steady-state friction sweep: mu over slip x speed x theta x model variant.
 
     Writes run.json, data/sweep.csv (long format: model, v, theta, slip, mu, ...), for LuGre
@@ -16,5 +17,5 @@ def sweep(config: Path = ConfigArg, out: Optional[Path] = OutOpt, set_: Optional
     """
     from tirecli.app import run_config
 
-    summary = run_config("sweep", config, overrides(set_), out, progress())
+    summary = run_config("sweep", config, overrides(set_), out, progress(), max_samples(max_samples_))
     report_run(summary, "sweep", overridden=bool(set_))

@@ -15,6 +15,7 @@ from typing import Any
 
 import yaml
 
+from tirecli import limits
 from tirecli.config.schema import Spec, check_document
 from tirecli.errors import ConfigError, Problem, UsageError
 from tirecli.io.yamlio import Origins, load_value, load_yaml, parse_yaml
@@ -65,6 +66,9 @@ class Config:
 def parse_key_path(text: str) -> tuple:
     """``"sweep.models[1].lambda"`` -> ``("sweep", "models", 1, "lambda")``."""
     parts: list = []
+    if len(text) > limits.MAX_KEY_PARTS * limits.MAX_KEY_CHARS or text.count(".") >= limits.MAX_KEY_PARTS:
+        raise UsageError(f"--set: key too long ({len(text):,} characters, {text.count('.') + 1:,} parts; "
+                         f"at most {limits.MAX_KEY_PARTS} parts of {limits.MAX_KEY_CHARS} characters)")
     for chunk in text.split("."):
         pos = 0
         if not chunk:
@@ -85,9 +89,10 @@ def apply_override(data: dict, origins: Origins, text: str) -> None:
     key, _, value_text = text.partition("=")
     path = parse_key_path(key.strip())
     try:
-        value = load_value(value_text) if value_text.strip() else None
+        value = load_value(value_text, OVERRIDE_FILE, path) if value_text.strip() else None
     except yaml.YAMLError:
-        raise UsageError(f"--set {text!r}: cannot read the value {value_text!r}") from None
+        shown = value_text if len(value_text) <= 80 else value_text[:77] + "..."
+        raise UsageError(f"--set {key.strip()}: cannot read the value {shown!r}") from None
     node: Any = data
     for i, part in enumerate(path[:-1]):
         nxt = path[i + 1]

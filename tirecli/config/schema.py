@@ -12,10 +12,15 @@ import math
 from dataclasses import dataclass, field
 from typing import Any, Callable
 
+from tirecli import limits
 from tirecli.errors import ConfigError
 from tirecli.io.yamlio import KeyPath, Origins
 
 MISSING = object()
+#: Integers beyond this are not numbers a float can hold (``float(10**400)`` overflows).
+_FLOAT_MAX = 2 ** 1023
+#: Memory of one point of a checked grid (a float in a list) [bytes].
+_BYTES_PER_POINT = 32
 
 
 class Context:
@@ -107,8 +112,8 @@ class Num(Spec):
         if isinstance(value, bool) or not isinstance(value, (int, float)):
             ctx.fail(path, f"expected {kind} [{self.unit}], got {_type_name(value)}")
             return MISSING
-        if isinstance(value, float) and not math.isfinite(value):
-            ctx.fail(path, f"expected a finite number [{self.unit}], got {value}")
+        if isinstance(value, float) and not math.isfinite(value) or isinstance(value, int) and abs(value) > _FLOAT_MAX:
+            ctx.fail(path, f"expected a finite number [{self.unit}], got {value if isinstance(value, float) else 'a larger one'}")
             return MISSING
         if self.integer and not float(value).is_integer():
             ctx.fail(path, f"expected a whole number, got {value}")
@@ -131,9 +136,11 @@ class Num(Spec):
 
 @dataclass
 class Str(Spec):
-    """A text value, optionally restricted to ``choices`` (case-sensitive)."""
+    """A text value, optionally restricted to ``choices`` (case-sensitive), of at most ``max_len`` characters
+    (:data:`tirecli.limits.MAX_TEXT_CHARS` unless given; titles and labels take ``MAX_TITLE_CHARS``)."""
 
     choices: tuple | None = None
+    max_len: int = limits.MAX_TEXT_CHARS
 
     def accepts(self, value) -> bool:
         return isinstance(value, str)
@@ -141,6 +148,10 @@ class Str(Spec):
     def check(self, value, path, ctx):
         if not isinstance(value, str):
             ctx.fail(path, f"expected text, got {_type_name(value)}")
+            return MISSING
+        too_long = limits.text_problem(value, self.max_len)
+        if too_long is not None:
+            ctx.fail(path, too_long)
             return MISSING
         if self.choices is not None and value not in self.choices:
             hint = difflib.get_close_matches(value, self.choices, n=1)
@@ -341,13 +352,16 @@ class Raw(Spec):
 
 @dataclass
 class Grid(Spec):
-    """A list of numbers, or ``{start, stop, num}`` (inclusive linear grid), with bounds and unit."""
+    """A list of numbers, or ``{start, stop, num}`` (inclusive linear grid), with bounds and unit.
+
+    ``num`` is checked against the sample budget (:func:`tirecli.limits.max_samples`) before the grid
+    is made; the study checks the product of its grids.
+    """
 
     unit: str = "-"
     ge: float | None = None
     le: float | None = None
     gt: float | None = None
-    max_num: int = 10_000_000
 
     def accepts(self, value) -> bool:
         return isinstance(value, (dict, list, int, float)) and not isinstance(value, bool)
@@ -364,9 +378,13 @@ class Grid(Spec):
         num = Num(unit=self.unit, ge=self.ge, le=self.le, gt=self.gt)
         if isinstance(value, dict):
             spec = Map(fields={"start": num, "stop": num,
-                               "num": Num(unit="-", integer=True, ge=1, le=self.max_num, doc="number of points")})
+                               "num": Num(unit="-", integer=True, ge=1, doc="number of points")})
             out = spec.check(value, path, ctx)
             if out is MISSING or any(v is MISSING for v in out.values()):
+                return MISSING
+            over = limits.over_budget_message(out["num"], f"a grid of {out['num']:,} points", _BYTES_PER_POINT)
+            if over is not None:
+                ctx.fail(path + ("num",), over)
                 return MISSING
             import numpy as np
 

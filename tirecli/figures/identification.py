@@ -2,10 +2,9 @@
 from __future__ import annotations
 
 import numpy as np
-from matplotlib.figure import Figure
 
 from tirecli.figures.registry import Table, register
-from tirecli.figures.style import COLORS, finish, new_figure, synthetic_mark
+from tirecli.figures.style import COLORS, figure, finish, new_figure, synthetic_mark
 from tirecli.figures.transient import SYN, require
 from tirecli.studies.base import Check
 
@@ -176,7 +175,7 @@ def draw_fm_fig6(result):
     if f is not None:
         panels.append((result.payload["fitted"], "distributed model in the loop (stage 3)"))
     wide = len(panels) == 2
-    fig = Figure(figsize=(15.5 if wide else 11.5, 4.9))
+    fig = figure(figsize=(15.5 if wide else 11.5, 4.9))
     a = fig.add_axes((0.0, 0.04, 0.33 if wide else 0.47, 0.86), projection="3d")
     s_abs, v, m = np.abs(d["s"][used]), d["v"][used], np.abs(d["mu"][used])
     ss = np.linspace(0.0, 0.3, 61)

@@ -4,9 +4,7 @@ from __future__ import annotations
 import numpy as np
 
 from tirecli.figures.registry import Table, register
-from matplotlib.figure import Figure
-
-from tirecli.figures.style import COLORS, LINESTYLES, finish, new_figure
+from tirecli.figures.style import COLORS, LINESTYLES, figure, finish, new_figure
 from tirecli.studies.base import Check
 
 #: Caption sentence of the peak markers.
@@ -229,7 +227,7 @@ def _surface(result, title):
         raise UsageError("a friction surface needs braking slips and at least two speeds in the sweep "
                          f"(this one has {piv.shape[0]} speed(s) and {piv.shape[1]} braking slip(s))")
     S, V = np.meshgrid(piv.columns.to_numpy(), piv.index.to_numpy())
-    fig = Figure(figsize=(6.6, 5.0))
+    fig = figure(figsize=(6.6, 5.0))
     ax = fig.add_subplot(projection="3d")
     ax.plot_surface(S, V, piv.to_numpy(), cmap="viridis", linewidth=0, antialiased=True, alpha=0.9)
     ridge = []

@@ -1,20 +1,28 @@
-"""Shared look of tirecli figures (matplotlib object API; no pyplot state, never saves)."""
+"""Shared look of tirecli figures (matplotlib object API; no pyplot state, never saves).
+
+matplotlib is imported when the first figure is made, not with this module: checking a config
+(its ``figures:`` ids import the figure modules) stays fast, so a refused run fails at once.
+"""
 from __future__ import annotations
-
-import matplotlib
-
-matplotlib.use("Agg", force=False)
-
-from matplotlib.figure import Figure  # noqa: E402
 
 #: A colour cycle readable in print and for colour-blind readers (Okabe-Ito).
 COLORS = ["#0072B2", "#D55E00", "#009E73", "#CC79A7", "#E69F00", "#56B4E9", "#F0E442", "#000000"]
 LINESTYLES = ["-", "--", "-.", ":"]
 
 
+def figure(**kw):
+    """A matplotlib ``Figure`` (Agg backend unless one was chosen)."""
+    import matplotlib
+
+    matplotlib.use("Agg", force=False)
+    from matplotlib.figure import Figure
+
+    return Figure(**kw)
+
+
 def new_figure(ncols: int = 1, nrows: int = 1, width: float = 6.4, height: float = 4.2, **kw):
     """A figure and its axes array (squeezed like ``plt.subplots``)."""
-    fig = Figure(figsize=(width, height), layout="constrained")
+    fig = figure(figsize=(width, height), layout="constrained")
     axes = fig.subplots(nrows, ncols, squeeze=True, **kw)
     return fig, axes
 

@@ -15,18 +15,63 @@ import numpy as np
 
 from tirecli.errors import DataError
 
+#: Memory per row of a data file while it is read and used (pandas frame, columns, results) [bytes].
+BYTES_PER_ROW = 700
+
+
+def check_size(path: str | Path) -> None:
+    """Refuse a data file over its cap or with more rows than the sample budget (:mod:`tirecli.limits`),
+    reading at most the budget's rows: a few milliseconds whatever the file's size. Missing or
+    unreadable files are left to the reader."""
+    from tirecli import limits
+
+    path = Path(path)
+    cap, budget = limits.csv_max_bytes(), limits.max_samples()
+    size, rows, more = 0, -1, False   # the header is not a row; comment lines are counted (an upper bound)
+    try:
+        if path.stat().st_size > cap:
+            raise DataError(f"{path}: {_too_large(path, cap)}")
+        with path.open("rb") as fh:
+            while chunk := fh.read(1 << 22):
+                size += len(chunk)
+                rows += chunk.count(b"\n")
+                if rows > budget or size > cap:
+                    more = bool(fh.read(1))
+                    break
+    except OSError:
+        return
+    if size > cap:  # not a regular file (a device, a pipe): its size is what it gives
+        raise DataError(f"{path}: {_too_large(path, cap)}")
+    if rows > budget:
+        what = f"more than {budget:,} data rows" if more else f"{rows:,} data rows"
+        limits.refuse_over_budget(rows, what, BYTES_PER_ROW, fallback=str(path))
+
+
+def _too_large(path: Path, cap: int) -> str:
+    from tirecli.io.files import too_large
+
+    return f"{too_large(path, 'a data file', cap)}; the cap grows with the sample budget (--max-samples)"
+
 
 def read_table(path: str | Path):
-    """Read a CSV into a DataFrame of strings/numbers; DataError if missing, empty or unreadable."""
-    import pandas as pd
+    """Read a CSV into a DataFrame of strings/numbers; DataError if missing, empty, unreadable or over the
+    limits of :func:`check_size`."""
+    from tirecli import limits
 
     path = Path(path)
     if not path.is_file():
         raise DataError(f"{path}: file not found")
+    check_size(path)
+    import pandas as pd
+
+    cap = limits.csv_max_bytes()
     try:
-        raw = path.read_bytes()
+        with path.open("rb") as fh:
+            raw = fh.read(cap + 1)
     except OSError as exc:
         raise DataError(f"{path}: cannot read ({exc.strerror})") from None
+    if len(raw) > cap:  # grew since it was checked
+        raise DataError(f"{path}: {_too_large(path, cap)}")
     if b"\x00" in raw[:4096]:
         raise DataError(f"{path}: binary file, expected CSV text")
     try:

@@ -296,8 +296,9 @@ def parse_tir(data: bytes | str, file: str = "<input>") -> TirDocument:
 def read_tir(path: str | Path) -> TirDocument:
     """Read and parse a ``.tir`` file (see :func:`parse_tir`); missing or unreadable files are ConfigErrors."""
     from tirecli.io.files import read_input_bytes
+    from tirecli.limits import MAX_TIR_BYTES
 
-    return parse_tir(read_input_bytes(path, "a .tir file"), str(path))
+    return parse_tir(read_input_bytes(path, "a .tir file", MAX_TIR_BYTES), str(path))
 
 
 # --------------------------------------------------------------------------- writing

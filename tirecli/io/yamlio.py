@@ -12,6 +12,7 @@ from typing import Any
 
 import yaml
 
+from tirecli import limits
 from tirecli.errors import ConfigError, Problem
 
 KeyPath = tuple  # tuple of str (mapping keys) and int (sequence indices)
@@ -64,12 +65,54 @@ class Origins:
             del self.where[p]
 
 
+class TooBig(Exception):
+    """A YAML document over a limit of :mod:`tirecli.limits` (found while composing, at ``line``)."""
+
+    def __init__(self, message: str, line: int | None):
+        super().__init__(message)
+        self.line = line
+
+
+def _too_many(line):
+    return TooBig(f"more than {limits.MAX_YAML_NODES:,} values (at most {limits.MAX_YAML_NODES:,} per document, "
+                  "aliases counted where they are used)", line)
+
+
+def _too_deep(line):
+    return TooBig(f"nested more than {limits.MAX_YAML_DEPTH} levels deep", line)
+
+
 class Loader(yaml.SafeLoader):
     """PyYAML's safe loader, with YAML 1.2 floats: ``1e5``, ``2E-3`` and ``5.`` are numbers.
 
     PyYAML follows YAML 1.1, where an exponent needs a dot (``1.0e5``) and ``1e5`` is the text
     "1e5": a config saying ``gamma: 2e5`` would then be refused as "expected a number".
+
+    Composing counts the nodes and the nesting (:data:`tirecli.limits.MAX_YAML_NODES`,
+    :data:`~tirecli.limits.MAX_YAML_DEPTH`), so no document can exhaust the memory or the stack.
     """
+
+    def __init__(self, stream):
+        super().__init__(stream)
+        self._nodes = 0
+        self._depth = 0
+
+    def compose_node(self, parent, index):
+        self._nodes += 1
+        self._depth += 1
+        try:
+            if self._nodes > limits.MAX_YAML_NODES:
+                raise _too_many(self.peek_event().start_mark.line + 1)
+            if self._depth > limits.MAX_YAML_DEPTH:
+                raise _too_deep(self.peek_event().start_mark.line + 1)
+            return super().compose_node(parent, index)
+        finally:
+            self._depth -= 1
+
+
+#: libyaml's loader (C) when PyYAML has it: a 1 MB document is composed in a fraction of a second, where the
+#: pure-Python loader needs seconds. Node counts and nesting are checked on the parser's events first.
+_CLoader = type("_CLoader", (yaml.CSafeLoader,), {}) if getattr(yaml, "CSafeLoader", None) else None
 
 
 class Dumper(yaml.SafeDumper):
@@ -81,13 +124,26 @@ _FLOAT_12 = re.compile(r"""^(?:[-+]?(?:[0-9][0-9_]*)(?:\.[0-9_]*)?(?:[eE][-+]?[0
                   |[-+]?\.[0-9][0-9_]*(?:[eE][-+]?[0-9]+)?
                   |[-+]?\.(?:inf|Inf|INF)
                   |\.(?:nan|NaN|NAN))$""", re.X)
-for _cls in (Loader, Dumper):
+for _cls in (Loader, Dumper) + ((_CLoader,) if _CLoader else ()):
     _cls.add_implicit_resolver("tag:yaml.org,2002:float", _FLOAT_12, list("-+0123456789."))
 
 
-def load_value(text: str) -> Any:
-    """One YAML value (e.g. the VALUE of ``--set KEY=VALUE``), read like values in files."""
-    return yaml.load(text, Loader=Loader)
+def load_value(text: str, file: str = "<command line --set>", path: KeyPath = ()) -> Any:
+    """One YAML value (e.g. the VALUE of ``--set KEY=VALUE`` at ``path``), read like values in files and
+    within the same limits; malformed YAML raises ``yaml.YAMLError``, a value over a limit ConfigError."""
+    try:
+        nodes = _compose(text, file)
+    except ConfigError as err:  # no line numbers on the command line
+        raise ConfigError([Problem(file, None, format_key(path), p.message) for p in err.problems]) from None
+    if not nodes:
+        return None
+    if len(nodes) > 1:
+        raise yaml.YAMLError("several YAML documents in one value")
+    problems: list[Problem] = []
+    data = _build(nodes[0], tuple(path), Origins(default_file=file), file, problems)
+    if problems:  # no line numbers on the command line
+        raise ConfigError([Problem(file, None, p.key, p.message) for p in problems])
+    return data
 
 
 class _Constructor(yaml.constructor.SafeConstructor):
@@ -104,6 +160,10 @@ def _build(node, path: KeyPath, origins: Origins, file: str, problems: list[Prob
                                         "keys must be plain names"))
                 continue
             key = knode.value
+            if len(key) > limits.MAX_KEY_CHARS:
+                problems.append(Problem(file, knode.start_mark.line + 1, format_key(path),
+                                        f"a key of {len(key):,} characters (at most {limits.MAX_KEY_CHARS})"))
+                continue
             if key in out:
                 problems.append(Problem(file, knode.start_mark.line + 1, format_key(path + (key,)),
                                         "duplicate key (given twice in one mapping)"))
@@ -112,12 +172,107 @@ def _build(node, path: KeyPath, origins: Origins, file: str, problems: list[Prob
         return out
     if isinstance(node, yaml.SequenceNode):
         return [_build(n, path + (i,), origins, file, problems) for i, n in enumerate(node.value)]
+    too_long = limits.text_problem(node.value, limits.MAX_SCALAR_CHARS) if isinstance(node, yaml.ScalarNode) else None
+    if too_long is not None:
+        problems.append(Problem(file, node.start_mark.line + 1, format_key(path), too_long))
+        return None
     try:
         return _Constructor().construct_object(node, deep=True)
     except yaml.YAMLError as exc:  # e.g. a bad timestamp, an object tag (safe loading refuses it)
         what = getattr(exc, "problem", None) or str(exc).splitlines()[0]
         problems.append(Problem(file, node.start_mark.line + 1, format_key(path), f"cannot read value: {what}"))
         return None
+    except (ValueError, OverflowError):  # an integer of thousands of digits
+        problems.append(Problem(file, node.start_mark.line + 1, format_key(path),
+                                "cannot read value: a number with too many digits"))
+        return None
+
+
+#: The parser that counts the events of a document before it is composed: libyaml's (C) when PyYAML has
+#: it (a bomb is refused in a fraction of a second), else the pure-Python one.
+_EVENT_LOADER = getattr(yaml, "CSafeLoader", None) or yaml.SafeLoader
+_OPEN = (yaml.SequenceStartEvent, yaml.MappingStartEvent)
+_CLOSE = (yaml.SequenceEndEvent, yaml.MappingEndEvent)
+
+
+def _count_events(text: str) -> bool:
+    """TooBig when the text holds more nodes or deeper nesting than the limits (malformed YAML is left to
+    the composer, which names the error); whether the document may use aliases."""
+    nodes = depth = 0
+    aliases = False
+    try:
+        for event in yaml.parse(text, Loader=_EVENT_LOADER):
+            if isinstance(event, _OPEN):
+                depth += 1
+                if depth > limits.MAX_YAML_DEPTH:
+                    raise _too_deep(event.start_mark.line + 1)
+            elif isinstance(event, _CLOSE):
+                depth -= 1
+                continue
+            elif isinstance(event, yaml.AliasEvent):
+                aliases = True
+            elif not isinstance(event, yaml.ScalarEvent):
+                continue
+            nodes += 1
+            if nodes > limits.MAX_YAML_NODES:
+                raise _too_many(event.start_mark.line + 1)
+    except yaml.YAMLError as exc:
+        if "nesting depth" in str(exc):  # libyaml's own limit (1000 levels), hit before the events come
+            mark = getattr(exc, "problem_mark", None)
+            raise _too_deep(mark.line + 1 if mark is not None else None) from None
+        return True
+    return aliases
+
+
+def _children(node) -> list:
+    if isinstance(node, yaml.MappingNode):
+        return [n for pair in node.value for n in pair]
+    if isinstance(node, yaml.SequenceNode):
+        return list(node.value)
+    return []
+
+
+def _check_expansion(root) -> None:
+    """TooBig when the document, its aliases expanded, holds too many values or nests too deep (billion
+    laughs), or when an alias refers to a node that contains it (a recursive alias)."""
+    size: dict = {}
+    depth: dict = {}
+    open_: set = set()
+    stack = [(root, False)]
+    while stack:
+        node, done = stack.pop()
+        key = id(node)
+        if done:
+            kids = _children(node)
+            size[key] = 1 + sum(size[id(k)] for k in kids)
+            depth[key] = 1 + max((depth[id(k)] for k in kids), default=0)
+            open_.discard(key)
+            if size[key] > limits.MAX_YAML_NODES:
+                raise _too_many(node.start_mark.line + 1)
+            if depth[key] > limits.MAX_YAML_DEPTH:
+                raise _too_deep(node.start_mark.line + 1)
+            continue
+        if key in size:
+            continue
+        open_.add(key)
+        stack.append((node, True))
+        for kid in _children(node):
+            if id(kid) in open_:
+                raise TooBig("recursive alias (a node that contains itself)", kid.start_mark.line + 1)
+            if id(kid) not in size:
+                stack.append((kid, False))
+
+
+def _compose(text: str, file: str) -> list:
+    """The node trees of the documents of ``text`` within the limits (ConfigError when over one)."""
+    try:
+        aliases = _count_events(text)
+        nodes = [n for n in yaml.compose_all(text, Loader=_CLoader or Loader) if n is not None]
+        for node in nodes if aliases else ():   # without aliases, the events counted are the nodes
+            _check_expansion(node)
+    except TooBig as exc:
+        raise ConfigError(Problem(file, exc.line, "", str(exc))) from None
+    return nodes
 
 
 def parse_yaml(text: str, file: str = "<input>") -> tuple[Any, Origins]:
@@ -127,11 +282,12 @@ def parse_yaml(text: str, file: str = "<input>") -> tuple[Any, Origins]:
     ------
     ConfigError
         Malformed YAML (with the line of the error), an empty document, duplicate keys,
-        or several documents in one file.
+        several documents in one file, or a document over a limit of :mod:`tirecli.limits`
+        (too many values, aliases included, too deep, a recursive alias, a key or value too long).
     """
     origins = Origins(default_file=file)
     try:
-        nodes = list(yaml.compose_all(text, Loader=Loader))
+        nodes = _compose(text, file)
     except yaml.MarkedYAMLError as exc:
         mark = exc.problem_mark or exc.context_mark
         line = mark.line + 1 if mark is not None else None
@@ -139,7 +295,6 @@ def parse_yaml(text: str, file: str = "<input>") -> tuple[Any, Origins]:
         raise ConfigError(Problem(file, line, "", f"malformed YAML: {what}")) from None
     except yaml.YAMLError as exc:
         raise ConfigError(Problem(file, None, "", f"malformed YAML: {exc}")) from None
-    nodes = [n for n in nodes if n is not None]
     if not nodes:
         raise ConfigError(Problem(file, None, "", "the file is empty (expected a YAML mapping)"))
     if len(nodes) > 1:
@@ -157,7 +312,7 @@ def load_yaml(path: str | Path) -> tuple[Any, Origins]:
     from tirecli.io.files import read_input_bytes
 
     path = Path(path)
-    raw = read_input_bytes(path, "a YAML file")
+    raw = read_input_bytes(path, "a YAML file", limits.MAX_YAML_BYTES)
     try:
         text = raw.decode("utf-8")
     except UnicodeDecodeError as exc:

@@ -166,29 +166,103 @@ EXPRESSION_FUNCTIONS = {
     "abs": np.abs, "tanh": np.tanh, "arctan": np.arctan, "sign": np.sign, "minimum": np.minimum,
     "maximum": np.maximum, "clip": np.clip, "where": np.where, "heaviside": np.heaviside,
 }
+#: How many arguments each function of a formula takes (numpy's ufuncs would take an ``out`` array as an
+#: extra argument and write into it).
+_ARITY = {"minimum": 2, "maximum": 2, "heaviside": 2, "clip": 3, "where": 3}
 _EXPRESSION_NAMES = {"t", "pi", "e"} | set(EXPRESSION_FUNCTIONS)
 _EXPRESSION_NODES = ("Expression", "BinOp", "UnaryOp", "Compare", "Call", "Name", "Load", "Constant", "Add", "Sub",
                      "Mult", "Div", "Pow", "Mod", "USub", "UAdd", "Lt", "LtE", "Gt", "GtE")
 
 
 def expression_problem(text: str) -> str | None:
-    """Why ``text`` is not an admissible formula of ``t`` (None if it is)."""
+    """Why ``text`` is not an admissible formula of ``t`` (None if it is): at most
+    :data:`tirecli.limits.MAX_FORMULA_CHARS` characters of numbers, ``t``, ``pi``, ``e``, arithmetic,
+    comparisons and calls of :data:`EXPRESSION_FUNCTIONS` with their number of arguments."""
     import ast  # lazily: start-up time of every command
 
+    from tirecli.limits import MAX_FORMULA_CHARS, text_problem
+
+    too_long = text_problem(text, MAX_FORMULA_CHARS)
+    if too_long is not None:
+        return f"formula {too_long}"
     allowed = tuple(getattr(ast, n) for n in _EXPRESSION_NODES)
     try:
         tree = ast.parse(text, mode="eval")
     except SyntaxError as exc:
         return f"cannot read the formula ({exc.msg})"
+    except (ValueError, RecursionError, MemoryError):  # NUL bytes, too deeply nested, a number of 5000 digits
+        return "cannot read the formula"
+    from tirecli.limits import MAX_FORMULA_DEPTH
+
+    if _depth(tree) > MAX_FORMULA_DEPTH:
+        return f"formula nested too deeply (more than {MAX_FORMULA_DEPTH} operations inside one another)"
     for node in ast.walk(tree):
         if not isinstance(node, allowed):
             return f"not allowed in a formula: {type(node).__name__}"
         if isinstance(node, ast.Name) and node.id not in _EXPRESSION_NAMES:
             return f"unknown name {node.id!r} (use t, pi, e and {', '.join(sorted(EXPRESSION_FUNCTIONS))})"
-        if isinstance(node, ast.Call) and not (isinstance(node.func, ast.Name) and node.func.id in EXPRESSION_FUNCTIONS):
-            return "only the listed functions may be called"
-        if isinstance(node, ast.Constant) and not isinstance(node.value, (int, float)):
-            return "only numbers are allowed as constants"
+        if isinstance(node, ast.Call):
+            if not (isinstance(node.func, ast.Name) and node.func.id in EXPRESSION_FUNCTIONS):
+                return "only the listed functions may be called"
+            n = _ARITY.get(node.func.id, 1)
+            if len(node.args) != n:
+                return f"{node.func.id}() takes {n} argument{'s' if n > 1 else ''}, got {len(node.args)}"
+        if isinstance(node, ast.Constant):
+            if isinstance(node.value, bool) or not isinstance(node.value, (int, float)):
+                return "only numbers are allowed as constants"
+            if isinstance(node.value, int) and abs(node.value) > 1e308:
+                return "a number too large (at most 1e308)"
+    return None
+
+
+def _depth(tree) -> int:
+    """Levels of operations of a parsed formula (iteratively: a formula cannot exhaust the stack)."""
+    import ast
+
+    deepest, stack = 0, [(tree, 1)]
+    while stack:
+        node, level = stack.pop()
+        deepest = max(deepest, level)
+        stack.extend((kid, level + 1) for kid in ast.iter_child_nodes(node))
+    return deepest
+
+
+def _compile(node, name: str = "<formula>"):
+    """Code of a checked formula (or a part of one) evaluated in floating point: every whole number becomes a
+    float, so ``9**9**9`` is ``inf`` (an error) at once instead of an integer of 370 million digits. The
+    constants of ``node`` are converted in place."""
+    import ast
+
+    for c in ast.walk(node):
+        if isinstance(c, ast.Constant) and isinstance(c.value, int) and not isinstance(c.value, bool):
+            c.value = float(c.value)
+    body = node.body if isinstance(node, ast.Expression) else node
+    return compile(ast.fix_missing_locations(ast.Expression(body=body)), name, "eval")
+
+
+class FormulaError(UsageError):
+    """A formula that cannot be used: ``reason`` says why, without the formula, so that a study can name
+    the key that gives it instead (:func:`formula_path`)."""
+
+    def __init__(self, formula: str, reason: str):
+        shown = formula if len(formula) <= 80 else formula[:77] + "..."
+        super().__init__(f"formula {shown!r} {reason}")
+        self.formula, self.reason = formula, reason
+
+
+def formula_path(data, formula: str) -> tuple | None:
+    """The key path of the first ``{expr: formula}`` in a config's ``data`` (None if none)."""
+    from collections import deque
+
+    stack = deque([((), data)])
+    while stack:
+        path, node = stack.popleft()
+        if isinstance(node, dict):
+            if node.get("expr") == formula:
+                return path + ("expr",)
+            stack.extend((path + (k,), v) for k, v in node.items())
+        elif isinstance(node, list):
+            stack.extend((path + (i,), v) for i, v in enumerate(node))
     return None
 
 
@@ -209,7 +283,7 @@ class Expression:
             raise ValueError(f"formula {self.text!r}: {problem}")
         import ast
 
-        object.__setattr__(self, "_code", compile(ast.parse(self.text, mode="eval"), "<formula>", "eval"))
+        object.__setattr__(self, "_code", _compile(ast.parse(self.text, mode="eval")))
 
     def __call__(self, t):
         """The formula's value at ``t`` [s] (scalar or array); UsageError (exit 2) naming the
@@ -220,10 +294,12 @@ class Expression:
             with np.errstate(all="ignore"):
                 out = np.broadcast_to(np.asarray(eval(self._code, env), dtype=float), tarr.shape)  # noqa: S307 - checked AST
         except (ArithmeticError, ValueError, TypeError) as exc:
-            raise UsageError(f"formula {self.text!r} cannot be evaluated at t = {_first(tarr):g} s: {exc}") from None
+            why = ("a value overflows (beyond 1e308)" if isinstance(exc, OverflowError) else
+                   "division by zero" if isinstance(exc, ZeroDivisionError) else exc)
+            raise FormulaError(self.text, f"cannot be evaluated at t = {_first(tarr):g} s: {why}") from None
         bad = ~np.isfinite(out)
         if bad.any():
-            raise UsageError(f"formula {self.text!r} gives {float(np.asarray(out)[bad].flat[0])} at "
+            raise FormulaError(self.text, f"gives {float(np.asarray(out)[bad].flat[0])} at "
                              f"t = {_first(tarr[bad] if tarr.ndim else tarr):g} s")
         return np.array(out) if np.ndim(t) else float(out)
 
@@ -269,13 +345,11 @@ def switch_times(text: str, t_end: float, grid: int = 20001) -> tuple:
     """
     import ast
 
-    from scipy.optimize import brentq
-
     tree = ast.parse(text, mode="eval")
     funcs = []
 
     def fn(node):
-        code = compile(ast.Expression(body=node), "<switch>", "eval")
+        code = _compile(node, "<switch>")
         env = {"__builtins__": {}, "pi": np.pi, "e": np.e, **EXPRESSION_FUNCTIONS}
         return lambda t: np.asarray(eval(code, {**env, "t": t}), dtype=float)  # noqa: S307 - checked AST
 
@@ -305,6 +379,7 @@ def switch_times(text: str, t_end: float, grid: int = 20001) -> tuple:
         return ()
     tg = np.linspace(0.0, float(t_end), int(grid))
     out = set()
+    found = []   # (switching function, floor level or None, grid intervals with a switch)
     with np.errstate(all="ignore"):
         for kind, g in funcs:
             try:
@@ -314,22 +389,28 @@ def switch_times(text: str, t_end: float, grid: int = 20001) -> tuple:
             if kind == "floor":
                 lev = np.floor(vals)
                 idx = np.flatnonzero(np.isfinite(lev[:-1]) & np.isfinite(lev[1:]) & (lev[:-1] != lev[1:]))
-                for i in idx:
-                    k = max(lev[i], lev[i + 1])
-                    h = lambda t, g=g, k=k: float(g(np.asarray(t))) - k  # noqa: E731
-                    try:
-                        out.add(float(brentq(h, tg[i], tg[i + 1], xtol=1e-12)))
-                    except ValueError:
-                        out.add(float(tg[i + 1]))
+                found.append((g, lev, idx))
                 continue
             sg = np.sign(vals)
             nz = np.flatnonzero(np.isfinite(vals) & (sg != 0))
-            for a_, b_ in zip(nz[:-1], nz[1:]):   # zeros exactly on the grid, between opposite signs
-                if b_ > a_ + 1 and sg[a_] * sg[b_] < 0:
-                    out.add(float(tg[a_ + 1]))
-            idx = np.flatnonzero(np.isfinite(vals[:-1]) & np.isfinite(vals[1:]) & (sg[:-1] * sg[1:] < 0))
+            gap = (nz[1:] > nz[:-1] + 1) & (sg[nz[:-1]] * sg[nz[1:]] < 0)  # zeros exactly on the grid
+            out.update(tg[nz[:-1][gap] + 1].tolist())
+            found.append((g, None, np.flatnonzero(np.isfinite(vals[:-1]) & np.isfinite(vals[1:]) & (sg[:-1] * sg[1:] < 0))))
+        from tirecli.limits import MAX_FORMULA_SWITCHES
+
+        count = len(out) + sum(idx.size for _, _, idx in found)
+        if count > MAX_FORMULA_SWITCHES:
+            raise FormulaError(text, f"switches (jumps or kinks) {count:,} times or more in [0, "
+                             f"{t_end:g}] s (at most {MAX_FORMULA_SWITCHES:,}): give a table or a CSV profile")
+        from scipy.optimize import brentq
+
+        for g, lev, idx in found:  # refine each switch to 1e-12 s
             for i in idx:
-                h = lambda t, g=g: float(g(np.asarray(t)))  # noqa: E731
+                if lev is not None:
+                    k = max(lev[i], lev[i + 1])
+                    h = lambda t, g=g, k=k: float(g(np.asarray(t))) - k  # noqa: E731
+                else:
+                    h = lambda t, g=g: float(g(np.asarray(t)))  # noqa: E731
                 try:
                     out.add(float(brentq(h, tg[i], tg[i + 1], xtol=1e-12)))
                 except ValueError:
@@ -362,9 +443,8 @@ def _post_expr(v, path, ctx):
     if problem is None:  # also evaluate it at the start (later times are checked as the run goes)
         try:
             Expression(v["expr"])(0.0)
-        except UsageError as exc:
-            prefix = f"formula {v['expr']!r} "
-            problem = str(exc)[len(prefix):] if str(exc).startswith(prefix) else str(exc)
+        except FormulaError as exc:
+            problem = exc.reason
     if problem is not None:
         ctx.fail(path + ("expr",), problem)
 

@@ -333,7 +333,7 @@ def merge_breakpoints(t0: float, t_end: float, *lists) -> list:
 
 def integrate(stepper, y0, t0: float, t_end: float, breakpoints=(), tol: float = 1e-4,
               h_max: float = 5e-3, h0: float = 1e-4, v_stop: float = 0.1, prescribed: bool = False,
-              max_steps: int = 2_000_000) -> Trajectory:
+              max_steps: int | None = None) -> Trajectory:
     """Integrate from ``(t0, y0)`` to ``t_end`` with adaptive ROS2 steps (module doc).
 
     Parameters
@@ -356,6 +356,9 @@ def integrate(stepper, y0, t0: float, t_end: float, breakpoints=(), tol: float =
         Stop speed [m/s]: the run ends when ``v`` falls to it (quarter car only).
     prescribed : bool
         Open loop: the stepper's kinematics are prescribed (no wheel lock, no stop).
+    max_steps : int or None
+        Most steps stored (default: the sample budget, :func:`tirecli.limits.max_samples`): a run
+        that needs more stops with a RunError instead of filling the memory.
 
     Notes
     -----
@@ -367,6 +370,10 @@ def integrate(stepper, y0, t0: float, t_end: float, breakpoints=(), tol: float =
     limits first: a jump of the input releases the wheel exactly at the breakpoint); stop: ``v``
     reaching ``v_stop``.
     """
+    from tirecli.limits import OPTION, max_samples
+
+    budget = max_steps is None
+    max_steps = max_samples() if budget else max_steps
     bps = merge_breakpoints(t0, t_end, breakpoints)
     eps_t = 1e-12 * max(1.0, abs(t_end))
     t = float(t0)
@@ -419,7 +426,8 @@ def integrate(stepper, y0, t0: float, t_end: float, breakpoints=(), tol: float =
         if stop_t is not None or t >= t_end - eps_t:
             break
         if n_acc >= max_steps:
-            raise RunError(f"time integration stopped after {max_steps} steps at t = {t:.6g} s (tolerance too tight?)")
+            why = f"the sample budget; raise it with {OPTION}, or loosen the tolerance" if budget else "tolerance too tight?"
+            raise RunError(f"time integration stopped after {max_steps:,} steps at t = {t:.6g} s ({why})")
         while bps[ib] <= t + eps_t:
             ib += 1
         tb = bps[ib]

@@ -30,6 +30,7 @@ from typing import Any
 from tirecli.config.schema import MISSING, Context, Map, Num, Str, check_document
 from tirecli.errors import ConfigError, Problem
 from tirecli.io.yamlio import Origins, load_yaml, parse_yaml
+from tirecli.limits import MAX_TITLE_CHARS
 from tirecli.parameters.kinds import KINDS, Kind
 
 _DATA = "data"
@@ -123,9 +124,9 @@ _VALUE_META = Map(fields={
 })
 
 _SET_FILE = Map(fields={
-    "name": Str(doc="set name"),
+    "name": Str(doc="set name", max_len=MAX_TITLE_CHARS),
     "kind": Str(doc="kind of set"),
-    "title": Str(default="", doc="what the set describes"),
+    "title": Str(default="", doc="what the set describes", max_len=MAX_TITLE_CHARS),
     "citation": Str(doc="where the values were published"),
     "values": Map(open_keys=None, doc="parameter values"),  # checked per kind below
     "notes": Str(default="", doc="free remarks"),

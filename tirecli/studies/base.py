@@ -6,6 +6,7 @@ runs the built-in study of every registered figure. Studies never write files an
 """
 from __future__ import annotations
 
+import contextlib
 import math
 from dataclasses import dataclass, field
 from importlib import resources
@@ -14,6 +15,7 @@ from typing import Any, Callable
 from tirecli.config.loader import Config, config_from_text
 from tirecli.config.schema import Context, Str
 from tirecli.errors import ConfigError
+from tirecli.limits import MAX_TITLE_CHARS, run_spec
 
 from tirecli.parameters.sets import ParameterSet
 
@@ -201,15 +203,32 @@ def run_study(config: Config, expected: str | None = None, progress=None) -> Stu
     """Run the study a config names (importing its module first)."""
     name = study_name(config, expected)
     load_study(name)
-    return STUDIES[name](config, progress=progress)
+    with _formulas_located(config):
+        return STUDIES[name](config, progress=progress)
 
 
 def check_study(config: Config) -> str:
     """Validate a config without running it; returns the study name."""
     name = study_name(config)
     load_study(name)
-    CHECKERS[name](config)
+    with _formulas_located(config):
+        CHECKERS[name](config)
     return name
+
+
+@contextlib.contextmanager
+def _formulas_located(config: Config):
+    """A formula of the config that fails while the study plans or runs (it switches too often over the
+    run, or gives inf at some time) is reported at its key, with its file and line."""
+    from tirecli.models.profiles import FormulaError, formula_path
+
+    try:
+        yield
+    except FormulaError as exc:
+        path = formula_path(config.data, exc.formula)
+        if path is None:  # e.g. a formula of another config (fit data simulated by a config)
+            raise
+        raise ConfigError(config.origins.problem(path, exc.reason)) from None
 
 
 def builtin_config_names() -> list[str]:
@@ -258,12 +277,13 @@ def common_fields() -> dict:
 
     return {
         "study": Str(doc="study to run"),
-        "title": Str(default="", doc="title of the run"),
+        "title": Str(default="", doc="title of the run", max_len=MAX_TITLE_CHARS),
         "description": Str(default="", doc="free description"),
         "figures": ListOf(item=FigureId(), default=None, doc="figure ids to draw (tirecli figures list)"),
         "assumed": AnyOf(options=(Str(), ListOf(item=Str())), default=None,
                          what="a text or a list of texts",
                          doc="scenario values the paper does not print, and why (listed in run.json's assumed)"),
+        "run": run_spec(),
     }
 
 

@@ -45,12 +45,12 @@ from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
-import pandas as pd
 
 from tirecli.config.loader import Config, load_config
 from tirecli.config.schema import AnyOf, Bool, ListOf, Map, Num, Raw, Spec, Str, collect
 from tirecli.errors import ConfigError, DataError
 from tirecli.io.yamlio import dump_yaml
+from tirecli.limits import MAX_TITLE_CHARS
 from tirecli.numerics import identify, runs
 from tirecli.models.profiles import Constant, Table
 from tirecli.studies.base import StudyResult, builtin_config, builtin_config_names, common_fields, register_study
@@ -164,7 +164,7 @@ FIT = Map(fields={
     "confidence": Num(unit="-", gt=0, lt=1, default=0.95, doc="level of the confidence intervals"),
     "sigma1": AnyOf(options=(Bool(), SIGMA1), default={}, what="false, or {model, bounds, window}"),
     "model": MODEL,
-    "name": Str(default="fitted", doc="name of the fitted parameter set"),
+    "name": Str(default="fitted", doc="name of the fitted parameter set", max_len=MAX_TITLE_CHARS),
 }, post=_fit_post, default={"parameters": ["sigma0", "sigma2", "mu_c", "mu_s", "v_s"], "initial": None, "bounds": None,
                             "confidence": 0.95, "sigma1": {}, "model": "lumped", "name": "fitted"})
 
@@ -316,6 +316,24 @@ def fitted_set(name: str, start_set, p, steady: identify.FitResult, s1: identify
     }
 
 
+#: Memory per data sample (stages 1-2: frames, the open-loop run) and per node of the distributed model's
+#: time grids (stage 3: states of every parameter set of a Jacobian) [bytes].
+BYTES_PER_SAMPLE, BYTES_PER_NODE = 2000, 600
+
+
+def _estimate(n: int, dopt: dict | None):
+    """Samples of a fit of ``n`` data samples: the samples, and with stage 3 the nodes of its two time grids
+    (``substeps`` and twice as many per sample interval)."""
+    from tirecli.limits import Estimate
+
+    est = Estimate().add(n, (("data", "csv"), ("data", "simulate"), ("data",)), f"the {n:,} data samples",
+                         BYTES_PER_SAMPLE)
+    if dopt is not None:
+        est.add(3 * dopt["substeps"] * n, (("fit", "model", "substeps"), ("fit", "model")),
+                f"the distributed model's time grids ({n:,} samples x 3 x {dopt['substeps']} substeps)", BYTES_PER_NODE)
+    return est
+
+
 def _distributed_options(raw) -> dict | None:
     """Stage-3 options from a checked ``fit.model`` (None for ``lumped``)."""
     if raw == "lumped" or (isinstance(raw, dict) and raw["model"] == "lumped"):
@@ -346,6 +364,9 @@ def run_fit(config: Config, progress=None) -> StudyResult:
     d, fc = checked["data"], checked["fit"]
     data = load_samples(d, config.base_dir)
     t, v, s, mu = data["t"], data["v"], data["s"], data["mu"]
+    _estimate(len(t), _distributed_options(fc["model"])).check(config.origins)
+    import pandas as pd  # once the data are checked: a refused run fails at once
+
     sel = _window_mask(t, d["window"]) & (np.abs(s) > d["min_abs_slip"]) & (v > 0)
     free = [k for k in identify.STEADY_PARAMETERS if k in fc["parameters"]]
     need = MIN_SAMPLES_PER_PARAMETER * len(free) + 1

@@ -29,15 +29,18 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
-import pandas as pd
 
 from tirecli.config.loader import Config
 from tirecli.config.schema import AnyOf, Bool, Grid, ListOf, Map, Nullable, Num, Raw, Str, collect
 from tirecli.errors import ConfigError, RunError
+from tirecli.limits import MAX_TITLE_CHARS, Estimate
 from tirecli.studies.base import StudyResult, common_fields, register_study
+
+if TYPE_CHECKING:  # pandas is imported when a study runs, not when its config is checked
+    import pandas as pd
 
 DEFAULT_TIRE = "sorine2000-mcps"
 #: Default Magic Formula side: the ExternData sample tyre (MF 6.1, 205/60R15, 4000 N), a stand-in.
@@ -57,6 +60,8 @@ MAX_STEPS = 200_000
 MAX_SLIDER_STEPS = 5.0e7
 #: Largest number of rows of data/patch.csv.
 MAX_PATCH_ROWS = 2_000_000
+#: Memory per row of the MCPS studies' frames (and CSV text) [bytes] (the sample budget, tirecli.limits).
+BYTES_PER_ROW = 1000
 
 
 def _lin(start, stop, num):
@@ -243,6 +248,9 @@ def plan_stationary(config: Config):
     if n > MAX_STATIONARY_POINTS:
         raise ConfigError(config.origins.problem((), f"{n} stationary points (slips x loads x carcasses) exceed the "
                                                      f"budget of {MAX_STATIONARY_POINTS}: use coarser grids"))
+    Estimate().add(n, tuple(("combined", k) for k in ("alpha", "kappa")) + tuple((k,) for k in FAMILIES) + (("fz",),),
+                   f"the stationary points ({n:,}: slips x {len(checked['fz'])} load(s) x "
+                   f"{len(checked['carcass'])} carcass(es))", BYTES_PER_ROW).check(config.origins)
     nc = sum(f[1].size for f in fams if f[0] == "curvature") * len(checked["fz"]) * len(checked["carcass"])
     if nc > MAX_CURVATURE_POINTS:
         raise ConfigError(config.origins.problem(("curvature",), f"{nc} curvature points (x loads x carcasses) exceed "
@@ -276,6 +284,8 @@ def _solve_all(p, fz, fams, carcass, frame_term, what: str):
 
 
 def _rows(model, carcass, calibrated, fams, fz, fx, fy, mz, x=None, y=None, d=None) -> pd.DataFrame:
+    import pandas as pd
+
     n = sum(f[1].size for f in fams)
     nan = np.full(n, np.nan)
     return pd.DataFrame({
@@ -323,6 +333,8 @@ def run_stationary(config: Config, progress=None) -> StudyResult:
     from tirecli.numerics.mcps_calibrate import calibrate
 
     checked, ps, p, mf, fams = plan_stationary(config)
+    import pandas as pd  # once the config is checked: a refused run fails at once
+
     loads = [float(f) for f in checked["fz"]]
     carcasses = checked["carcass"]
     frame = checked["frame_term"]
@@ -439,6 +451,9 @@ def plan_slider(config: Config):
     if steps > MAX_STEPS:
         raise ConfigError(config.origins.problem(("samples",), f"{steps} steps (periods x samples) exceed the budget "
                                                                f"of {MAX_STEPS}: fewer samples per period"))
+    runs_ = 2 if checked["compare_period"] else 1
+    Estimate().add(runs_ * (steps + 1), (("samples",), ("periods",)),
+                   f"data/slider.csv ({runs_} run(s) x {steps:,} steps)", BYTES_PER_ROW).check(config.origins)
     return checked, ps, ps.model()
 
 
@@ -462,6 +477,8 @@ def run_slider(config: Config, progress=None) -> StudyResult:
     from tirecli.numerics.mcps_transient import integrate_slider_in_time, simulate_slider
 
     checked, ps, p = plan_slider(config)
+    import pandas as pd  # once the config is checked: a refused run fails at once
+
     P = p.patch(checked["fz"]).P
     law = p.slider_law(P)
     K, Fk = float(law.K[0]), float(law.Fk[0])
@@ -565,6 +582,9 @@ def plan_standstill(config: Config):
     if rows > MAX_PATCH_ROWS:
         raise ConfigError(config.origins.problem(("patch_samples",), f"data/patch.csv would hold {rows:.0f} rows (budget "
                                                                      f"{MAX_PATCH_ROWS}): fewer patch_samples or grid points"))
+    (Estimate().add(steps, (("samples",), ("cycles",)), f"data/standstill.csv ({steps:,.0f} steps)", BYTES_PER_ROW)
+     .add(rows, (("patch_samples",), ("grid",), ("cycles",)), f"data/patch.csv ({rows:,.0f} rows)", BYTES_PER_ROW)
+     .check(config.origins))
     return checked, ps, ps.model()
 
 
@@ -575,6 +595,8 @@ def run_standstill(config: Config, progress=None) -> StudyResult:
                                                  triangle_yaw)
 
     checked, ps, p = plan_standstill(config)
+    import pandas as pd  # once the config is checked: a refused run fails at once
+
     fz = checked["fz"]
     pa = p.patch(fz)
     law = p.patch_law(fz)
@@ -669,7 +691,7 @@ CASE = AnyOf(options=(
     Map(fields={
         "carcass": Str(choices=CARCASSES, doc="complete or rigid"),
         "locked": ListOf(item=Str(choices=LOCKABLE), min_len=0, max_len=3, default=[], doc="belt DOFs held at 0"),
-        "label": Str(default="", doc="name in legends and CSV"),
+        "label": Str(default="", doc="name in legends and CSV", max_len=MAX_TITLE_CHARS),
     }),
 ), what="complete, rigid, or {carcass, locked: [x, y, delta], label}")
 
@@ -715,15 +737,19 @@ def plan_relaxation(config: Config):
     if len(set(labels)) != len(labels):
         raise ConfigError(config.origins.problem(("carcass",), "two cases share a label; give each a distinct 'label'"))
     p = ps.model()
+    est = Estimate()
     for c in cases:
         n = _cells(p, checked, c)
         steps = checked["distance"] / (p.patch(checked["fz"]).l / n)
+        est.add(steps + 1, (("distance",), ("cells",), ("speed",)), f"data/relaxation.csv (case {c.label!r}: "
+                f"{steps:,.0f} steps of {n} cells)", BYTES_PER_ROW)
         if n * steps > MAX_ELEMENT_STEPS:
             raise ConfigError(config.origins.problem((), f"case {c.label!r}: the run needs {n} cells x {steps:.3g} steps "
                                                          f"(speed {checked['speed']:g} m/s, distance {checked['distance']:g} m), "
                                                          f"over the budget of {MAX_ELEMENT_STEPS:.0e} element-steps (short "
                                                          "relaxation lengths at large slip angles and the belt's fast modes at "
                                                          "low speed need small steps): shorten 'distance' or raise 'speed'"))
+    est.check(config.origins)
     return checked, ps, p, cases
 
 
@@ -757,6 +783,8 @@ def run_relaxation(config: Config, progress=None) -> StudyResult:
     from tirecli.numerics.mcps_transient import simulate_rolling
 
     checked, ps, p, cases = plan_relaxation(config)
+    import pandas as pd  # once the config is checked: a refused run fails at once
+
     fz, a, V, dist = checked["fz"], checked["alpha"], checked["speed"], checked["distance"]
     frames, facts = [], {}
     sti = p.stiffnesses(fz)

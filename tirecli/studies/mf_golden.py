@@ -16,7 +16,6 @@ Config (built in as ``mf-golden``; report only)::
 from __future__ import annotations
 
 import numpy as np
-import pandas as pd
 
 from tirecli.config.loader import Config
 from tirecli.config.schema import Map, Raw, Str, collect
@@ -105,6 +104,8 @@ def run_golden(config: Config, progress=None) -> StudyResult:
     from tirecli.models.magic_formula import evaluate
 
     checked, (ps, t) = plan(config)
+    import pandas as pd  # once the config is checked: a refused run fails at once
+
     frames = []
     for block in GOLDEN:
         g = golden_rows(block)

@@ -36,14 +36,18 @@ slips of interest (clipping flattens the curve, spec §11).
 """
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 import numpy as np
-import pandas as pd
 
 from tirecli.config.loader import Config
 from tirecli.config.schema import Bool, Grid, Map, Num, Raw, Str, check_document, collect
 from tirecli.conventions import kappa_from_slip, slip_from_kappa
 from tirecli.errors import ConfigError
 from tirecli.studies.base import StudyResult, common_fields
+
+if TYPE_CHECKING:  # pandas is imported when a study runs, not when its config is checked
+    import pandas as pd
 
 FAMILIES = ("fx-kappa", "fy-alpha", "camber", "combined-alpha", "combined-kappa", "compare")
 
@@ -127,10 +131,31 @@ def plan(config: Config):
                                                                "Formula sweep draws the mf-* figures (tirecli figures list)"))
     if checked["sweep"]["speed"] is None and t.family == "mf" and t.reference_speed is None:
         raise ConfigError(config.origins.problem(("sweep",), "missing 'speed': the tyre has no LONGVL to default to"))
+    _estimate(checked["sweep"], checked["compare"]).check(config.origins)
     return checked, ps, t, lugre
 
 
+#: Memory per row of a Magic Formula sweep (frame of 16 columns, CSV text, figures) [bytes].
+BYTES_PER_ROW = 1400
+
+
+def _estimate(sw: dict, cmp: dict | None):
+    """The rows of every family (see :func:`mf_sweep_frame`), each blamed on its grids."""
+    from tirecli.limits import Estimate
+
+    n = {k: len(sw[k]) for k in ("kappa", "alpha", "camber", "combined_alpha", "combined_kappa")}
+    n["loads"] = len(sw["loads"] or (0, 0, 0))
+    est = Estimate()
+    for family, a, b in (("fx-kappa", "loads", "kappa"), ("fy-alpha", "loads", "alpha"), ("camber", "camber", "alpha"),
+                         ("combined-alpha", "combined_alpha", "kappa"), ("combined-kappa", "combined_kappa", "alpha")):
+        est.add_product({("sweep", a): n[a], ("sweep", b): n[b]}, f"the {family} family", BYTES_PER_ROW)
+    if cmp is not None:
+        est.add(2 * len(cmp["slip"]), ("compare", "slip"), "the comparison", BYTES_PER_ROW)
+    return est
+
+
 def _block(t, family, kappa, alpha, gamma, fz, vx, p, kw) -> pd.DataFrame:
+    import pandas as pd
     from tirecli.models.magic_formula import evaluate
 
     k, a, g, f = np.broadcast_arrays(*(np.asarray(x, dtype=float) for x in (kappa, alpha, gamma, fz)))
@@ -150,6 +175,8 @@ def _block(t, family, kappa, alpha, gamma, fz, vx, p, kw) -> pd.DataFrame:
 
 def mf_sweep_frame(t, sw: dict, convention="mfeval", side=None, limits=True, compare=None):
     """Evaluate every family of an MF sweep (see module doc); returns ``(frame, counts)``."""
+    import pandas as pd
+
     fz0 = t.coef.get("FNOMIN", 4000.0)
     loads = sw["loads"] or [0.5 * fz0, fz0, 1.5 * fz0]
     load = sw["load"] or fz0

@@ -36,19 +36,24 @@ from __future__ import annotations
 
 from dataclasses import asdict, dataclass, replace
 
+from typing import TYPE_CHECKING
+
 import numpy as np
-import pandas as pd
 
 from tirecli.config.loader import Config
 from tirecli.config.schema import ListOf, Map, Nullable, Num, Raw, Str
 from tirecli.conventions import (THETA_CONVENTIONS, slip_from_speeds, theta_fm_from_obs, theta_obs_from_fm,
                                  to_theta_fm)
 from tirecli.errors import ConfigError
+from tirecli.limits import MAX_TITLE_CHARS
 from tirecli.models.profiles import Table, Transitions, profile_from_checked, profile_spec
 from tirecli.observers import lugre_observer as lo
 from tirecli.observers import metrics as om
 from tirecli.observers.measurement import METHODS, Sensor
 from tirecli.studies.base import StudyResult, common_fields, register_study
+
+if TYPE_CHECKING:  # pandas is imported when a study runs, not when its config is checked
+    import pandas as pd
 
 GAINS = ("k1", "k2", "k3", "gamma", "alpha")
 DEFAULT_GAINS = "canudas2003-obs-gains"
@@ -128,7 +133,7 @@ METRICS = Map(fields={
 GAIN_OVERRIDES = Map(fields={k: Num(unit="", default=None) for k in GAINS}, default=None)
 
 CASE = Map(fields={
-    "label": Str(doc="name of the case in legends and the CSV"),
+    "label": Str(doc="name of the case in legends and the CSV", max_len=MAX_TITLE_CHARS),
     "estimate": _estimate(required=False),
     "observer": GAIN_OVERRIDES,
     "measurement": MEASUREMENT,
@@ -219,7 +224,8 @@ def _make_case(label, gains, checked, theta_raw, torque_raw, est, meas, config, 
     scenario = Scenario(duration=sc["duration"], torque=torque_p, theta_fm=_theta_fm_fn(theta_p, conv), v0=v0,
                         omega0=romega0 / r, z0=sc["z0"], v_hat0=v0 + est["v_error"], z_hat0=est["z"],
                         theta_hat0=theta_hat0_obs,
-                        breakpoints=tuple(sorted(set(theta_p.breakpoints()) | set(torque_p.breakpoints()))))
+                        breakpoints=tuple(sorted(set(theta_p.breakpoints(sc["duration"]))
+                                                 | set(torque_p.breakpoints(sc["duration"])))))
     return Case(label=label, gains=gains, scenario=scenario, sensor=_sensor(meas), theta_profile=theta_p,
                 changes=sorted({c for c in changes if c < sc["duration"]}))
 
@@ -283,7 +289,49 @@ def plan(config: Config) -> Plan:
     if any(b <= a for a, b in zip(ph, ph[1:])) or ph[-1] > dur + 1e-9:
         raise ConfigError(config.origins.problem(("metrics", "phases"),
                                                  f"phase boundaries must increase and end by the duration ({dur:g} s)"))
+    _sample_estimate(checked, cases, solver).check(config.origins)
     return Plan(checked, tire, vehicle, gain_set, plant, cases, solver, metrics, deprecated)
+
+
+#: Memory of one recorded time of a run (trajectory, frame, CSV text) and of one step of an adaptive
+#: solver that is not recorded (``h_max``) [bytes].
+BYTES_PER_POINT, BYTES_PER_STEP = 600, 50
+#: Output grid of the adaptive methods [s] (``tirecli.numerics.observer_integrator.simulate``).
+ADAPTIVE_OUTPUT_DT = 1e-3
+
+
+def _sample_estimate(checked: dict, cases: list, solver):
+    """Samples of an observe run before it starts, per case: the recorded times (the fixed scheme's grid
+    of ``solver.step``, or the adaptive methods' 1 ms output grid; ``auto`` may run either), the
+    measurement samples, the adaptive steps ``h_max`` forces and the CSV's ``output.dt`` grid."""
+    from tirecli.limits import Estimate, steps
+
+    dur = checked["scenario"]["duration"]
+    dt_out = (checked["output"] or {}).get("dt", 0.01)
+    points = samples = forced = 0.0
+    by_rate = False   # whether a sampling rate, not the step, sets the grid of the recorded times
+    for case in cases:
+        rate = case.sensor.rate
+        res = []
+        if solver.method in ("auto", "fixed"):
+            res.append(min(solver.step, 0.5 / rate) if rate else solver.step)
+        if solver.method != "fixed":
+            res.append(min(ADAPTIVE_OUTPUT_DT, 0.5 / rate) if rate else ADAPTIVE_OUTPUT_DT)
+            forced += steps(dur, solver.h_max) if solver.h_max else 0.0
+        by_rate |= bool(rate) and 0.5 / rate < min(solver.step, ADAPTIVE_OUTPUT_DT)
+        points += steps(dur, min(res))
+        samples += steps(dur, 1.0 / rate) if rate else 0.0
+    n = len(cases)
+    rate_paths = (("measurement", "rate"),) + tuple(("cases", i, "measurement", "rate") for i in range(n))
+    return (Estimate()
+            .add(points, (rate_paths if by_rate else (("solver", "step"), ("numerics", "step"))) + (("scenario", "duration"),),
+                 f"the recorded times ({n} case(s) x {dur:g} s, solver {solver.method})", BYTES_PER_POINT)
+            .add(samples, rate_paths + (("scenario", "duration"),),
+                 f"the measurement samples ({n} case(s) x {dur:g} s)", BYTES_PER_POINT)
+            .add(forced, (("solver", "h_max"), ("scenario", "duration")),
+                 f"the solver steps h_max forces ({n} case(s) x {dur:g} s)", BYTES_PER_STEP)
+            .add(n * steps(dur, dt_out), (("output", "dt"), ("scenario", "duration")),
+                 f"data/observer.csv ({n} case(s) x {dur:g} s every {dt_out:g} s)", BYTES_PER_POINT))
 
 
 # --------------------------------------------------------------------------- run
@@ -367,6 +415,8 @@ def design_record(plant: lo.ObserverPlant, gains: lo.ObserverGains, tr=None) -> 
 
 
 def _frame(plant, tr, label, dt_out) -> pd.DataFrame:
+    import pandas as pd
+
     r = plant.car.r
     keep = _decimate(tr.t, dt_out)
     t = tr.t[keep]
@@ -416,6 +466,8 @@ def _warnings(case: Case, design: dict, met: dict, m: dict, tr) -> list[str]:
 def run_observe(config: Config, progress=None) -> StudyResult:
     """Run an observe config (see module doc)."""
     p = plan(config)
+    import pandas as pd  # once the config is checked: a refused run fails at once
+
     checked = p.checked
     sc = checked["scenario"]
     dt_out = (checked["output"] or {}).get("dt", 0.01)

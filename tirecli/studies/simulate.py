@@ -40,8 +40,9 @@ from __future__ import annotations
 import copy
 from pathlib import Path
 
+from typing import TYPE_CHECKING
+
 import numpy as np
-import pandas as pd
 
 from tirecli.config.loader import Config
 from tirecli.config.schema import AnyOf, ListOf, Map, Nullable, Num, Raw, Str, collect
@@ -52,6 +53,9 @@ from tirecli.models.variants import MODELS
 from tirecli.numerics import runs
 from tirecli.studies.base import StudyResult, common_fields, register_study
 from tirecli.studies.sweep import VARIANT, make_variant
+
+if TYPE_CHECKING:  # pandas is imported when a study runs, not when its config is checked
+    import pandas as pd
 
 DEFAULT_VEHICLE = "canudas2003-obs-quarter-car"
 TORQUE_KEYS = ("torque", "brake_torque", "pressure")
@@ -426,7 +430,40 @@ def plan(config: Config):
                                   drive_case=lab, mode="open-loop", driven_by=lab))
                 cases[-1].solver = runs.SolverOptions(tol=gsolver["tol"], h_max=gsolver["h_max"],
                                                       v_stop=checked["stop"]["v_min"])
+    _estimate(checked, cases).check(config.origins)
+    for c in cases:   # the switches of formula inputs over the run (a formula switching too often is refused here)
+        for prof in (c.torque, c.theta) + tuple(c.drive or ()):
+            if prof is not None:
+                prof.breakpoints(checked["t_end"])
     return checked, tire, vehicle, cases
+
+
+#: Memory of one stored solver step, of one row of data/timeseries.csv and of one measured sample [bytes]
+#: (measured: 200,000 steps and rows of the distributed model peak at 0.6 GB above the interpreter's).
+BYTES_PER_STEP, BYTES_PER_ROW, BYTES_PER_SAMPLE = 1000, 2000, 400
+
+
+def _estimate(checked: dict, cases: list):
+    """Samples of a run before it starts: solver steps (at least ``t_end/h_max``, and a step end at each
+    measurement sample), output rows (``t_end/output.dt``, or the steps when 0) and measured samples."""
+    from tirecli.limits import Estimate, steps
+
+    t_end, dt, meas = checked["t_end"], checked["output"]["dt"], checked["measurement"]
+    per_case = steps(t_end, 1.0 / meas["rate"]) if meas is not None else 0.0
+    coupled = [c.label for c in cases if c.mode == "coupled"]
+    n_steps = sum(steps(t_end, c.solver.h_max) + (per_case if c.mode == "coupled" else 0.0) for c in cases)
+    est = Estimate()
+    est.add(n_steps, (("solver", "h_max"), ("t_end",)) + tuple(("cases", i, "solver", "h_max") for i in range(len(cases))),
+            f"the solver steps ({len(cases)} case(s) x {t_end:g} s, steps of at most h_max"
+            + (f" ending at each of {meas['rate']:g} samples per second)" if meas is not None else ")"), BYTES_PER_STEP)
+    rows = n_steps if dt == 0 else len(cases) * steps(t_end, dt)
+    est.add(rows, (("output", "dt"), ("t_end",), ("cases",)),
+            f"data/timeseries.csv ({len(cases)} case(s) x {t_end:g} s every {dt:g} s)", BYTES_PER_ROW)
+    if meas is not None:
+        n = len(meas["cases"] or coupled)
+        est.add(2 * n * per_case, (("measurement", "rate"), ("t_end",)),
+                f"the measured samples ({n} case(s) x {t_end:g} s x {meas['rate']:g} Hz, noisy and clean)", BYTES_PER_SAMPLE)
+    return est
 
 
 # --------------------------------------------------------------------------- run
@@ -483,6 +520,8 @@ def _event_rows(ev: dict) -> list:
 def _frame(tr, case: Case, dt: float, r: float, gain: float) -> pd.DataFrame:
     """The time series of a run on the output grid, from the integrator's dense output (states
     interpolated by the step's cubic Hermite, outputs evaluated by the model there)."""
+    import pandas as pd
+
     t = tr.t
     if dt > 0:
         n = int(np.floor(t[-1] / dt + 1e-9))
@@ -512,6 +551,8 @@ def _frame(tr, case: Case, dt: float, r: float, gain: float) -> pd.DataFrame:
 
 def _measure(trs: dict, labels: list, meas: dict, r: float, gain: float):
     """Synthetic samples of the coupled runs: (noisy, clean) frames ``t, pressure, torque, v, romega, s, mu``."""
+    import pandas as pd
+
     rng = np.random.default_rng(int(meas["seed"]))
     dt = 1.0 / meas["rate"]
     starts = meas["record_starts"] or [0.0] * len(labels)
@@ -573,6 +614,8 @@ def run_cases(cases, p, car, t_end, sample_times=(), progress=None) -> dict:
 def run_simulate(config: Config, progress=None) -> StudyResult:
     """Run a simulate config (see module doc)."""
     checked, tire, vehicle, cases = plan(config)
+    import pandas as pd  # once the config is checked: a refused run fails at once
+
     p, car = tire.model(), vehicle.model()
     meas = checked["measurement"]
     t_end = checked["t_end"]

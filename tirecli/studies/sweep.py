@@ -35,17 +35,22 @@ Output frames:
 """
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 import numpy as np
-import pandas as pd
 
 from tirecli.config.loader import Config
 from tirecli.config.schema import AnyOf, Context, Grid, ListOf, Map, Num, Raw, Str, collect
 from tirecli.conventions import THETA_CONVENTIONS, speeds_from_slip, theta_obs_from_fm, to_theta_fm
 from tirecli.errors import ConfigError
+from tirecli.limits import MAX_TITLE_CHARS, Estimate
 from tirecli.models import lugre
 from tirecli.models.steady_peaks import curve_peaks
 from tirecli.models.variants import LOADS, MODELS, FrictionVariant
 from tirecli.studies.base import StudyResult, common_fields, register_study
+
+if TYPE_CHECKING:  # pandas is imported when a study runs, not when its config is checked
+    import pandas as pd
 
 
 def _variant_post(v: dict, path, ctx: Context) -> None:
@@ -83,7 +88,7 @@ VARIANT = AnyOf(options=(
                         what="a number > 0 or Z (FM eq. (10))"),
         "u": ListOf(item=Num(unit="-", ge=0, le=1), min_len=2, default=None, doc="tabulated load positions zeta/L"),
         "f": ListOf(item=Num(unit="N/m", ge=0), min_len=2, default=None, doc="tabulated load density samples"),
-        "label": Str(default="", doc="name in legends and CSV"),
+        "label": Str(default="", doc="name in legends and CSV", max_len=MAX_TITLE_CHARS),
     }, post=_variant_post),
 ), what="a model name (distributed, lumped) or a mapping {model, load, lambda, kappa0, label}")
 
@@ -111,6 +116,8 @@ def make_variant(raw) -> FrictionVariant:
 
 def sweep_frame(variants, p, slips, speeds, thetas_fm, progress=None) -> pd.DataFrame:
     """Evaluate every variant over slip x speed x theta; long-format frame (see module doc)."""
+    import pandas as pd
+
     slips = np.asarray(slips, dtype=float)
     speeds = np.asarray(speeds, dtype=float)
     S, V = np.meshgrid(slips, speeds, indexing="xy")  # rows: speed, cols: slip
@@ -161,6 +168,8 @@ def peaks_frame(variants, p, slips, speeds, thetas_fm, progress=None) -> pd.Data
     driving). Peaks are taken over the whole range ``0 < |s| <= 1`` whatever the sweep's grid
     (:func:`tirecli.models.steady_peaks.curve_peaks`).
     """
+    import pandas as pd
+
     slips = np.asarray(slips, dtype=float)
     speeds = np.asarray(speeds, dtype=float)
     directions = [d for d, sign in (("braking", -1.0), ("driving", 1.0)) if np.any(slips * sign > 0.0)]
@@ -211,7 +220,16 @@ def plan(config: Config):
         dup = next(l for l in labels if labels.count(l) > 1)
         raise ConfigError(config.origins.problem(("sweep", "models"), f"two models share the label {dup!r}; give each a distinct 'label'"))
     thetas_fm = [float(t) for t in to_theta_fm(sw["theta"], sw["theta_convention"])]
+    curves = len(variants) * len(thetas_fm) * len(sw["speeds"]) * len({np.sign(s) for s in sw["slip"]} - {0.0})
+    Estimate().add_product({("sweep", "models"): len(variants), ("sweep", "theta"): len(thetas_fm),
+                            ("sweep", "speeds"): len(sw["speeds"]), ("sweep", "slip"): len(sw["slip"])},
+                           "the sweep", BYTES_PER_ROW) \
+        .add(curves, ("sweep", "speeds"), "the peaks of its curves", BYTES_PER_ROW).check(config.origins)
     return checked, tire, variants, thetas_fm
+
+
+#: Memory per row of a sweep (frame, CSV text, figures) [bytes], measured: 1.4 GB for 10^6 rows.
+BYTES_PER_ROW = 1400
 
 
 def check_sweep(config: Config):
