@@ -2,7 +2,9 @@
 
 Writes ``DIR/index.html`` (self-contained: figures embedded as PNG, no network resources),
 ``DIR/summary.json`` (every reference check), ``DIR/figures/ID.png|svg`` (tables as CSV),
-``DIR/data/STUDY/NAME.csv`` and ``DIR/studies/STUDY.json`` (the run record of each study).
+``DIR/data/STUDY/NAME.csv``, ``DIR/studies/STUDY.json`` (the run record of each study) and
+``DIR/docs/`` (the user documentation as HTML; each card links its model's page, see
+:mod:`tirecli.report.docs`).
 """
 from __future__ import annotations
 
@@ -16,6 +18,7 @@ import jinja2
 from tirecli import __version__
 from tirecli.figures.registry import PAPERS, Table, load_all
 from tirecli.io import output
+from tirecli.report.docs import card_doc, link_sources, write_docs
 from tirecli.studies.base import Check, builtin_config, run_study
 
 PAPER_ORDER = ["FM", "OBS", "MF", "MCPS"]
@@ -87,11 +90,13 @@ def build_report(out: str | Path, only=None, progress=None) -> dict:
         for dname, frame in res.data.items():
             output.write_csv(out / "data" / name / f"{dname}.csv", frame, comments)
 
+    docs = write_docs(out, __version__)
     cards, all_checks = [], []
     for f in entries:
         card = {"id": f.id, "paper": f.paper, "label": f.label, "title": f.title, "caption": f.caption_for(results.get(f.study)),
                 "paper_shows": f.paper_shows, "study": f.study, "image": None, "table": None, "error": None,
-                "checks": [], "parameters": [], "files": [], "synthetic": False, "assumed": []}
+                "checks": [], "parameters": [], "files": [], "synthetic": False, "assumed": [],
+                "doc": card_doc(f.paper, docs)}
         res = results.get(f.study)
         if res is None:
             card["error"] = errors.get(f.study, "study did not run")
@@ -159,6 +164,7 @@ def build_report(out: str | Path, only=None, progress=None) -> dict:
     html = _env().get_template("report.html.j2").render(
         version=__version__, sections=sections, n_checks=len(all_checks), n_failed=len(failed),
         n_figures=len(cards), wall=wall, environment=summary["environment"],
+        doclinks=lambda text: link_sources(text, docs), docs_index=docs.get("models/README"),
     )
     output.write_text(out / "index.html", html)
     output.write_json(out / "summary.json", summary)
