@@ -305,8 +305,9 @@ def tire_data(doc: tirio.TirDocument) -> TireData:
         source[k] = f"default {coef[k]:g} (not in the file; docs/models/magic_formula.md §12.5 item 9)"
     if defaulted:
         shown = ", ".join(defaulted[:12]) + (f" and {len(defaulted) - 12} more" if len(defaulted) > 12 else "")
-        warnings.append(Problem(doc.file, None, "", f"{len(defaulted)} model coefficient(s) not in the file take the "
-                                                    f"tirecli's default (L* = 1, PKY4 = 2, else 0): {shown}"))
+        warnings.append(Problem(doc.file, None, "", f"{len(defaulted)} model coefficient(s) not in the file take "
+                                                    f"tirecli's default (L* = 1, PKY4 = 2, else 0; "
+                                                    f"docs/models/magic_formula.md §12.5 item 9): {shown}"))
     side = normalise_side(text.get("TYRESIDE"))
     return TireData(doc=doc, values=coef, version=version, version_source=how, side=side, source=source,
                     defaulted=defaulted, units=units, factors=factors, warnings=warnings, text=text)
