@@ -156,6 +156,22 @@ def test_a_second_study_into_a_held_directory_is_refused_and_ctrl_c_keeps_the_pr
     assert os.listdir(tmp_path) == ["o"]
 
 
+def test_sigterm_is_handled_as_ctrl_c(configs, previous, tmp_path):
+    """``kill`` or ``timeout`` stop a run like Ctrl-C: earlier results kept, staging and lock removed."""
+    before = snapshot(previous)
+    proc = _popen(["simulate", configs["slow"], "--out", "o"], tmp_path)
+    try:
+        _wait_for(_lock(previous), proc)
+        time.sleep(0.5)
+        proc.terminate()
+        code = proc.wait(timeout=60)
+    finally:
+        proc.kill()
+    assert (code, proc.stderr.read()) == (130, "error: interrupted: previous results in o kept\n")
+    assert_unchanged(before, previous)
+    assert os.listdir(tmp_path) == ["o"]
+
+
 @pytest.mark.parametrize("failure, code, message", [
     (KeyboardInterrupt, 130, "error: interrupted: previous results in {out} kept"),
     (RuntimeError("the disk caught fire"), 1, "error: internal error: RuntimeError: the disk caught fire "
@@ -275,6 +291,14 @@ def test_a_single_file_output_never_overwrites_its_input(tmp_path, args):
 
 
 # --------------------------------------------------------------------------- arguments and points
+
+
+def test_a_special_file_as_out_is_refused_not_replaced(tmp_path):
+    os.mkfifo(tmp_path / "fifo")
+    _points(tmp_path / "p.csv", 4000.0, n=5)
+    r = run(["mf", "eval", TYRE, "--points", "p.csv", "--out", "fifo"], cwd=tmp_path)
+    assert_clean_error(r, 2, r"--out fifo: not a regular file")
+    assert (tmp_path / "fifo").is_fifo() and sorted(os.listdir(tmp_path)) == ["fifo", "p.csv"]
 
 
 @pytest.mark.parametrize("args", [

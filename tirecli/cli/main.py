@@ -1,7 +1,8 @@
 """The ``tirecli`` command: Typer app, global flags and the one place errors map to exit codes.
 
 Exit codes: 0 success; 1 run failure (numerical failure, failed checks under ``--strict``,
-internal error); 2 usage or input error (bad option, bad config, bad data file); 130 Ctrl-C.
+internal error); 2 usage or input error (bad option, bad config, bad data file); 130 Ctrl-C
+(or SIGTERM).
 Errors print one line each on stderr without a traceback; ``--debug`` shows the traceback. A run
 that fails or is interrupted leaves its earlier outputs as they were and says so.
 """
@@ -68,17 +69,19 @@ def _error(msg: str, exc: BaseException | None = None) -> None:
 
 class _CtrlC:
     """Notes a Ctrl-C (then raises KeyboardInterrupt as Python does), so that an interrupt Typer
-    turned into an exit code is reported as one: one line, exit 130. A SIGINT ignored at start
-    (a background job) stays ignored."""
+    turned into an exit code is reported as one: one line, exit 130. SIGTERM (``kill``, ``timeout``)
+    is handled as Ctrl-C, so a run stopped either way keeps the earlier results and removes its
+    staging. A signal ignored at start (SIGINT in a background job) stays ignored."""
 
     def __init__(self):
         self.seen = False
-        self.old = None
+        self.old = {}
 
     def __enter__(self):
-        if threading.current_thread() is threading.main_thread() and \
-                signal.getsignal(signal.SIGINT) is signal.default_int_handler:
-            self.old = signal.signal(signal.SIGINT, self._handle)
+        if threading.current_thread() is threading.main_thread():
+            for sig, default in ((signal.SIGINT, signal.default_int_handler), (signal.SIGTERM, signal.SIG_DFL)):
+                if signal.getsignal(sig) is default:
+                    self.old[sig] = signal.signal(sig, self._handle)
         return self
 
     def _handle(self, signum, frame):
@@ -86,8 +89,8 @@ class _CtrlC:
         raise KeyboardInterrupt
 
     def __exit__(self, *exc):
-        if self.old is not None:
-            signal.signal(signal.SIGINT, self.old)
+        for sig, handler in self.old.items():
+            signal.signal(sig, handler)
 
 
 def main(argv: list[str] | None = None) -> int:

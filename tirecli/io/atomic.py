@@ -19,10 +19,10 @@ directory never mixes two runs.
   ``flock`` on that file, which the kernel releases when its process ends, so a lock file left by
   a killed run is stale and taken over; the file holds the holder's pid, host, start time and
   command (one JSON line).
-* Ctrl-C or a failure leaves the target byte-identical: the staging is removed, Ctrl-C becomes
-  :class:`~tirecli.errors.Interrupted` (exit 130, ``interrupted: previous results in DIR kept``),
-  a run failure carries the note that the previous results were kept. Ctrl-C is held back during
-  the final renames (milliseconds), so the move into place is never cut in half.
+* Ctrl-C (or SIGTERM) or a failure leaves the target byte-identical: the staging is removed,
+  Ctrl-C becomes :class:`~tirecli.errors.Interrupted` (exit 130, ``interrupted: previous results
+  in DIR kept``), a run failure carries the note that the previous results were kept. Ctrl-C is
+  held back during the final renames (milliseconds), so the move into place is never cut in half.
 
 When the target's parent directory is not writable (``--out .`` below a read-only directory) or
 ``DIR`` is a mount point, the lock and the staging directory live inside ``DIR`` instead
@@ -107,21 +107,24 @@ def atomic_write(path, mode: str = "w", encoding: str = "utf-8", errors: str | N
 
 
 @contextlib.contextmanager
-def _sigint_deferred():
-    """Hold Ctrl-C back for the block (files being moved into place); one that came meanwhile is
-    raised when the block ends."""
-    old = signal.getsignal(signal.SIGINT)
-    if threading.current_thread() is not threading.main_thread() or not callable(old):
+def _stops_deferred():
+    """Hold Ctrl-C (and SIGTERM, when the CLI turned it into an interrupt) back for the block: files
+    being moved into place, staging being removed. One that came meanwhile is raised when the block ends."""
+    if threading.current_thread() is not threading.main_thread():
         yield
         return
+    old = {sig: signal.getsignal(sig) for sig in (signal.SIGINT, signal.SIGTERM)}
+    held = [sig for sig, handler in old.items() if callable(handler)]
     caught = []
-    signal.signal(signal.SIGINT, lambda *args: caught.append(args))
+    for sig in held:
+        signal.signal(sig, lambda *args: caught.append(args))
     try:
         yield
     finally:
-        signal.signal(signal.SIGINT, old)
+        for sig in held:
+            signal.signal(sig, old[sig])
     if caught:
-        old(*caught[0])
+        old[caught[0][0]](*caught[0])
 
 
 def _remove(path: Path) -> None:
@@ -217,6 +220,8 @@ def _home(target: Path, real: Path, is_dir: bool) -> tuple[Path, str]:
         raise UsageError(f"--out {target}: exists and is not a directory")
     if real.is_dir() and not is_dir:
         raise UsageError(f"--out {target}: is a directory")
+    if real.exists() and not is_dir and not real.is_file():  # a device or FIFO: never replaced by a file
+        raise UsageError(f"--out {target}: not a regular file")
     if real.exists() and not os.access(real, os.W_OK | (os.X_OK if is_dir else 0)):
         raise UsageError(f"--out {target}: not writable")
     beside = os.access(real.parent, os.W_OK | os.X_OK)
@@ -288,13 +293,13 @@ def _guarded(target: Path, kept: str | None, cleanup):
     try:
         yield state
     except KeyboardInterrupt:
-        with _sigint_deferred():
+        with _stops_deferred():
             cleanup()
         if state["committed"]:
             raise Interrupted(f"interrupted after the run had finished: {target} written") from None
         raise Interrupted(f"interrupted: {kept or f'nothing written to {target}'}") from None
     except BaseException as exc:
-        with _sigint_deferred():
+        with _stops_deferred():
             cleanup()
         if isinstance(exc, OSError) and exc.filename is not None and not isinstance(exc, UsageError):
             raise UsageError(f"--out {target}: cannot write {exc.filename} ({exc.strerror or exc})") from None
@@ -447,7 +452,7 @@ def staged_dir(out, marker: str = "run.json"):
         stage = Stage(target, real, root, marker)
         with _guarded(target, kept, lambda: _remove(root)) as state:
             yield stage
-            with _sigint_deferred():
+            with _stops_deferred():
                 stage.commit()
                 state["committed"] = True
                 _remove(root)
@@ -467,7 +472,7 @@ def staged_file(out):
             yield tmp
             if str(real) in inputs_read():
                 raise UsageError(f"--out {target}: the run would overwrite its input {target}; choose another --out")
-            with _sigint_deferred():
+            with _stops_deferred():
                 os.chmod(tmp, _mode(0o666))
                 os.replace(tmp, real)
                 state["committed"] = True
