@@ -343,8 +343,11 @@ def format_tir(doc: TirDocument, descriptions: dict | None = None) -> str:
 
 def write_tir(path: str | Path, doc: TirDocument, descriptions: dict | None = None) -> Path:
     """Write a document as a ``.tir`` file."""
+    from tirecli.io.atomic import atomic_write
+
     path = Path(path)
-    path.write_text(format_tir(doc, descriptions), encoding="latin-1", errors="replace")
+    with atomic_write(path, encoding="latin-1", errors="replace") as fh:
+        fh.write(format_tir(doc, descriptions))
     return path
 
 
