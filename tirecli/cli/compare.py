@@ -8,7 +8,7 @@ from tirecli.cli.common import (ConfigArg, MaxSamplesOpt, OutOpt, SetOpt, max_sa
                                 result_line)
 
 
-def compare(config: Path = ConfigArg, out: Optional[Path] = OutOpt, set_: Optional[List[str]] = SetOpt,
+def compare(config: Path = ConfigArg, out: Optional[str] = OutOpt, set_: Optional[List[str]] = SetOpt,
         max_samples_: Optional[str] = MaxSamplesOpt) -> None:
     """Stationary MCPS tire (complete model and/or solid carcass) against a Magic Formula tyre.
 

@@ -38,7 +38,7 @@ def metrics_table(result) -> list[str]:
     return lines
 
 
-def observe(config: Path = ConfigArg, out: Optional[Path] = OutOpt, set_: Optional[List[str]] = SetOpt,
+def observe(config: Path = ConfigArg, out: Optional[str] = OutOpt, set_: Optional[List[str]] = SetOpt,
         max_samples_: Optional[str] = MaxSamplesOpt) -> None:
     """Simulate the quarter car with the nonlinear adhesion/speed observer (OBS Theorem 1).
 

@@ -8,7 +8,7 @@ from tirecli.cli.common import (ConfigArg, MaxSamplesOpt, OutOpt, SetOpt, max_sa
                                 result_line)
 
 
-def simulate(config: Path = ConfigArg, out: Optional[Path] = OutOpt, set_: Optional[List[str]] = SetOpt,
+def simulate(config: Path = ConfigArg, out: Optional[str] = OutOpt, set_: Optional[List[str]] = SetOpt,
         max_samples_: Optional[str] = MaxSamplesOpt) -> None:
     """Transient runs: quarter-car brakings with LuGre tires, or the MCPS tire's time-domain studies.
 

@@ -7,7 +7,7 @@ from typing import List, Optional
 from tirecli.cli.common import ConfigArg, MaxSamplesOpt, OutOpt, SetOpt, max_samples, overrides, progress, report_run
 
 
-def sweep(config: Path = ConfigArg, out: Optional[Path] = OutOpt, set_: Optional[List[str]] = SetOpt,
+def sweep(config: Path = ConfigArg, out: Optional[str] = OutOpt, set_: Optional[List[str]] = SetOpt,
           max_samples_: Optional[str] = MaxSamplesOpt) -> None:
     """Steady-state friction sweep: mu over slip x speed x theta x model variant.
 
