@@ -6,7 +6,9 @@ the allocation it protects, and a refusal is one line (exit 2) naming the file, 
 Input caps (fixed: 10 to 1000 times what real inputs need; a refusal must come within 2 s):
 
 - files: YAML configs and parameter sets, ``.tir`` files: :data:`MAX_YAML_BYTES`, :data:`MAX_TIR_BYTES`;
-  data CSVs: :data:`CSV_BYTES_PER_SAMPLE` bytes per sample of the budget (256 MB at the default);
+  data CSVs: :data:`CSV_BYTES_PER_SAMPLE` bytes per sample of the budget (256 MB at the default), lines
+  of at most :data:`MAX_CSV_LINE_BYTES`, rows counted as samples (one per
+  :data:`CSV_VALUES_PER_SAMPLE` columns);
 - YAML: :data:`MAX_YAML_NODES` values (aliases counted expanded, so alias bombs are refused and a
   recursive alias is an error), :data:`MAX_YAML_DEPTH` levels of nesting, keys of at most
   :data:`MAX_KEY_CHARS` and any value of at most :data:`MAX_SCALAR_CHARS` characters;
@@ -60,6 +62,10 @@ MAX_FORMULA_DEPTH = 100
 MAX_FORMULA_SWITCHES = 10_000
 #: Data CSVs may hold this many bytes per sample of the budget (256 MB at the default budget).
 CSV_BYTES_PER_SAMPLE = 256
+#: Longest line of a data CSV [bytes] (a row of 200 columns of 20 digits is 4 kB).
+MAX_CSV_LINE_BYTES = 10_000
+#: A CSV row of more columns than this counts as several samples of the budget.
+CSV_VALUES_PER_SAMPLE = 16
 #: Longest ``--set`` key path [parts].
 MAX_KEY_PARTS = MAX_YAML_DEPTH
 

@@ -221,6 +221,21 @@ def test_a_data_file_over_the_budget_is_refused_before_it_is_read(tmp_path, refu
                  r"too large for a data file .* the cap grows with the sample budget")
 
 
+def test_data_files_with_huge_lines_or_rows_are_refused_before_they_are_parsed(tmp_path, refused_here):
+    pts = tmp_path / "p.csv"
+    pts.write_text("kappa,alpha,gamma,fz\n0.1,0,0,4000\n0.1,0,0," + "4" * 20_000 + "\n0.2,0,0,4000\n")
+    args = ["mf", "eval", "chrono-185-80r14", "--points", pts, "-o", tmp_path / "r.csv"]
+    refused_here(args, r"p\.csv: line 3 is longer than 10,000 bytes")
+    pts.write_text("kappa,alpha,gamma,fz\n0.1,0,0," + "4" * 20_000)          # the last line, no newline
+    refused_here(args, r"p\.csv: line 2 is longer than 10,000 bytes")
+    pts.write_text(",".join(f"c{i}" for i in range(200)) + "\n" + (",".join(["0"] * 200) + "\n") * 1000)
+    refused_here(args + ["--max-samples", "5000"],
+                 r"p\.csv: 1,000 data rows of 200 columns \(13 samples a row\) would need 13,000 samples")
+    refused(["mf", "eval", "chrono-185-80r14", "--points", "/dev/zero", "-o", tmp_path / "r.csv"],
+            r"/dev/zero: (line 1 is longer than 10,000 bytes|too large)")
+    assert not (tmp_path / "r.csv").exists()
+
+
 def test_running_out_of_memory_is_one_clean_line(tmp_path, cli, monkeypatch):
     """Within the budget the estimates should leave room, but a MemoryError is never a traceback."""
     from tirecli.studies import sweep

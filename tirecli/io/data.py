@@ -21,21 +21,36 @@ BYTES_PER_ROW = 700
 
 
 def check_size(path: str | Path) -> None:
-    """Refuse a data file over its cap or with more rows than the sample budget (:mod:`tirecli.limits`),
-    reading at most the budget's rows: a few milliseconds whatever the file's size. Missing or
-    unreadable files are left to the reader."""
+    """Refuse a data file over the limits of :mod:`tirecli.limits` before it is parsed: over its size cap,
+    a line longer than :data:`~tirecli.limits.MAX_CSV_LINE_BYTES`, or more samples than the budget (its
+    data rows; a row of more than :data:`~tirecli.limits.CSV_VALUES_PER_SAMPLE` columns counts as several
+    samples). Reads at most the cap, and stops at the budget's rows. Missing or unreadable files are left
+    to the reader."""
     from tirecli import limits
 
     path = Path(path)
     cap, budget = limits.csv_max_bytes(), limits.max_samples()
     size, rows, more = 0, -1, False   # the header is not a row; comment lines are counted (an upper bound)
+    line = 0          # length of the line being read (it may span chunks)
+    columns = 1       # of the first line that is not a comment (the header)
     try:
         if path.stat().st_size > cap:
             raise DataError(f"{path}: {_too_large(path, cap)}")
         with path.open("rb") as fh:
             while chunk := fh.read(1 << 22):
+                if size == 0:
+                    header = next((ln for ln in chunk.split(b"\n", 1000)
+                                   if ln.strip() and not ln.lstrip().startswith(b"#")), b"")
+                    columns = header[:limits.MAX_CSV_LINE_BYTES + 1].count(b",") + 1
+                nl = np.flatnonzero(np.frombuffer(chunk, dtype=np.uint8) == 10)
+                lengths = np.diff(nl, prepend=-1 - line) - 1 if nl.size else np.array([line + len(chunk)])
+                if lengths.max(initial=0) > limits.MAX_CSV_LINE_BYTES:
+                    at = rows + 2 + int(np.argmax(lengths > limits.MAX_CSV_LINE_BYTES))
+                    raise DataError(f"{path}: line {at:,} is longer than {limits.MAX_CSV_LINE_BYTES:,} bytes "
+                                    "(a data file has one row a line)")
+                line = len(chunk) - 1 - int(nl[-1]) if nl.size else line + len(chunk)
                 size += len(chunk)
-                rows += chunk.count(b"\n")
+                rows += int(nl.size)
                 if rows > budget or size > cap:
                     more = bool(fh.read(1))
                     break
@@ -43,9 +58,16 @@ def check_size(path: str | Path) -> None:
         return
     if size > cap:  # not a regular file (a device, a pipe): its size is what it gives
         raise DataError(f"{path}: {_too_large(path, cap)}")
-    if rows > budget:
+    if line > limits.MAX_CSV_LINE_BYTES and not more:
+        raise DataError(f"{path}: line {rows + 2:,} is longer than {limits.MAX_CSV_LINE_BYTES:,} bytes "
+                        "(a data file has one row a line)")
+    rows += line > 0 and not more   # a last row without a newline
+    per_row = -(-columns // limits.CSV_VALUES_PER_SAMPLE)
+    if rows * per_row > budget:
         what = f"more than {budget:,} data rows" if more else f"{rows:,} data rows"
-        limits.refuse_over_budget(rows, what, BYTES_PER_ROW, fallback=str(path))
+        if per_row > 1:
+            what += f" of {columns:,} columns ({per_row} samples a row)"
+        limits.refuse_over_budget(rows * per_row, what, BYTES_PER_ROW, fallback=str(path))
 
 
 def _too_large(path: Path, cap: int) -> str:
