@@ -115,6 +115,31 @@ def test_failed_checks_are_junit_failures_and_strict_exits_1(cli, tmp_path, no_r
     assert (out / "run.json").exists() and junit_cases(junit)[0].get("failures") == str(len(failed))
 
 
+@pytest.mark.parametrize("command", ["sweep", "simulate", "observe", "compare", "fit"])
+def test_every_run_command_takes_strict_and_junit(command):
+    from doc_commands import parse
+
+    path, params = parse([command, "c.yaml", "--strict", "--junit", "ci/j.xml"])
+    assert path == [command] and params["strict"] is True and params["junit"] == "ci/j.xml"
+
+
+def test_observe_strict_junit_with_a_drifted_reference(cli, tmp_path, monkeypatch, no_render):
+    """A drifted OBS Fig. 2 reference: --strict exits 1 and the JUnit file has the check as a failure
+    beside the passing run case."""
+    from tirecli.figures import observer
+
+    monkeypatch.setitem(observer.FIG2_THETA_HAT, 8.0, (1.70, 3e-4))
+    junit = tmp_path / "obs.xml"
+    code, out, err = cli("--quiet", "observe", EXAMPLES / "obs-fig2.yaml", "--out", tmp_path / "out",
+                         "--strict", "--junit", junit)
+    assert code == 1 and "error: 1 of " in err and "reference check(s) failed (--strict)" in err
+    root, cases = junit_cases(junit)
+    assert root.get("failures") == "1" and root.get("errors") == "0"
+    assert (cases[0].get("classname"), cases[0].get("name")) == ("obs-fig2", "run")
+    assert [(c.get("classname"), c.get("name")) for c in cases if c.find("failure") is not None] == \
+        [("obs-fig2", "theta-hat-8s")]
+
+
 @pytest.mark.parametrize("exc, code", [("run", 1), ("internal", 1)])
 def test_a_failed_run_is_a_junit_error(cli, tmp_path, monkeypatch, exc, code):
     from tirecli import app
