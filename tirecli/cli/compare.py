@@ -4,12 +4,12 @@ from __future__ import annotations
 from pathlib import Path
 from typing import List, Optional
 
-from tirecli.cli.common import (ConfigArg, MaxSamplesOpt, OutOpt, SetOpt, max_samples, overrides, progress, report_run,
-                                result_line)
+from tirecli.cli.common import ConfigArg, JunitOpt, MaxSamplesOpt, OutOpt, SetOpt, StrictOpt, finish, result_line, run
 
 
 def compare(config: Path = ConfigArg, out: Optional[str] = OutOpt, set_: Optional[List[str]] = SetOpt,
-        max_samples_: Optional[str] = MaxSamplesOpt) -> None:
+            junit: Optional[str] = JunitOpt, strict: bool = StrictOpt,
+            max_samples_: Optional[str] = MaxSamplesOpt) -> None:
     """Stationary MCPS tire (complete model and/or solid carcass) against a Magic Formula tyre.
 
     Runs a 'study: mcps-stationary' config (MCPS Figs. 7-11): Fx(kappa), Fy and Mz(alpha), combined
@@ -18,11 +18,9 @@ def compare(config: Path = ConfigArg, out: Optional[str] = OutOpt, set_: Optiona
     carcass, calibrated, family, fz, kappa, alpha, phi, fx, fy, mz, x, y, delta; ISO-W, SI),
     calibrated.yaml when calibrating, and the figures as PNG and SVG.
     """
-    from tirecli.app import run_config
-
-    summary = run_config("compare", config, overrides(set_), out, progress(), max_samples(max_samples_))
+    summary = run("compare", config, set_, out, junit, max_samples_=max_samples_)
     for line in summary.result.meta.get("summary", []):
         result_line(f"  {line}")
     if "calibrated.yaml" in summary.result.files:
         result_line(f"wrote {Path(summary.out) / 'calibrated.yaml'}")
-    report_run(summary, "compare", overridden=bool(set_))
+    finish(summary, "compare", config, junit, strict, overridden=bool(set_))

@@ -6,8 +6,7 @@ from typing import List, Optional
 
 import typer
 
-from tirecli.cli.common import (ConfigArg, MaxSamplesOpt, OutOpt, SetOpt, max_samples, overrides, progress, report_run,
-                                result_line)
+from tirecli.cli.common import ConfigArg, JunitOpt, MaxSamplesOpt, OutOpt, SetOpt, StrictOpt, finish, result_line, run
 
 DataOpt = typer.Option(None, "--data", "-d", metavar="CSV",
                        help="Data file instead of the config's data source (columns t, v, s or romega, mu).")
@@ -18,6 +17,7 @@ MapOpt = typer.Option(None, "--map", "-m", metavar="FILE_COLUMN=NAME",
 
 def fit(config: Path = ConfigArg, out: Optional[str] = OutOpt, set_: Optional[List[str]] = SetOpt,
         data: Optional[Path] = DataOpt, map_: Optional[List[str]] = MapOpt,
+        junit: Optional[str] = JunitOpt, strict: bool = StrictOpt,
         max_samples_: Optional[str] = MaxSamplesOpt) -> None:
     """Identify sigma0, sigma2, mu_c, mu_s, v_s (and alpha) from (s, mu, v) samples, then sigma1 from the transient.
 
@@ -27,11 +27,10 @@ def fit(config: Path = ConfigArg, out: Optional[str] = OutOpt, set_: Optional[Li
     data/parameters.csv, data/correlation.csv, data/samples.csv, data/transient.csv (and data/distributed.csv,
     data/correlation_distributed.csv) and the figures.
     """
-    from tirecli.app import run_config
     from tirecli.studies.fit import overrides_for
 
-    summary = run_config("fit", config, overrides(set_) + overrides_for(str(data) if data else None, map_), out,
-                         progress(), max_samples(max_samples_))
+    summary = run("fit", config, set_, out, junit, extra=overrides_for(str(data) if data else None, map_),
+                  max_samples_=max_samples_)
     df = summary.result.data["parameters"]
     meta = summary.result.meta
     two = meta.get("distributed") is not None
@@ -48,5 +47,5 @@ def fit(config: Path = ConfigArg, out: Optional[str] = OutOpt, set_: Optional[Li
         else:
             result_line(f"  residual RMS of mu(t): {meta['distributed']['residual_rms']:.3g} "
                         f"({meta['distributed']['samples_used']} samples)")
-    report_run(summary, "fit", overridden=bool(set_))
     result_line(f"wrote {Path(summary.out) / 'fitted.yaml'}")
+    finish(summary, "fit", config, junit, strict, overridden=bool(set_))

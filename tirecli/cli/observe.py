@@ -5,8 +5,8 @@ import sys
 from pathlib import Path
 from typing import List, Optional
 
-from tirecli.cli.common import (ConfigArg, MaxSamplesOpt, OutOpt, SetOpt, echo, max_samples, overrides, progress, report_run,
-                                result_line)
+from tirecli.cli.common import (ConfigArg, JunitOpt, MaxSamplesOpt, OutOpt, SetOpt, StrictOpt, echo, finish, result_line,
+                                run)
 
 
 def _fmt(x, spec=".4g") -> str:
@@ -39,7 +39,8 @@ def metrics_table(result) -> list[str]:
 
 
 def observe(config: Path = ConfigArg, out: Optional[str] = OutOpt, set_: Optional[List[str]] = SetOpt,
-        max_samples_: Optional[str] = MaxSamplesOpt) -> None:
+            junit: Optional[str] = JunitOpt, strict: bool = StrictOpt,
+            max_samples_: Optional[str] = MaxSamplesOpt) -> None:
     """Simulate the quarter car with the nonlinear adhesion/speed observer (OBS Theorem 1).
 
     Writes run.json (metrics, design checks, warnings), data/observer.csv (t, theta, theta_hat
@@ -47,9 +48,7 @@ def observe(config: Path = ConfigArg, out: Optional[str] = OutOpt, set_: Optiona
     figures (OBS Fig. 2 by default) as PNG and SVG. Design or excitation problems are printed as
     'warning:' lines; they do not change the exit code.
     """
-    from tirecli.app import run_config
-
-    summary = run_config("observe", config, overrides(set_), out, progress(), max_samples(max_samples_))
+    summary = run("observe", config, set_, out, junit, max_samples_=max_samples_)
     res = summary.result
     for line in metrics_table(res):
         result_line(line)
@@ -57,4 +56,4 @@ def observe(config: Path = ConfigArg, out: Optional[str] = OutOpt, set_: Optiona
         echo(f"assumed: {a}")
     for w in res.meta.get("warnings", []):
         sys.stderr.write(f"warning: {w}\n")
-    report_run(summary, "observe", overridden=bool(set_))
+    finish(summary, "observe", config, junit, strict, overridden=bool(set_))

@@ -4,10 +4,11 @@ from __future__ import annotations
 from pathlib import Path
 from typing import List, Optional
 
-from tirecli.cli.common import ConfigArg, MaxSamplesOpt, OutOpt, SetOpt, max_samples, overrides, progress, report_run
+from tirecli.cli.common import ConfigArg, JunitOpt, MaxSamplesOpt, OutOpt, SetOpt, StrictOpt, finish, run
 
 
 def sweep(config: Path = ConfigArg, out: Optional[str] = OutOpt, set_: Optional[List[str]] = SetOpt,
+          junit: Optional[str] = JunitOpt, strict: bool = StrictOpt,
           max_samples_: Optional[str] = MaxSamplesOpt) -> None:
     """Steady-state friction sweep: mu over slip x speed x theta x model variant.
 
@@ -15,7 +16,5 @@ def sweep(config: Path = ConfigArg, out: Optional[str] = OutOpt, set_: Optional[
     tires data/peaks.csv (the root-found peak and sliding level of each curve) and the figures
     as PNG and SVG.
     """
-    from tirecli.app import run_config
-
-    summary = run_config("sweep", config, overrides(set_), out, progress(), max_samples(max_samples_))
-    report_run(summary, "sweep", overridden=bool(set_))
+    summary = run("sweep", config, set_, out, junit, max_samples_=max_samples_)
+    finish(summary, "sweep", config, junit, strict, overridden=bool(set_))
