@@ -115,11 +115,14 @@ def run_config(command: str, config_path: str | Path, overrides=(), out: str | P
     progress : object or None
         Progress reporter with ``start(total, label)``, ``advance(n)``, ``close()``.
     """
+    from tirecli.io.files import check_output_dir
+
     t0 = time.perf_counter()
     config = load_config(config_path, overrides)
+    out = Path(out) if out is not None else default_out(config, command)
+    check_output_dir(out, files=("run.json",))  # before the run: a bad location fails in a second, not after it
     result = run_study(config, expected=command, progress=progress)
     figs, checks = draw(result, progress=progress)
-    out = Path(out) if out is not None else default_out(config, command)
     wall = time.perf_counter() - t0
     paths = output.write_result(out, result, figs, checks, command_line(), wall, progress=progress)
     close_figures(figs)
@@ -128,9 +131,10 @@ def run_config(command: str, config_path: str | Path, overrides=(), out: str | P
 
 def show_parameter_set(ref: str) -> str:
     """Text table of a parameter set (built-in name or file): value, unit, meaning, source."""
-    from tirecli.parameters.sets import load_set
+    from tirecli.io.files import exists
+    from tirecli.parameters.sets import builtin_names, load_set
 
-    if Path(ref).is_file() and not ref.lower().endswith(".tir"):
+    if ref not in builtin_names() and exists(ref) and not ref.lower().endswith(".tir"):
         from tirecli.io.yamlio import load_yaml
 
         data, _ = load_yaml(ref)

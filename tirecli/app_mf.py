@@ -10,8 +10,9 @@ from pathlib import Path
 
 import numpy as np
 
-from tirecli.errors import DataError, RunError, UsageError
+from tirecli.errors import DataError, RunError, UsageError, token
 from tirecli.io import tir as tirio
+from tirecli.io.files import check_output_file, exists, make_dirs
 from tirecli.parameters import mf as mfp
 
 #: Columns of ``tirecli mf eval``: inputs (``p``, ``vx`` optional) and outputs, ISO-W, SI.
@@ -21,10 +22,10 @@ OUTPUT_COLUMNS = ("fx", "fy", "mz", "mx", "my")
 
 def read_document(ref: str) -> tuple[tirio.TirDocument, str]:
     """A ``.tir`` file, its YAML form, or a built-in tyre by name: ``(document, label)``."""
-    if ref in mfp.builtin_tire_names() and not Path(ref).exists():
+    if ref in mfp.builtin_tire_names() and not exists(ref):
         res = mfp.builtin_tire_resource(ref)
         return tirio.parse_tir(res.read_bytes(), f"<built-in {ref}>"), ref
-    if not Path(ref).exists() and "/" not in ref and not ref.lower().endswith((".tir", ".yaml", ".yml")):
+    if not exists(ref) and "/" not in ref and not ref.lower().endswith((".tir", ".yaml", ".yml")):
         import difflib
 
         from tirecli.parameters.sets import builtin_names
@@ -36,7 +37,7 @@ def read_document(ref: str) -> tuple[tirio.TirDocument, str]:
         names = mfp.builtin_tire_names()
         hint = difflib.get_close_matches(ref, names, n=1)
         dym = f"; did you mean {hint[0]!r}?" if hint else ""
-        raise UsageError(f"{ref}: no such file and no built-in tyre of that name{dym} (built-in: {', '.join(names)})")
+        raise UsageError(f"{token(ref)}: no such file and no built-in tyre of that name{dym} (built-in: {', '.join(names)})")
     return tirio.read_any(ref), ref
 
 
@@ -158,6 +159,8 @@ def tir_convert(ref: str, to: str, out: str | None) -> str:
 
     if to not in ("yaml", "tir"):
         raise UsageError(f"--to {to!r}: expected 'yaml' or 'tir'")
+    if out is not None:
+        check_output_file(out)
     doc, label = read_document(ref)
     mfp.tire_data(doc)  # refuse what cannot be evaluated
     if to == "yaml":
@@ -168,11 +171,10 @@ def tir_convert(ref: str, to: str, out: str | None) -> str:
         text = tirio.format_tir(doc)
     if out is None:
         return text.rstrip("\n")
-    path = Path(out)
-    if path.exists() and path.is_dir():
-        raise UsageError(f"--out {out}: is a directory")
+    path = check_output_file(out)
     from tirecli.io.output import write_text
 
+    make_dirs(path.parent)
     write_text(path, text)
     return f"wrote {path}"
 
@@ -184,7 +186,7 @@ def load_tire(ref: str, base_dir: Path | None = None):
     """``(ParameterSet, MFTire)`` of a built-in tyre name or a ``.tir``/YAML path."""
     from tirecli.parameters.sets import builtin_names, load_set
 
-    if ref not in builtin_names() and not Path(ref).exists():
+    if ref not in builtin_names() and not exists(ref):
         read_document(ref)  # raises with a did-you-mean
     ps = load_set(ref, base_dir or Path.cwd())
     if ps.kind != "magic_formula":
@@ -216,6 +218,7 @@ def mf_eval(tire_ref: str, points: str | Path, out: str | Path, convention: str 
     from tirecli.io.fastcsv import format_rows, read_lines, write_rows
     from tirecli.models.magic_formula import evaluate
 
+    check_output_file(out)
     ps, tire = load_tire(tire_ref)
     if side is not None and tire.side == "unknown" and tire.family == "mf":
         raise UsageError(f"--side {side}: the tyre {tire_ref} does not say which side it was measured on "
@@ -254,13 +257,14 @@ def mf_eval(tire_ref: str, points: str | Path, out: str | Path, convention: str 
         prefixes = None
         tails = format_rows(ins + outputs, threads=threads, keepends=True)
         how = "rewritten exactly"
-    out = Path(out)
-    if out.exists() and out.is_dir():
-        raise UsageError(f"--out {out}: is a directory")
+    out = check_output_file(out)
+    make_dirs(out.parent)
     try:
         write_rows(out, ",".join(INPUT_COLUMNS + OUTPUT_COLUMNS), prefixes, tails)
     except OSError as exc:
-        raise UsageError(f"--out {out}: cannot write ({exc.strerror})") from None
+        from tirecli.io.files import os_reason
+
+        raise UsageError(f"--out {out}: cannot write ({os_reason(exc)})") from None
     return {"points": n, "tire": ps.name, "warnings": list((ps.extra or {}).get("warnings", [])), "version": tire.version, "side": tire.side, "mirrored": res.mirrored,
             "convention": res.convention, "limits": limits, "counts": res.counts, "inputs": how, "out": str(out),
             "pressure_default": p_def if p is None else None, "speed_default": vx_def if vx is None else None}

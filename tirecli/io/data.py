@@ -8,31 +8,35 @@ column and the row (1-based data row, i.e. not counting the header).
 from __future__ import annotations
 
 import io
+import re
 import warnings
 from pathlib import Path
 
 import numpy as np
 
-from tirecli.errors import DataError
+from tirecli.errors import DataError, UsageError, clip, token
+
+#: Most column names listed in a message (a header is input too: never printed whole).
+_MAX_NAMES = 12
+
+
+def names(columns, quoted: bool = False) -> str:
+    """Column names for a message: at most a dozen, each cut to 40 characters (quoted when ``quoted``
+    or when it is not a plain name)."""
+    cols = [str(c) for c in columns]
+    shown = ", ".join(c if not quoted and c.isidentifier() and len(c) <= 40 else token(c, 40)
+                      for c in cols[:_MAX_NAMES])
+    return shown + (f", ... ({len(cols)} columns)" if len(cols) > _MAX_NAMES else "")
 
 
 def read_table(path: str | Path):
     """Read a CSV into a DataFrame of strings/numbers; DataError if missing, empty or unreadable."""
     import pandas as pd
 
+    from tirecli.io.files import read_input_text
+
     path = Path(path)
-    if not path.is_file():
-        raise DataError(f"{path}: file not found")
-    try:
-        raw = path.read_bytes()
-    except OSError as exc:
-        raise DataError(f"{path}: cannot read ({exc.strerror})") from None
-    if b"\x00" in raw[:4096]:
-        raise DataError(f"{path}: binary file, expected CSV text")
-    try:
-        text = raw.decode("utf-8-sig")
-    except UnicodeDecodeError as exc:
-        raise DataError(f"{path}: not UTF-8 text (byte {exc.start})") from None
+    text = read_input_text(path, "a CSV file", encoding="utf-8-sig")
     # whole-line comments only: pandas' comment="#" would also cut a row at a "#" inside a cell
     # (tirecli's own case labels are "braking #1", ...) and leave NaN in the rest of it
     text = text.replace("\r\n", "\n").replace("\r", "\n")  # CRLF and CR-only files
@@ -44,13 +48,13 @@ def read_table(path: str | Path):
             frame = pd.read_csv(io.StringIO(body), skipinitialspace=True, index_col=False)
     except pd.errors.EmptyDataError:
         raise DataError(f"{path}: empty file (expected a header line and data rows)") from None
-    except pd.errors.ParserError as exc:
-        raise DataError(f"{path}: cannot read as CSV ({str(exc).splitlines()[0]})") from None
+    except (pd.errors.ParserError, ValueError, OverflowError) as exc:
+        raise DataError(f"{path}: cannot read as CSV ({clip((str(exc).splitlines() or [''])[0], 120)})") from None
     frame.columns = [str(c).strip() for c in frame.columns]
     named = [c for c in header if c]  # trailing separators give unnamed, empty columns
     dupes = sorted({c for c in named if named.count(c) > 1})
     if dupes:
-        raise DataError(f"{path}: column(s) {', '.join(map(repr, dupes))} appear more than once in the header")
+        raise DataError(f"{path}: column(s) {names(dupes, quoted=True)} appear more than once in the header")
     return frame
 
 
@@ -71,28 +75,57 @@ def _check_fields(body: str, path) -> list[str]:
             extra = row[len(header):]
             if any(c.strip() for c in extra):
                 raise DataError(f"{path}: data row {no - no0} has {len(row)} fields but the header names "
-                                f"{len(header)} columns ({', '.join(header)})")
+                                f"{len(header)} columns ({names(header)})")
     except csv.Error as exc:
-        raise DataError(f"{path}: cannot read as CSV ({exc})") from None
+        raise DataError(f"{path}: cannot read as CSV ({clip(exc, 120)})") from None
     return header or []
 
 
+def _cell_float(v) -> float:
+    """One cell as a float: NaN if it is not a number, +-inf if it is one too large for a double."""
+    try:
+        return float(v)
+    except OverflowError:  # an integer beyond the double range
+        return float("inf") if v > 0 else float("-inf")
+    except (TypeError, ValueError):
+        return float("nan")
+
+
+_DECIMAL = re.compile(r"^[+-]?(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d+)?$")
+
+
+def _cell_problem(cell) -> str:
+    """What is wrong with a cell that did not give a finite number."""
+    text = str(cell).strip()
+    if isinstance(cell, int) or (_DECIMAL.match(text) and len(text) > 300) or (
+            _DECIMAL.match(text) and not np.isfinite(_cell_float(text))):
+        return f"number too large for a double ({token(text, 20)})"
+    if isinstance(cell, float) and np.isnan(cell) or not text:
+        return "empty or NaN value"
+    if isinstance(cell, float):
+        return "infinite value (or a number too large for a double)"
+    return f"not a number ({token(cell)})"
+
+
 def numeric_column(frame, name: str, path, finite: bool = True) -> np.ndarray:
-    """Column ``name`` as floats; DataError naming the first non-numeric or NaN/inf cell."""
+    """Column ``name`` as floats; DataError naming the first non-numeric, NaN, infinite or too large cell."""
     import pandas as pd
 
     col = frame[name]
-    vals = pd.to_numeric(col, errors="coerce").to_numpy(dtype=float)
+    try:
+        vals = pd.to_numeric(col, errors="coerce").to_numpy(dtype=float)
+    except (OverflowError, ValueError, TypeError):  # e.g. a 400-digit integer among the cells
+        vals = np.array([_cell_float(v) for v in col.tolist()], dtype=float)
     bad = np.flatnonzero(np.isnan(vals) & col.notna().to_numpy())
-    if bad.size:
-        i = int(bad[0])
-        raise DataError(f"{path}: column {name!r} row {i + 1}: not a number ({col.iloc[i]!r})")
-    if finite:
-        bad = np.flatnonzero(~np.isfinite(vals))
+    if not finite:
         if bad.size:
             i = int(bad[0])
-            what = "empty or NaN" if np.isnan(vals[i]) else "infinite"
-            raise DataError(f"{path}: column {name!r} row {i + 1}: {what} value")
+            raise DataError(f"{path}: column {token(name)} row {i + 1}: {_cell_problem(col.iloc[i])}")
+        return vals
+    bad = np.flatnonzero(~np.isfinite(vals))
+    if bad.size:
+        i = int(bad[0])
+        raise DataError(f"{path}: column {token(name)} row {i + 1}: {_cell_problem(col.iloc[i])}")
     return vals
 
 
@@ -129,8 +162,8 @@ def rename_columns(frame, rename: dict | None, path):
         return frame
     missing_src = [src for src in rename if src not in frame.columns]
     if missing_src:
-        raise DataError(f"{path}: mapped column(s) {', '.join(map(repr, missing_src))} not in the file "
-                        f"(columns: {', '.join(map(str, frame.columns))})")
+        raise DataError(f"{path}: mapped column(s) {names(missing_src, quoted=True)} not in the file "
+                        f"(columns: {names(frame.columns)})")
     return frame.rename(columns=rename)
 
 
@@ -141,25 +174,26 @@ def select_rows(frame, where: dict | None, path, key: str = "where"):
     """
     for col, val in (where or {}).items():
         if col not in frame.columns:
-            raise DataError(f"{path}: {key}: no column {col!r} (columns: {', '.join(map(str, frame.columns))})")
+            raise DataError(f"{path}: {key}: no column {token(col)} (columns: {names(frame.columns)})")
         frame = frame[frame[col].astype(str) == str(val)] if isinstance(val, str) else frame[frame[col] == val]
         if frame.empty:
-            raise DataError(f"{path}: {key}: no row has {col} == {val!r}")
+            raise DataError(f"{path}: {key}: no row has {token(col)} == {token(val)}")
     return frame
 
 
 def leading_comments(path: str | Path, limit: int = 20) -> list[str]:
     """The ``#`` comment lines at the top of a CSV (e.g. tirecli's ``# SYNTHETIC DATA ...`` label)."""
+    from tirecli.io.files import read_input_bytes
+
     out = []
     try:
-        with Path(path).open(encoding="utf-8", errors="replace") as fh:
-            for _ in range(limit):
-                line = fh.readline()
-                if not line.startswith("#"):
-                    break
-                out.append(line[1:].strip())
-    except OSError:
+        text = read_input_bytes(path, "a CSV file").decode("utf-8", errors="replace")
+    except UsageError:  # the reader reports the file itself
         return []
+    for line in text.splitlines()[:limit]:
+        if not line.startswith("#"):
+            break
+        out.append(line[1:].strip())
     return out
 
 
@@ -169,8 +203,8 @@ def frame_columns(frame, columns, path, increasing: str | None = None, min_rows:
     :func:`read_columns` (missing columns, non-numbers, NaN, too few rows, non-increasing time)."""
     missing = [c for c in columns if c not in frame.columns]
     if missing:
-        raise DataError(f"{path}: missing column(s) {', '.join(map(repr, missing))} "
-                        f"(file has: {', '.join(map(str, frame.columns)) or 'none'}; map names with --map FILE_COLUMN=NAME)")
+        raise DataError(f"{path}: missing column(s) {names(missing, quoted=True)} "
+                        f"(file has: {names(frame.columns) or 'none'}; map names with --map FILE_COLUMN=NAME)")
     if len(frame) < min_rows:
         raise DataError(f"{path}: too few data rows ({len(frame)}, need at least {min_rows})")
     frame = frame.reset_index(drop=True)
@@ -183,6 +217,6 @@ def frame_columns(frame, columns, path, increasing: str | None = None, min_rows:
         bad = np.flatnonzero(np.diff(t) <= 0)
         if bad.size:
             i = int(bad[0]) + 1
-            raise DataError(f"{path}: column {increasing!r} row {i + 1}: time does not increase "
+            raise DataError(f"{path}: column {token(increasing)} row {i + 1}: time does not increase "
                             f"({t[i - 1]:g} then {t[i]:g})")
     return out

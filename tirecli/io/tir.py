@@ -29,7 +29,7 @@ import re
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from tirecli.errors import ConfigError, Problem
+from tirecli.errors import ConfigError, Problem, token
 
 #: Sections holding tables (rows of numbers) rather than keys (§12.1, §12.6 step 3).
 TABLE_SECTIONS = ("SHAPE", "DEFLECTION_LOAD_CURVE", "BOTTOMING_CURVE")
@@ -158,15 +158,17 @@ def parse_value(text: str) -> tuple[object, bool]:
     if text[0] in "'\"":
         q = text[0]
         if len(text) < 2 or text[-1] != q:
-            raise ValueError(f"unterminated quoted text {text!r}")
+            raise ValueError(f"unterminated quoted text {token(text)}")
         return text[1:-1], True
     if _NUMBER.match(text):
         if _INTEGER.match(text):
+            if len(text.lstrip("+-0")) > 300:  # beyond any double: float() of it would overflow
+                raise ValueError(f"the number {token(text)} is too large ({len(text.lstrip('+-0'))} digits)")
             return int(text), False
         return float(text.replace("D", "E").replace("d", "e")), False
     if _WORD.match(text) and not text.lower() in ("nan", "inf", "infinity"):
         return text, False
-    raise ValueError(f"cannot read the value {text!r} as a number (text must be in single quotes)")
+    raise ValueError(f"cannot read the value {token(text)} as a number (text must be in single quotes)")
 
 
 def _is_number(tok: str) -> bool:
@@ -235,13 +237,13 @@ def parse_tir(data: bytes | str, file: str = "<input>") -> TirDocument:
                 sec = doc.sections[name] = TirSection(name=name, line=no)
             continue
         if line.startswith("["):
-            problems.append(doc.problem(no, "", f"cannot read the section header {line!r} (expected [NAME])"))
+            problems.append(doc.problem(no, "", f"cannot read the section header {token(line)} (expected [NAME])"))
             continue
         if "=" in line and not line.startswith(("{", "(", "'")):
             key_text, _, rest = line.partition("=")
             key = key_text.strip().upper()
             if not _KEY.match(key):
-                problems.append(doc.problem(no, "", f"cannot read the key {key_text.strip()!r} "
+                problems.append(doc.problem(no, "", f"cannot read the key {token(key_text.strip())} "
                                                     "(expected a name of letters, digits and _)"))
                 continue
             value_text, comment = _cut_comment(rest)
@@ -255,14 +257,14 @@ def parse_tir(data: bytes | str, file: str = "<input>") -> TirDocument:
                 sec = doc.sections.setdefault("", TirSection(name="", line=no))
             if key in sec.entries:
                 first = sec.entries[key]
-                same = "same value" if first.value == value else f"first value {first.value!r} kept, {value!r} ignored"
+                same = "same value" if first.value == value else f"first value {token(first.value)} kept, {token(value)} ignored"
                 doc.warnings.append(doc.problem(no, key, f"given twice in [{sec.name}] (first at line {first.line}; {same})"))
                 continue
             sec.entries[key] = TirEntry(value=value, line=no, comment=comment, quoted=quoted)
             continue
         # lines without '=': table headers, table rows, comment blocks
         if sec is None:
-            doc.warnings.append(doc.problem(no, "", f"ignored line before any [SECTION] header: {line[:40]!r}"))
+            doc.warnings.append(doc.problem(no, "", f"ignored line before any [SECTION] header: {token(line, 40)}"))
             continue
         if line.startswith("{"):
             in_comment_block = False
@@ -281,12 +283,12 @@ def parse_tir(data: bytes | str, file: str = "<input>") -> TirDocument:
             sec.table.rows.append([float(t.replace("D", "E").replace("d", "e")) for t in toks])
             continue
         doc.warnings.append(doc.problem(no, "", f"ignored line in [{sec.name}] (not KEY = value, a table row "
-                                                f"or a comment): {line[:40]!r}"))
+                                                f"or a comment): {token(line, 40)}"))
     if not doc.sections:  # then the line-by-line problems are noise: say only what the file is not
         problems = [Problem(file, None, "", "not a .tir property file: no [SECTION] header found")]
     elif problems and not set(doc.sections) & _TIR_SECTIONS:
         problems = [Problem(file, None, "", f"not a .tir property file: none of its sections "
-                                            f"({', '.join(list(doc.sections)[:4])}) is a .tir section such as "
+                                            f"({', '.join(token(s, 40) for s in list(doc.sections)[:4])}) is a .tir section such as "
                                             f"[MDI_HEADER], [UNITS] or [MODEL] ({len(problems)} unreadable lines)")]
     if problems:
         raise ConfigError(problems)

@@ -32,7 +32,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from tirecli.errors import UsageError
+from tirecli.errors import UsageError, token
 
 SHAPES = ("step", "linear", "half-cosine")
 
@@ -184,7 +184,7 @@ def expression_problem(text: str) -> str | None:
         if not isinstance(node, allowed):
             return f"not allowed in a formula: {type(node).__name__}"
         if isinstance(node, ast.Name) and node.id not in _EXPRESSION_NAMES:
-            return f"unknown name {node.id!r} (use t, pi, e and {', '.join(sorted(EXPRESSION_FUNCTIONS))})"
+            return f"unknown name {token(node.id)} (use t, pi, e and {', '.join(sorted(EXPRESSION_FUNCTIONS))})"
         if isinstance(node, ast.Call) and not (isinstance(node.func, ast.Name) and node.func.id in EXPRESSION_FUNCTIONS):
             return "only the listed functions may be called"
         if isinstance(node, ast.Constant) and not isinstance(node.value, (int, float)):
@@ -206,7 +206,7 @@ class Expression:
     def __post_init__(self):
         problem = expression_problem(self.text)
         if problem is not None:
-            raise ValueError(f"formula {self.text!r}: {problem}")
+            raise ValueError(f"formula {token(self.text)}: {problem}")
         import ast
 
         object.__setattr__(self, "_code", compile(ast.parse(self.text, mode="eval"), "<formula>", "eval"))
@@ -220,10 +220,10 @@ class Expression:
             with np.errstate(all="ignore"):
                 out = np.broadcast_to(np.asarray(eval(self._code, env), dtype=float), tarr.shape)  # noqa: S307 - checked AST
         except (ArithmeticError, ValueError, TypeError) as exc:
-            raise UsageError(f"formula {self.text!r} cannot be evaluated at t = {_first(tarr):g} s: {exc}") from None
+            raise UsageError(f"formula {token(self.text)} cannot be evaluated at t = {_first(tarr):g} s: {exc}") from None
         bad = ~np.isfinite(out)
         if bad.any():
-            raise UsageError(f"formula {self.text!r} gives {float(np.asarray(out)[bad].flat[0])} at "
+            raise UsageError(f"formula {token(self.text)} gives {float(np.asarray(out)[bad].flat[0])} at "
                              f"t = {_first(tarr[bad] if tarr.ndim else tarr):g} s")
         return np.array(out) if np.ndim(t) else float(out)
 
@@ -363,7 +363,7 @@ def _post_expr(v, path, ctx):
         try:
             Expression(v["expr"])(0.0)
         except UsageError as exc:
-            prefix = f"formula {v['expr']!r} "
+            prefix = f"formula {token(v['expr'])} "
             problem = str(exc)[len(prefix):] if str(exc).startswith(prefix) else str(exc)
     if problem is not None:
         ctx.fail(path + ("expr",), problem)

@@ -28,7 +28,7 @@ from dataclasses import dataclass, field
 from importlib import resources
 from pathlib import Path
 
-from tirecli.errors import ConfigError, Problem
+from tirecli.errors import ConfigError, Problem, token
 from tirecli.io import tir as tirio
 from tirecli.models.magic_formula.axes import normalise_side
 from tirecli.models.magic_formula.tire import RANGE_KEYS, MFTire, complete_coefficients, family
@@ -141,7 +141,7 @@ def _unit_factors(doc: tirio.TirDocument, problems: list) -> tuple[dict, dict]:
         if u not in table:
             hint = difflib.get_close_matches(u, list(table), n=1)
             dym = f"; did you mean {hint[0]!r}?" if hint else ""
-            problems.append(doc.problem(e.line, name, f"unknown unit {e.value!r}{dym} (known: {', '.join(table)})"))
+            problems.append(doc.problem(e.line, name, f"unknown unit {token(e.value)}{dym} (known: {', '.join(table)})"))
             factors[name] = 1.0
         else:
             factors[name] = table[u]
@@ -179,7 +179,7 @@ def detect_version(doc: tirio.TirDocument, flat: dict) -> tuple[str | None, str,
                 doc.warnings.append(doc.problem(e.line, "FITTYP", f"FITTYP = {int(v)} is evaluated with the "
                                                                   f"{table[int(v)]} equations"))
             return table[int(v)], how, problems
-        problems.append(doc.problem(e.line, "FITTYP", f"unknown Magic Formula version {v!r} "
+        problems.append(doc.problem(e.line, "FITTYP", f"unknown Magic Formula version {token(v)} "
                                                       "(expected 61, 62 for MF 6.1/6.2 or 6, 21 for MF 5.2)"))
         return None, "", problems
     pff = doc.find("PROPERTY_FILE_FORMAT")
@@ -254,7 +254,7 @@ def tire_data(doc: tirio.TirDocument) -> TireData:
                 text.setdefault(key, e.value)
                 continue
             if not e.is_number:
-                problems.append(doc.problem(e.line, key, f"expected a number [{info.unit}], got the text {e.value!r}"))
+                problems.append(doc.problem(e.line, key, f"expected a number [{info.unit}], got the text {token(e.value)}"))
                 continue
             if key in flat:
                 warnings.append(doc.problem(e.line, key, f"also given in [{lines[key][1]}] (line {lines[key][0]}); "
@@ -276,9 +276,9 @@ def tire_data(doc: tirio.TirDocument) -> TireData:
     ang = units.get("ANGLE")
     if ang is not None and factors["ANGLE"] != 1.0 and fam == "mf":
         e = doc.entry("UNITS", "ANGLE")
-        problems.append(doc.problem(e.line, "ANGLE", f"ANGLE = {ang!r}: MF coefficients are read in radians only; "
+        problems.append(doc.problem(e.line, "ANGLE", f"ANGLE = {token(ang)}: MF coefficients are read in radians only; "
                                                      "the coefficients that multiply angles (PKY*, PHY*, QHZ*, RBY3, ...) "
-                                                     "would need converting too (magic_formula.md §12.5 item 8)"))
+                                                     "would need converting too"))
     coef, missing, defaulted = complete_coefficients(flat, version, turn_slip=False)
     hint = ""
     if doc.ends_mid_line or missing:

@@ -64,7 +64,7 @@ def build_report(out: str | Path, only=None, progress=None) -> dict:
     t_start = time.perf_counter()
     reg = load_all()
     entries = _select(reg, only)
-    out = output.prepare_dir(out)
+    out = output.prepare_dir(out, ("index.html", "summary.json"))
     studies = list(dict.fromkeys(f.study for f in entries))
     results, errors, timings = {}, {}, {}
     if progress is not None:

@@ -49,7 +49,8 @@ import pandas as pd
 
 from tirecli.config.loader import Config, load_config
 from tirecli.config.schema import AnyOf, Bool, ListOf, Map, Num, Raw, Spec, Str, collect
-from tirecli.errors import ConfigError, DataError
+from tirecli.errors import ConfigError, DataError, token
+from tirecli.io.files import exists
 from tirecli.io.yamlio import dump_yaml
 from tirecli.numerics import identify, runs
 from tirecli.models.profiles import Constant, Table
@@ -192,27 +193,29 @@ def _simulate_frame(d: dict, base_dir: Path):
     if d["cases"]:
         keep = set(d["cases"])
         raw_cases = sim.data.get("cases") or []
-        labels = [c.get("label") if isinstance(c, dict) else None for c in raw_cases]
+        labels = [c.get("label") if isinstance(c, dict) and isinstance(c.get("label"), str) else None
+                  for c in (raw_cases if isinstance(raw_cases, list) else [])]
         missing = keep - set(lab for lab in labels if lab)
         if missing:
-            raise DataError(f"{sim.label}: no case(s) labelled {', '.join(map(repr, sorted(missing)))}")
+            raise DataError(f"{sim.label}: no case(s) labelled {', '.join(map(token, sorted(map(str, missing))))}")
         sim.data["cases"] = [c for c, lab in zip(raw_cases, labels) if lab in keep]
         sim.data.pop("open_loop", None)
         meas = sim.data.get("measurement")
-        if isinstance(meas, dict) and meas.get("cases"):
-            idx = [i for i, lab in enumerate(meas["cases"]) if lab in keep]
+        if isinstance(meas, dict) and isinstance(meas.get("cases"), list):  # (checked by the simulate study)
+            idx = [i for i, lab in enumerate(meas["cases"]) if isinstance(lab, str) and lab in keep]
             meas["cases"] = [meas["cases"][i] for i in idx]
-            if meas.get("record_starts"):
-                meas["record_starts"] = [meas["record_starts"][i] for i in idx]
+            starts = meas.get("record_starts")
+            if isinstance(starts, list) and starts:
+                meas["record_starts"] = [starts[i] for i in idx if i < len(starts)]
     res = run_simulate(sim)
     if d["frame"] not in res.data:
-        raise DataError(f"{sim.label}: no frame {d['frame']!r} (frames: {', '.join(res.data)})")
+        raise DataError(f"{sim.label}: no frame {token(d['frame'])} (frames: {', '.join(res.data)})")
     return res.data[d["frame"]].copy(), res.synthetic, f"{d['frame']} of simulate config {sim.label}"
 
 
 def load_samples(d: dict, base_dir: Path) -> dict:
     """The selected samples: ``t, v, s, mu`` arrays (plus source description and synthetic flag)."""
-    from tirecli.io.data import frame_columns, leading_comments, read_table, rename_columns, select_rows
+    from tirecli.io.data import frame_columns, leading_comments, names, read_table, rename_columns, select_rows
     from tirecli.io.output import SYNTHETIC_NOTE
 
     if d["csv"] is not None:
@@ -233,7 +236,7 @@ def load_samples(d: dict, base_dir: Path) -> dict:
     if not has_s:
         if "romega" not in cols:
             raise DataError(f"{where_name}: missing column 's' (slip) and no 'romega' to compute it "
-                            f"(file has: {', '.join(map(str, frame.columns))}; map names with --map FILE_COLUMN=NAME)")
+                            f"(file has: {names(frame.columns)}; map names with --map FILE_COLUMN=NAME)")
         from tirecli.conventions import slip_from_speeds
 
         cols["s"] = slip_from_speeds(cols["v"], cols["romega"], 1.0)
@@ -267,9 +270,9 @@ def plan(config: Config):
     d = checked["data"]
     if d["simulate"] is not None and d["simulate"] not in builtin_config_names():
         p = Path(d["simulate"])
-        if not (p if p.is_absolute() else config.base_dir / p).is_file():
+        if not exists(p if p.is_absolute() else config.base_dir / p):
             raise ConfigError(config.origins.problem(("data", "simulate"),
-                                                     f"no built-in simulate config or file {d['simulate']!r} "
+                                                     f"no built-in simulate config or file {token(d['simulate'])} "
                                                      f"(built-in: {', '.join(builtin_config_names())})"))
     return checked, tire, vehicle
 

@@ -36,7 +36,7 @@ import pandas as pd
 
 from tirecli.config.loader import Config
 from tirecli.config.schema import AnyOf, Bool, Grid, ListOf, Map, Nullable, Num, Raw, Str, collect
-from tirecli.errors import ConfigError, RunError
+from tirecli.errors import ConfigError, RunError, token
 from tirecli.studies.base import StudyResult, common_fields, register_study
 
 DEFAULT_TIRE = "sorine2000-mcps"
@@ -719,7 +719,7 @@ def plan_relaxation(config: Config):
         n = _cells(p, checked, c)
         steps = checked["distance"] / (p.patch(checked["fz"]).l / n)
         if n * steps > MAX_ELEMENT_STEPS:
-            raise ConfigError(config.origins.problem((), f"case {c.label!r}: the run needs {n} cells x {steps:.3g} steps "
+            raise ConfigError(config.origins.problem((), f"case {token(c.label)}: the run needs {n} cells x {steps:.3g} steps "
                                                          f"(speed {checked['speed']:g} m/s, distance {checked['distance']:g} m), "
                                                          f"over the budget of {MAX_ELEMENT_STEPS:.0e} element-steps (short "
                                                          "relaxation lengths at large slip angles and the belt's fast modes at "
@@ -765,7 +765,7 @@ def run_relaxation(config: Config, progress=None) -> StudyResult:
         n = _cells(p, checked, c)
         st = solve(p, fz, [0.0], [a], [0.0], carcass=c.carcass, locked=c.locked)
         if not st.converged.all():
-            raise RunError(f"case {c.label!r}: the stationary fixed point (MCPS eq. 18) did not converge at alpha = {a:g} "
+            raise RunError(f"case {token(c.label)}: the stationary fixed point (MCPS eq. 18) did not converge at alpha = {a:g} "
                            "rad; nothing was written")
         fy_inf, mz_inf = float(st.fy[0]), float(st.mz[0])
         run = simulate_rolling(p, fz, V, V * math.tan(a), V, 0.0, dist, cells=n, carcass=c.carcass, locked=c.locked,

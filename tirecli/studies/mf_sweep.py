@@ -42,7 +42,7 @@ import pandas as pd
 from tirecli.config.loader import Config
 from tirecli.config.schema import Bool, Grid, Map, Num, Raw, Str, check_document, collect
 from tirecli.conventions import kappa_from_slip, slip_from_kappa
-from tirecli.errors import ConfigError
+from tirecli.errors import ConfigError, token
 from tirecli.studies.base import StudyResult, common_fields
 
 FAMILIES = ("fx-kappa", "fy-alpha", "camber", "combined-alpha", "combined-kappa", "compare")
@@ -123,7 +123,7 @@ def plan(config: Config):
         raise ConfigError(config.origins.problem(("side",), f"the tyre {ps.name} has no TYRESIDE, so it cannot be mirrored"))
     foreign = [f for f in (checked["figures"] or []) if not f.startswith("mf-")]
     if foreign:
-        raise ConfigError(config.origins.problem(("figures",), f"figure {foreign[0]!r} draws a LuGre sweep; a Magic "
+        raise ConfigError(config.origins.problem(("figures",), f"figure {token(foreign[0])} draws a LuGre sweep; a Magic "
                                                                "Formula sweep draws the mf-* figures (tirecli figures list)"))
     if checked["sweep"]["speed"] is None and t.family == "mf" and t.reference_speed is None:
         raise ConfigError(config.origins.problem(("sweep",), "missing 'speed': the tyre has no LONGVL to default to"))

@@ -46,7 +46,7 @@ import pandas as pd
 from tirecli.config.loader import Config
 from tirecli.config.schema import AnyOf, ListOf, Map, Nullable, Num, Raw, Str, collect
 from tirecli.conventions import THETA_CONVENTIONS, omega_from_slip, slip_from_speeds
-from tirecli.errors import ConfigError, DataError
+from tirecli.errors import ConfigError, DataError, token
 from tirecli.models.profiles import Constant, Table, profile_from_checked, profile_spec
 from tirecli.models.variants import MODELS
 from tirecli.numerics import runs
@@ -393,23 +393,23 @@ def plan(config: Config):
     labels = [c.label for c in cases]
     for i, c in enumerate(cases):
         if labels.count(c.label) > 1:
-            problems.append(config.origins.problem(("cases", i), f"two cases share the label {c.label!r}; give each a distinct 'label'"))
+            problems.append(config.origins.problem(("cases", i), f"two cases share the label {token(c.label)}; give each a distinct 'label'"))
             break
     coupled = [c.label for c in cases if c.mode == "coupled"]
     for i, c in enumerate(cases):
         if c.drive_case is not None and c.drive_case not in coupled:
             problems.append(config.origins.problem(("cases", i, "drive", "case"),
-                                                   f"no coupled case labelled {c.drive_case!r} (coupled cases: {', '.join(coupled) or 'none'})"))
+                                                   f"no coupled case labelled {token(c.drive_case)} (coupled cases: {', '.join(coupled) or 'none'})"))
     ol = checked["open_loop"]
     if ol is not None:
         for j, lab in enumerate(ol["cases"] or []):
             if lab not in coupled:
-                problems.append(config.origins.problem(("open_loop", "cases", j), f"no coupled case labelled {lab!r}"))
+                problems.append(config.origins.problem(("open_loop", "cases", j), f"no coupled case labelled {token(lab)}"))
     meas = checked["measurement"]
     if meas is not None:
         for j, lab in enumerate(meas["cases"] or []):
             if lab not in coupled:
-                problems.append(config.origins.problem(("measurement", "cases", j), f"no coupled case labelled {lab!r}"))
+                problems.append(config.origins.problem(("measurement", "cases", j), f"no coupled case labelled {token(lab)}"))
         n = len(meas["cases"] or coupled)
         if meas["record_starts"] is not None and len(meas["record_starts"]) != n:
             problems.append(config.origins.problem(("measurement", "record_starts"),

@@ -41,7 +41,7 @@ import pandas as pd
 from tirecli.config.loader import Config
 from tirecli.config.schema import AnyOf, Context, Grid, ListOf, Map, Num, Raw, Str, collect
 from tirecli.conventions import THETA_CONVENTIONS, speeds_from_slip, theta_obs_from_fm, to_theta_fm
-from tirecli.errors import ConfigError
+from tirecli.errors import ConfigError, token
 from tirecli.models import lugre
 from tirecli.models.steady_peaks import curve_peaks
 from tirecli.models.variants import LOADS, MODELS, FrictionVariant
@@ -209,7 +209,7 @@ def plan(config: Config):
     labels = [v.label for v in variants]
     if len(set(labels)) != len(labels):
         dup = next(l for l in labels if labels.count(l) > 1)
-        raise ConfigError(config.origins.problem(("sweep", "models"), f"two models share the label {dup!r}; give each a distinct 'label'"))
+        raise ConfigError(config.origins.problem(("sweep", "models"), f"two models share the label {token(dup)}; give each a distinct 'label'"))
     thetas_fm = [float(t) for t in to_theta_fm(sw["theta"], sw["theta_convention"])]
     return checked, tire, variants, thetas_fm
 
