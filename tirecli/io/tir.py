@@ -25,6 +25,7 @@ numbers, strings as strings), tables, inline descriptions and the leading commen
 """
 from __future__ import annotations
 
+import math
 import re
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -165,7 +166,10 @@ def parse_value(text: str) -> tuple[object, bool]:
             if len(text.lstrip("+-0")) > 300:  # beyond any double: float() of it would overflow
                 raise ValueError(f"the number {token(text)} is too large ({len(text.lstrip('+-0'))} digits)")
             return int(text), False
-        return float(text.replace("D", "E").replace("d", "e")), False
+        value = float(text.replace("D", "E").replace("d", "e"))
+        if not math.isfinite(value):  # 1e999: beyond any double
+            raise ValueError(f"the number {token(text)} is too large (beyond 1.8e308)")
+        return value, False
     if _WORD.match(text) and not text.lower() in ("nan", "inf", "infinity"):
         return text, False
     raise ValueError(f"cannot read the value {token(text)} as a number (text must be in single quotes)")

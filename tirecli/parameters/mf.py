@@ -328,7 +328,12 @@ def _value_checks(doc, coef, fam, version, lines, problems, warnings):
             if key in coef and not coef[key] > 0:
                 problems.append(doc.problem(where(key), key, f"must be > 0, got {coef[key]:g}"))
         if "LONGVL" not in coef:
-            warnings.append(Problem(doc.file, None, "LONGVL", "no reference speed LONGVL: give vx with every evaluation"))
+            speed_terms = [k for k in ("QSY3", "QSY4") if coef.get(k)]
+            if speed_terms:  # My needs V0 (rolling resistance grows with vx / LONGVL)
+                problems.append(Problem(doc.file, None, "LONGVL", f"missing, but {'/'.join(speed_terms)} (rolling "
+                                                                  "resistance with speed) need the reference speed"))
+            else:
+                warnings.append(Problem(doc.file, None, "LONGVL", "no reference speed LONGVL: give vx with every evaluation"))
         if version != "5.2" and "NOMPRES" not in coef:
             used = sorted(k for k, v in coef.items() if _PRESSURE_KEYS.match(k) and v)
             if used:

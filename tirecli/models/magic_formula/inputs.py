@@ -93,7 +93,8 @@ def prepare(t, kappa, alpha, gamma, fz, vx, p, phit=None, limits=True, low_speed
         # My near the locked wheel / standstill (mfeval): sine ramp between lo and hi, flip below lo
         counts["my_standstill"] = 0
         if need_my:
-            hi = np.where(avx > 0, vxlow / np.where(avx > 0, avx, 1.0) - 1.0, math.inf)
+            with np.errstate(over="ignore", divide="ignore"):  # |vx| -> 0: the window grows without bound
+                hi = np.where(avx > 0, vxlow / np.where(avx > 0, avx, 1.0) - 1.0, math.inf)
             lo = -1.0 - vxlow - hi
             in_win = (kappa_raw >= lo) & (kappa_raw <= hi) & (avx > 0)
             below = (kappa_raw < lo) & (avx > 0)
