@@ -12,7 +12,7 @@ import numpy as np
 
 from tirecli.errors import DataError, RunError, UsageError, token
 from tirecli.io import tir as tirio
-from tirecli.io.files import check_output_file, exists, make_dirs
+from tirecli.io.files import check_output_file, exists
 from tirecli.parameters import mf as mfp
 
 #: Columns of ``tirecli mf eval``: inputs (``p``, ``vx`` optional) and outputs, ISO-W, SI.
@@ -171,12 +171,12 @@ def tir_convert(ref: str, to: str, out: str | None) -> str:
         text = tirio.format_tir(doc)
     if out is None:
         return text.rstrip("\n")
-    path = check_output_file(out)
+    from tirecli.io.atomic import staged_file
     from tirecli.io.output import write_text
 
-    make_dirs(path.parent)
-    write_text(path, text)
-    return f"wrote {path}"
+    with staged_file(out) as tmp:
+        write_text(tmp, text)
+    return f"wrote {out}"
 
 
 # --------------------------------------------------------------------------- mf eval
@@ -214,11 +214,20 @@ def mf_eval(tire_ref: str, points: str | Path, out: str | Path, convention: str 
     input (missing column, non-numeric or NaN cell, p <= 0) is a DataError naming the column and
     row, and nothing is written.
     """
+    from tirecli.io.atomic import staged_file
+
+    check_output_file(out)  # before the run: a bad location fails at once, naming it
+    with staged_file(out) as tmp:  # the lock of ``out``; ``out`` replaced only by a complete result
+        s = _evaluate_points(tire_ref, points, tmp, convention, side, limits, mapping, threads)
+    return {**s, "out": str(out)}
+
+
+def _evaluate_points(tire_ref, points, out: Path, convention, side, limits, mapping, threads) -> dict:
+    """:func:`mf_eval` writing to ``out`` (its staging file)."""
     from tirecli.io.data import read_columns
     from tirecli.io.fastcsv import format_rows, read_lines, write_rows
     from tirecli.models.magic_formula import evaluate
 
-    check_output_file(out)
     ps, tire = load_tire(tire_ref)
     if side is not None and tire.side == "unknown" and tire.family == "mf":
         raise UsageError(f"--side {side}: the tyre {tire_ref} does not say which side it was measured on "
@@ -257,14 +266,7 @@ def mf_eval(tire_ref: str, points: str | Path, out: str | Path, convention: str 
         prefixes = None
         tails = format_rows(ins + outputs, threads=threads, keepends=True)
         how = "rewritten exactly"
-    out = check_output_file(out)
-    make_dirs(out.parent)
-    try:
-        write_rows(out, ",".join(INPUT_COLUMNS + OUTPUT_COLUMNS), prefixes, tails)
-    except OSError as exc:
-        from tirecli.io.files import os_reason
-
-        raise UsageError(f"--out {out}: cannot write ({os_reason(exc)})") from None
+    write_rows(out, ",".join(INPUT_COLUMNS + OUTPUT_COLUMNS), prefixes, tails)
     return {"points": n, "tire": ps.name, "warnings": list((ps.extra or {}).get("warnings", [])), "version": tire.version, "side": tire.side, "mirrored": res.mirrored,
             "convention": res.convention, "limits": limits, "counts": res.counts, "inputs": how, "out": str(out),
             "pressure_default": p_def if p is None else None, "speed_default": vx_def if vx is None else None}

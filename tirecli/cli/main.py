@@ -2,14 +2,17 @@
 
 Exit codes: 0 success; 1 run failure (numerical failure, failed checks under ``--strict``,
 internal error); 2 usage, input or environment error (bad option, bad config, bad data file, an
-unusable input or output path); 130 interrupted. Errors print one line each on stderr without a
-traceback (at most the offending token of an input, see :mod:`tirecli.errors`); ``--debug`` shows
-the traceback.
+unusable input or output path); 130 Ctrl-C (or SIGTERM). Errors print one line each on stderr
+without a traceback (at most the offending token of an input, see :mod:`tirecli.errors`);
+``--debug`` shows the traceback. A run that fails or is interrupted leaves its earlier outputs as
+they were and says so.
 """
 from __future__ import annotations
 
 import errno
+import signal
 import sys
+import threading
 import traceback
 
 import typer
@@ -57,10 +60,15 @@ app.add_typer(mf.app, name="mf")
 
 
 def _error(msg) -> None:
-    """Print an error: one ``error:`` line per problem, each sanitized (see :func:`tirecli.errors.error_lines`)."""
-    from tirecli.errors import error_lines
+    """Print an error: one ``error:`` line per problem, each sanitized (see :func:`tirecli.errors.error_lines`);
+    the note of a failed run (what it kept) joins the last."""
+    from tirecli.errors import clean_line, error_lines
 
-    for line in error_lines(msg if isinstance(msg, BaseException) else Exception(str(msg))):
+    lines = error_lines(msg if isinstance(msg, BaseException) else Exception(str(msg)))
+    note = getattr(msg, "tirecli_note", None)
+    if note:
+        lines[-1] += f"; {clean_line(note)}"
+    for line in lines:
         sys.stderr.write(f"error: {line}\n")
 
 
@@ -98,6 +106,32 @@ def _os_error_line(exc: OSError) -> str:
     return f"{show_path(name)}: {reason}"
 
 
+class _CtrlC:
+    """Notes a Ctrl-C (then raises KeyboardInterrupt as Python does), so that an interrupt Typer
+    turned into an exit code is reported as one: one line, exit 130. SIGTERM (``kill``, ``timeout``)
+    is handled as Ctrl-C, so a run stopped either way keeps the earlier results and removes its
+    staging. A signal ignored at start (SIGINT in a background job) stays ignored."""
+
+    def __init__(self):
+        self.seen = False
+        self.old = {}
+
+    def __enter__(self):
+        if threading.current_thread() is threading.main_thread():
+            for sig, default in ((signal.SIGINT, signal.default_int_handler), (signal.SIGTERM, signal.SIG_DFL)):
+                if signal.getsignal(sig) is default:
+                    self.old[sig] = signal.signal(sig, self._handle)
+        return self
+
+    def _handle(self, signum, frame):
+        self.seen = True
+        raise KeyboardInterrupt
+
+    def __exit__(self, *exc):
+        for sig, handler in self.old.items():
+            signal.signal(sig, handler)
+
+
 def main(argv: list[str] | None = None) -> int:
     """Entry point of the ``tirecli`` script; returns (and exits with) the exit code.
 
@@ -106,8 +140,10 @@ def main(argv: list[str] | None = None) -> int:
     (:class:`~tirecli.errors.UsageError`, a command-line error, a file-system error such as a read-only
     output location); 130 interrupted.
     """
-    from tirecli.errors import TirecliError
+    from tirecli.errors import Interrupted, TirecliError
+    from tirecli.io.files import forget_inputs
 
+    forget_inputs()
     click = _click()  # the exception classes, looked up before anything can fail
     no_args_help = getattr(click.exceptions, "NoArgsIsHelpError", ())
     usage_error = getattr(click.exceptions, "UsageError", ())
@@ -118,15 +154,20 @@ def main(argv: list[str] | None = None) -> int:
     common.STATE["quiet"] = "--quiet" in args or "-q" in args
     args = [a for a in args if a not in ("--debug", "--quiet", "-q")]
     code = 0
+    ctrl_c = _CtrlC()
     try:
-        rv = app(args=args, prog_name="tirecli", standalone_mode=False)
+        with ctrl_c:
+            rv = app(args=args, prog_name="tirecli", standalone_mode=False)
         code = rv if isinstance(rv, int) and not isinstance(rv, bool) else 0
     except SystemExit as exc:
         code = exc.code if isinstance(exc.code, int) else (0 if exc.code is None else 1)
+        if ctrl_c.seen and code != 0:  # Typer's own handling of a Ctrl-C outside a run
+            _error("interrupted")
+            code = 130
     except TirecliError as exc:
         _error(exc)
         code = exc.exit_code
-        if common.STATE["debug"]:
+        if common.STATE["debug"] and not isinstance(exc, Interrupted):
             traceback.print_exc()
     except no_args_help as exc:  # 'tirecli' or 'tirecli tir' alone: the help, exit 2
         exc.show()
@@ -163,7 +204,9 @@ def main(argv: list[str] | None = None) -> int:
 def _internal(exc: BaseException) -> None:
     from tirecli.errors import clip
 
-    _error(f"internal error: {type(exc).__name__}: {clip(str(exc), 200)} (run with --debug for the traceback)")
+    note = getattr(exc, "tirecli_note", None)
+    _error(f"internal error: {type(exc).__name__}: {clip(str(exc), 200)} (run with --debug for the traceback)"
+           + (f"; {note}" if note else ""))
     if common.STATE["debug"]:
         traceback.print_exc()
 

@@ -20,10 +20,23 @@ from tirecli.errors import DataError, UsageError, clip, token
 _MAX_NAMES = 12
 
 
+#: A column name as people write them (``mu``, ``v [m/s]``, ``Fx (N)``, ``slip %``); anything else in a
+#: header is not echoed: a file that is not a CSV table (a password file, a log) would have its first
+#: line printed as "the column names".
+_PLAIN_NAME = re.compile(r"[\w .,/()\[\]%+-]{1,40}")
+
+
 def names(columns, quoted: bool = False) -> str:
     """Column names for a message: at most a dozen, each cut to 40 characters (quoted when ``quoted``
-    or when it is not a plain name)."""
+    or when it is not a plain name). Names read from a file (``quoted`` False) that do not look like
+    column names are counted, not shown."""
     cols = [str(c) for c in columns]
+    if not quoted:
+        hidden = sum(not _PLAIN_NAME.fullmatch(c) for c in cols)
+        cols = [c for c in cols if _PLAIN_NAME.fullmatch(c)]
+        if hidden:
+            rest = f"{hidden} header field(s) that do not look like column names, not shown"
+            return (names(cols) + "; " + rest) if cols else rest
     shown = ", ".join(c if not quoted and c.isidentifier() and len(c) <= 40 else token(c, 40)
                       for c in cols[:_MAX_NAMES])
     return shown + (f", ... ({len(cols)} columns)" if len(cols) > _MAX_NAMES else "")
@@ -60,21 +73,22 @@ def read_table(path: str | Path):
 
 def _check_fields(body: str, path) -> list[str]:
     """The header's column names, as written (pandas renames a repeated ``fz`` to ``fz.1``);
-    DataError when a data row has more fields than the header names (pandas would silently
-    shift the columns, or drop the extra cells)."""
+    DataError naming the first data row whose number of fields differs from the header's (pandas
+    would shift the columns, drop extra cells or fill missing ones with NaN; a trailing comma on a
+    row is such a field). Blank lines are skipped, rows counted as in every other message."""
     import csv
 
-    header = None
+    header, row_no = None, 0
     try:
-        for no, row in enumerate(csv.reader(io.StringIO(body, newline=""), skipinitialspace=True), start=0):
-            if not row or not any(c.strip() for c in row):
+        for row in csv.reader(io.StringIO(body, newline=""), skipinitialspace=True):
+            if not row or (len(row) == 1 and not row[0].strip()):
                 continue
             if header is None:
-                header, no0 = [c.strip() for c in row], no
+                header = [c.strip() for c in row]
                 continue
-            extra = row[len(header):]
-            if any(c.strip() for c in extra):
-                raise DataError(f"{path}: data row {no - no0} has {len(row)} fields but the header names "
+            row_no += 1
+            if len(row) != len(header):
+                raise DataError(f"{path}: data row {row_no} has {len(row)} fields but the header names "
                                 f"{len(header)} columns ({names(header)})")
     except csv.Error as exc:
         raise DataError(f"{path}: cannot read as CSV ({clip(exc, 120)})") from None

@@ -6,10 +6,14 @@ long, a permission problem or a symlink loop is a :class:`~tirecli.errors.Config
 file; the file is stat-ed before it is opened and opened without blocking, so nothing waits on a
 FIFO or reads an endless device.
 
-Writing (:func:`check_output_dir`, :func:`check_output_file`, :func:`make_dirs`): an output location
-is checked before a run starts: missing parents are created when the files are written, a parent
-that is a file, a read-only location, a target that is a directory (``run.json`` as a directory) or
-a device, and names too long are :class:`~tirecli.errors.UsageError` naming the path.
+Every input file read is recorded (:func:`note_input`, :func:`inputs_read`): an output never
+overwrites or removes one.
+
+Writing (:func:`check_output_dir`, :func:`check_output_file`): an output location is checked
+before a run starts (missing parents are created when the files are written, by
+:mod:`tirecli.io.atomic`): a parent that is a file, a read-only location, a target that is a
+directory (``run.json`` as a directory) or a device, and names too long are
+:class:`~tirecli.errors.UsageError` naming the path.
 """
 from __future__ import annotations
 
@@ -23,6 +27,26 @@ from tirecli.errors import ConfigError, Problem, UsageError, token
 
 #: Longest path text printed whole in a message; longer ones are shortened in the middle.
 _SHOW_PATH = 160
+
+
+_INPUTS: set[str] = set()
+
+
+def note_input(path: str | Path) -> None:
+    """Record that ``path`` is an input of this run (every reader of :mod:`tirecli.io` calls this)."""
+    try:
+        _INPUTS.add(os.path.realpath(path))
+    except (OSError, ValueError):  # a NUL byte or an unusable name: the reader reports it
+        pass
+
+
+def inputs_read() -> frozenset[str]:
+    """Real paths of the input files read since :func:`forget_inputs` (the start of the command)."""
+    return frozenset(_INPUTS)
+
+
+def forget_inputs() -> None:
+    _INPUTS.clear()
 
 
 def show_path(path) -> str:
@@ -114,6 +138,7 @@ def read_input_bytes(path: str | Path, expected: str) -> bytes:
         What the file should be, for the message (e.g. ``"a YAML file"``).
     """
     _check_name(path)
+    note_input(path)
     try:
         st = os.stat(path)
     except FileNotFoundError:
@@ -231,12 +256,13 @@ def _probe_writable(directory: Path, option: str, target: Path) -> None:
         pass
 
 
-def _check_names(path: Path, option: str) -> None:
+def _check_names(path, option: str) -> None:
     text = str(path)
     if not text.strip():
-        raise UsageError(f"{option} '': empty path (give a file or directory name)")
+        raise UsageError(f"{option} '': empty; give the path to write to")
     if "\x00" in text:
         raise _output_error(option, text.replace("\x00", "\\0"), "the name contains a NUL byte")
+    path = Path(text)
     try:
         max_name = os.pathconf(_nearest_dir_text(path), "PC_NAME_MAX")
     except (OSError, ValueError):
@@ -253,18 +279,22 @@ def _nearest_dir_text(path: Path) -> str:
     return str(cur)
 
 
-def check_output_dir(out: str | Path, option: str = "--out", files=()) -> Path:
+def check_output_dir(out: str | Path, option: str = "--out", files=(), dirs=()) -> Path:
     """Check an output directory before a run: it (or its nearest existing parent, where it will be
-    created) is a writable directory, and ``files`` (paths relative to ``out``) are not directories
-    or devices there. Nothing is created; UsageError naming the path otherwise."""
+    created) is a writable directory, ``files`` (paths relative to ``out``) are not directories or
+    devices there and ``dirs`` are directories or absent. Nothing is created; UsageError naming the
+    path otherwise."""
+    _check_names(out, option)  # before Path(): Path('') is the current directory
     out = Path(out)
-    _check_names(out, option)
     base, _ = _nearest_existing(out, option, out)
     if base == out and not out.is_dir():
         raise _output_error(option, out, "exists and is not a directory")
     _probe_writable(base, option, out)
     if base == out:
         check_output_files(out, files, option)
+        for rel in dirs:
+            if (out / rel).exists() and not (out / rel).is_dir():
+                raise _output_error(option, out, f"{show_path(out / rel)} exists and is not a directory")
     return out
 
 
@@ -292,8 +322,8 @@ def check_output_files(out: Path, files, option: str = "--out") -> None:
 def check_output_file(path: str | Path, option: str = "--out") -> Path:
     """Check an output file's location before a run: not a directory or a device, its directory (or the
     nearest existing parent, where the directories will be created) writable. Nothing is created."""
+    _check_names(path, option)  # before Path(): Path('') is the current directory
     path = Path(path)
-    _check_names(path, option)
     try:
         st = os.stat(path)
     except (FileNotFoundError, NotADirectoryError):
@@ -308,17 +338,3 @@ def check_output_file(path: str | Path, option: str = "--out") -> Path:
     base, _ = _nearest_existing(path.parent if str(path.parent) else Path("."), option, path)
     _probe_writable(base, option, path)
     return path
-
-
-def make_dirs(directory: str | Path, option: str = "--out") -> Path:
-    """Create ``directory`` and its missing parents; UsageError naming the path on failure."""
-    directory = Path(directory)
-    try:
-        directory.mkdir(parents=True, exist_ok=True)
-    except FileExistsError:
-        raise _output_error(option, directory, "exists and is not a directory") from None
-    except OSError as exc:
-        if exc.errno == errno.ENOTDIR:
-            raise _output_error(option, directory, "a part of the path is a file, not a directory") from None
-        raise _output_error(option, directory, f"cannot create the directory ({os_reason(exc)})") from None
-    return directory

@@ -1,4 +1,4 @@
-"""Reading and writing ``.tir`` tyre property files and their YAML form (magic_formula.md §12).
+"""Reading and writing ``.tir`` tyre property files and their YAML form (docs/models/magic_formula.md §12).
 
 A ``.tir`` file is a TeimOrbit property file: ``[SECTION]`` headers, ``KEY = value`` lines,
 ``$`` / ``!`` comments, optional tables. :func:`parse_tir` copes with every quirk of §12.5:
@@ -191,7 +191,7 @@ def _check_binary(data: bytes, file: str) -> None:
                                                   f"{len(head)}), expected a .tir text file"))
 
 
-#: Sections every kind of .tir file has at least one of (magic_formula.md §12).
+#: Sections every kind of .tir file has at least one of (docs/models/magic_formula.md §12).
 _TIR_SECTIONS = {"MDI_HEADER", "UNITS", "MODEL", "DIMENSION", "VERTICAL", "SCALING_COEFFICIENTS",
                  "LONGITUDINAL_COEFFICIENTS", "LATERAL_COEFFICIENTS", "ALIGNING_COEFFICIENTS", "SHAPE"}
 
@@ -349,8 +349,11 @@ def format_tir(doc: TirDocument, descriptions: dict | None = None) -> str:
 
 def write_tir(path: str | Path, doc: TirDocument, descriptions: dict | None = None) -> Path:
     """Write a document as a ``.tir`` file."""
+    from tirecli.io.atomic import atomic_write
+
     path = Path(path)
-    path.write_text(format_tir(doc, descriptions), encoding="latin-1", errors="replace")
+    with atomic_write(path, encoding="latin-1", errors="replace") as fh:
+        fh.write(format_tir(doc, descriptions))
     return path
 
 

@@ -1,4 +1,4 @@
-"""Identification of the LuGre parameters from braking data (FM §4.3; lugre.md §8).
+"""Identification of the LuGre parameters from braking data (FM §4.3; docs/models/lugre.md §8).
 
 Config (``tirecli fit CONFIG``)::
 
@@ -41,6 +41,7 @@ command accepts (``tire: {set: fitted.yaml}``), and frames ``parameters`` (colum
 from __future__ import annotations
 
 import json
+import os
 from dataclasses import replace
 from pathlib import Path
 
@@ -482,7 +483,7 @@ def overrides_for(data: str | None, maps: list[str] | None) -> list[str]:
     """``--set`` overrides from ``tirecli fit --data CSV --map FILE_COLUMN=NAME``."""
     out = []
     if data:
-        out += [f"data.csv={json.dumps(str(Path(data).resolve()))}", "data.simulate=null"]
+        out += [f"data.csv={json.dumps(os.path.abspath(data))}", "data.simulate=null"]  # as given, from the cwd
     if maps:
         mapping = {}
         for m in maps:
