@@ -5,14 +5,18 @@ Each case runs in a fresh directory holding its input files and a previous run's
 directory ``prev/``; it must end within the time limit with its exit code and one ``error:`` line
 matching its pattern, print no line of a file's content beyond the offending token, escape control
 characters, and leave every file of the directory (inputs and ``prev/``) byte-identical.
-The subprocesses are started together on a small pool (each test waits for its own).
+
+Each command runs in its own process: a few cases (:data:`SCRIPT_CASES`) through the console
+script, the rest forked from a warm ``tirecli`` (:func:`harness.run_warm`: the same entry point
+without the second of interpreter start and imports per case; ``TIRECLI_ROBUSTNESS_SCRIPT=1`` runs
+every case through the script). The cases are started together on a small pool of threads (each
+test waits for its own).
 """
 from __future__ import annotations
 
 import os
 import re
 import shutil
-import stat
 import tempfile
 from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass, field
@@ -20,19 +24,20 @@ from pathlib import Path
 
 import pytest
 
-from harness import assert_clean_error, assert_no_leak, run, snapshot
+from harness import assert_clean_error, assert_no_leak, run, run_warm, snapshot
 
 ROOT = Path(__file__).resolve().parents[2]
 EX = ROOT / "examples"
 TIR = ROOT / "tests" / "data" / "tir" / "mf_185_80R14.tir"
 SWEEP = EX / "fm-fig1-left.yaml"
 FIT = EX / "fm-fig6.yaml"
+OBS = EX / "obs-fig2.yaml"
 LIMIT = 30.0  # s per case: a hang detector (each case takes about a second alone)
 
 # a file of secrets: every line longer than the 80-character token limit, none of it may be printed
-SECRET = "".join(f"user{i}:$6$Zq8s9Yw1$" + "k3Jf9a8B" * 12 + f":19000:0:99999:7:::\n" for i in range(12))
+SECRET = "".join(f"user{i}:$6$Zq8s9Yw1$" + "k3Jf9a8B" * 12 + ":19000:0:99999:7:::\n" for i in range(12))
 # the same as a YAML mapping (one key per account)
-SECRET_YAML = "".join(f"user{i}: $6$Zq8s9Yw1$" + "k3Jf9a8B" * 12 + f":19000:0:99999:7\n" for i in range(12))
+SECRET_YAML = "".join(f"user{i}: $6$Zq8s9Yw1$" + "k3Jf9a8B" * 12 + ":19000:0:99999:7\n" for i in range(12))
 GOOD_POINTS = "kappa,alpha,gamma,fz\n0.1,0,0,4000\n0.2,0.01,0,4000\n"
 GOOD_DATA = "t,v,s,mu\n0,20,-0.01,-0.3\n0.01,19.9,-0.02,-0.5\n0.02,19.8,-0.03,-0.6\n"
 BAD_TIME = "t,v,s,mu\n0,20,-0.01,-0.3\n0.01,19.9,-0.02,-0.5\n0.005,19.8,-0.03,-0.6\n"
@@ -68,6 +73,7 @@ class Case:
     pattern: str
     files: dict = field(default_factory=dict)
     secret: str | None = None
+    forbid: tuple = ()  # text of an input that must not be printed (not even as a short token)
     root_skip: bool = False  # permissions do not bind root
 
 
@@ -204,6 +210,11 @@ CASES = [
     Case("points-bool", mf(), 2, r"p\.csv: column 'kappa' row 3: not a number \('True'\)", {"p.csv": GOOD_POINTS + "True,0,0,4000\n"}),
     Case("points-extra-field", mf(), 2, r"p\.csv: data row 2 has 5 fields", {"p.csv": GOOD_POINTS.replace("0.2,0.01,0,4000", "0.2,0.01,0,4000,7")}),
     Case("points-secret", mf(), 2, r"p\.csv: missing column\(s\)", {"p.csv": SECRET}, secret=SECRET),
+    Case("points-password-file", mf(), 2, r"p\.csv: data row 1 has 4 fields .*not shown",
+         {"p.csv": "root:x:0:0:root:/root:/bin/bash\nbob:x:1000:1000:Bob,,,:/home/bob:/bin/sh\n"},
+         forbid=("root:x", "/bin/bash", "bob")),
+    Case("fit-data-shadow-file", fit(), 2, r"d\.csv: missing column\(s\) 't', 'v', 'mu' \(file has: 1 header field",
+         {"d.csv": "root:$6$Zq8s9Yw1$k3Jf9a8B:19000:0:99999:7:::\n"}, forbid=("root", "Zq8s9Yw1")),
     Case("points-long-cell", mf(), 2, r"not a number \('z{77}\.\.\.'\)", {"p.csv": GOOD_POINTS.replace("0.01", "z" * 3000)}),
     Case("points-name-too-long", mf("p" * 300 + ".csv"), 2, r"file name too long"),
     Case("mf-out-directory", mf(out="prev"), 2, r"--out prev: is a directory", {"p.csv": GOOD_POINTS}),
@@ -233,6 +244,22 @@ CASES = [
     Case("option-set-huge-int", sweep("--set", "tire.sigma0=" + "3" * 400), 2, r"tire\.sigma0: .*400-digit integer", {"c.yaml": FIG1}),
     Case("option-map", mf(out="r.csv", extra=["--map", "kappa"]), 2, r"--map 'kappa': expected FILE_COLUMN=NAME", {"p.csv": GOOD_POINTS}),
     Case("option-report-only", ["report", "--only", "no-such-paper", "--out", "prev"], 2, r"--only 'no-such-paper'"),
+    # ---------------------------------------------------------------- the other commands
+    Case("observe-config-fifo", ["observe", "c.yaml", "--out", "prev"], 2, r"c\.yaml: is a FIFO", {"c.yaml": Fifo}),
+    Case("observe-vehicle-dev-zero", ["observe", str(OBS), "--set", "vehicle.set=/dev/zero", "--out", "prev"], 2,
+         r"/dev/zero: is a character device"),
+    Case("observe-run-json-directory", ["observe", str(OBS), "--out", "o"], 2, r"--out o: o/run\.json is a directory",
+         {"o/run.json": Dir}),
+    Case("compare-dev-null", ["compare", "/dev/null", "--out", "prev"], 2, r"/dev/null: is an empty file"),
+    Case("compare-out-too-long", ["compare", str(SWEEP), "--out", "d/" + "o" * 300 + "/x"], 2, r"file name too long"),
+    Case("simulate-config-empty", ["simulate", "c.yaml", "--out", "prev"], 2, r"c\.yaml: is an empty file", {"c.yaml": ""}),
+    Case("simulate-config-secret", ["simulate", "c.yaml", "--out", "prev"], 2, r"c\.yaml:1: (expected a YAML mapping|not a study config)",
+         {"c.yaml": SECRET}, secret=SECRET),
+    Case("params-list-extra-argument", ["params", "list", "extra"], 2, r"unexpected extra argument"),
+    Case("report-summary-directory", ["report", "--only", "fm-fig1-left", "--out", "o"], 2, r"o/summary\.json is a directory",
+         {"o/summary.json": Dir}),
+    Case("fit-data-400-digit", fit(), 2, r"d\.csv: column 'mu' row 2: .*number too large",
+         {"d.csv": GOOD_DATA.replace("-0.5", "-" + "5" * 400)}),
     # ---------------------------------------------------------------- output locations of runs
     Case("out-is-file", ["sweep", "c.yaml", "--out", "prev/run.json"], 2, r"--out prev/run\.json: exists and is not a directory",
          {"c.yaml": FIG1}),
@@ -247,6 +274,9 @@ CASES = [
          {"c.yaml": FIG1}),
     Case("report-out-is-file", ["report", "--only", "fm-fig1-left", "--out", "prev/run.json"], 2, r"exists and is not a directory"),
 ]
+
+#: Cases run through the console script itself (one of each kind of input).
+SCRIPT_CASES = {"set-shadow-via-set", "tir-400-digit-int", "points-timestamp", "fit-data-fifo", "out-run-json-directory"}
 
 IDS = [c.id for c in CASES]
 assert len(IDS) == len(set(IDS)), "duplicate case ids"
@@ -281,7 +311,8 @@ def _run_case(case: Case) -> dict:
     try:
         _materialize(case, d)
         before = snapshot(d)
-        r = run(case.args, cwd=d, timeout=LIMIT, env={"TIRECLI_TEST_CASE": case.id})
+        runner = run if case.id in SCRIPT_CASES else run_warm
+        r = runner(case.args, cwd=d, timeout=LIMIT)
         after = snapshot(d)
         leftovers = sorted(str(p.relative_to(d)) for p in d.rglob("*") if p.name.startswith((".tirecli", "pwned")))
         return {"r": r, "before": before, "after": after, "leftovers": leftovers}
@@ -297,7 +328,7 @@ def _run_case(case: Case) -> dict:
         shutil.rmtree(d, ignore_errors=True)
 
 
-_POOL = ThreadPoolExecutor(max_workers=3)
+_POOL = ThreadPoolExecutor(max_workers=2)
 _FUTURES: dict = {}
 
 
@@ -315,6 +346,7 @@ def _skipped(case: Case) -> bool:
 
 def test_corpus_size():
     assert len(CASES) >= 60
+    assert SCRIPT_CASES <= set(IDS)
     kinds = {c.id.split("-")[0] for c in CASES}
     assert {"config", "set", "tir", "points", "fit", "option", "out"} <= kinds
 
@@ -332,6 +364,8 @@ def test_bad_input(case: Case):
     assert "\x1b" not in r.err and "\x07" not in r.err, "control characters printed raw"
     if case.secret is not None:
         assert_no_leak(r, case.secret)
+    for text in case.forbid:
+        assert text not in r.err and text not in r.out, f"{text!r} printed"
     line = r.lines[0]
     for quoted in re.findall(r"'([^']*)'", line):  # the offending token: at most 80 characters of input
         assert len(quoted) <= 84, quoted

@@ -23,11 +23,10 @@ import numpy as np
 import pytest
 import yaml
 
-hypothesis = pytest.importorskip("hypothesis")
-from hypothesis import HealthCheck, assume, given, settings  # noqa: E402
-from hypothesis import strategies as st  # noqa: E402
+from hypothesis import HealthCheck, assume, given, settings
+from hypothesis import strategies as st
 
-from harness import assert_clean_error, run  # noqa: E402
+from harness import assert_clean_error, run
 
 ROOT = Path(__file__).resolve().parents[2]
 EXAMPLES = sorted((ROOT / "examples").glob("*.yaml"))
@@ -127,7 +126,7 @@ def mutated_example(draw, files):
     return path, draw(text_mutations(path.read_text(encoding="utf-8")))
 
 
-@settings(max_examples=60 * SCALE)
+@settings(max_examples=40 * SCALE)
 @given(mutated_example(FAST_EXAMPLES + SETS))
 def test_mutated_yaml_text_gives_a_clean_outcome(case):
     path, text = case
@@ -184,7 +183,7 @@ def mutated_document(draw, files):
     return path, doc
 
 
-@settings(max_examples=60 * SCALE)
+@settings(max_examples=40 * SCALE)
 @given(mutated_document(FAST_EXAMPLES + SETS))
 def test_mutated_yaml_documents_give_a_clean_outcome(case):
     path, doc = case
@@ -233,7 +232,7 @@ def _diff(path: Path, data: bytes) -> str:
     return "\n" + "\n".join(list(difflib.unified_diff(old, new, lineterm="", n=0))[2:30])
 
 
-@settings(max_examples=60 * SCALE)
+@settings(max_examples=40 * SCALE)
 @given(mutated_tir())
 def test_mutated_tir_files_give_a_clean_outcome(case):
     path, data = case

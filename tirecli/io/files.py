@@ -23,7 +23,7 @@ import stat
 import tempfile
 from pathlib import Path
 
-from tirecli.errors import ConfigError, Problem, UsageError, token
+from tirecli.errors import ConfigError, Problem, UsageError
 
 #: Longest path text printed whole in a message; longer ones are shortened in the middle.
 _SHOW_PATH = 160
