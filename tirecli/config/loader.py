@@ -88,6 +88,9 @@ def apply_override(data: dict, origins: Origins, text: str) -> None:
         value = load_value(value_text) if value_text.strip() else None
     except yaml.YAMLError:
         raise UsageError(f"--set {text!r}: cannot read the value {value_text!r}") from None
+    except ValueError:  # an integer of thousands of digits (Python refuses to convert it)
+        raise UsageError(f"--set {key.strip()}=...: cannot read the value (a number of {len(value_text.strip())} "
+                         "characters, beyond the range of a double)") from None
     node: Any = data
     for i, part in enumerate(path[:-1]):
         nxt = path[i + 1]

@@ -77,23 +77,52 @@ def _check_fields(body: str, path) -> list[str]:
     return header or []
 
 
-def numeric_column(frame, name: str, path, finite: bool = True) -> np.ndarray:
-    """Column ``name`` as floats; DataError naming the first non-numeric or NaN/inf cell."""
+def numeric_column(frame, name: str, path, finite: bool = True, rows=None) -> np.ndarray:
+    """Column ``name`` as floats; DataError naming the column, the row and the cell of the first
+    cell that is not a plain number: text, a boolean (``True``/``False`` are not 1/0), an empty
+    cell, NaN or an infinity (the last three allowed with ``finite=False``, as NaN/inf).
+
+    ``rows`` are the 1-based data rows of the frame's rows in the file (default: 1, 2, ...), so a
+    frame whose rows were selected still names the rows of the file.
+    """
     import pandas as pd
 
     col = frame[name]
-    vals = pd.to_numeric(col, errors="coerce").to_numpy(dtype=float)
-    bad = np.flatnonzero(np.isnan(vals) & col.notna().to_numpy())
-    if bad.size:
-        i = int(bad[0])
-        raise DataError(f"{path}: column {name!r} row {i + 1}: not a number ({col.iloc[i]!r})")
+
+    def where(i: int) -> str:
+        r = int(rows[i]) if rows is not None else i + 1
+        return f"{path}: column {name!r} row {r}"
+
+    kind = col.dtype.kind
+    if kind == "b":
+        raise DataError(f"{where(0)}: not a number ({_cell(col.iloc[0])}; true/false are not numbers)")
+    if kind in "fiu":
+        vals = col.to_numpy(dtype=float)
+    else:  # text (or mixed) cells: every non-empty cell must read as a number, none a boolean
+        cells = col.to_numpy(dtype=object)
+        flags = np.fromiter((isinstance(c, (bool, np.bool_)) for c in cells), dtype=bool, count=len(cells))
+        if flags.any():
+            i = int(np.flatnonzero(flags)[0])
+            raise DataError(f"{where(i)}: not a number ({_cell(cells[i])}; true/false are not numbers)")
+        vals = pd.to_numeric(col, errors="coerce").to_numpy(dtype=float)
+        bad = np.flatnonzero(np.isnan(vals) & col.notna().to_numpy())
+        if bad.size:
+            i = int(bad[0])
+            hint = "; true/false are not numbers" if str(cells[i]).strip().lower() in ("true", "false") else ""
+            raise DataError(f"{where(i)}: not a number ({_cell(cells[i])}{hint})")
     if finite:
         bad = np.flatnonzero(~np.isfinite(vals))
         if bad.size:
             i = int(bad[0])
             what = "empty or NaN" if np.isnan(vals[i]) else "infinite"
-            raise DataError(f"{path}: column {name!r} row {i + 1}: {what} value")
+            raise DataError(f"{where(i)}: {what} value (a finite number is needed)")
     return vals
+
+
+def _cell(v) -> str:
+    """A cell for a message: its text, at most 40 characters."""
+    text = str(v)
+    return repr(text if len(text) <= 40 else text[:37] + "...")
 
 
 def read_columns(path: str | Path, columns, increasing: str | None = None, min_rows: int = 2,
@@ -173,16 +202,26 @@ def frame_columns(frame, columns, path, increasing: str | None = None, min_rows:
                         f"(file has: {', '.join(map(str, frame.columns)) or 'none'}; map names with --map FILE_COLUMN=NAME)")
     if len(frame) < min_rows:
         raise DataError(f"{path}: too few data rows ({len(frame)}, need at least {min_rows})")
+    rows = data_rows(frame)
     frame = frame.reset_index(drop=True)
-    out = {c: numeric_column(frame, c, path) for c in columns}
+    out = {c: numeric_column(frame, c, path, rows=rows) for c in columns}
     for c in optional:
         if c in frame.columns:
-            out[c] = numeric_column(frame, c, path)
+            out[c] = numeric_column(frame, c, path, rows=rows)
     if increasing is not None:
         t = out[increasing]
         bad = np.flatnonzero(np.diff(t) <= 0)
         if bad.size:
             i = int(bad[0]) + 1
-            raise DataError(f"{path}: column {increasing!r} row {i + 1}: time does not increase "
+            raise DataError(f"{path}: column {increasing!r} row {rows[i]}: time does not increase "
                             f"({t[i - 1]:g} then {t[i]:g})")
     return out
+
+
+def data_rows(frame) -> np.ndarray:
+    """1-based data rows of the file for the rows of a frame from :func:`read_table` (rows kept by
+    :func:`select_rows` keep their numbers); 1, 2, ... for a frame of another origin."""
+    idx = frame.index
+    if idx.dtype.kind in "iu" and len(idx) and idx.min() >= 0:
+        return idx.to_numpy(dtype=np.int64) + 1
+    return np.arange(1, len(frame) + 1)

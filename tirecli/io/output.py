@@ -115,9 +115,9 @@ def write_csv(path: str | Path, frame, comments: list[str] | tuple = ()) -> Path
     return path
 
 
-def write_text(path: str | Path, text: str) -> Path:
+def write_text(path: str | Path, text: str, encoding: str = "utf-8") -> Path:
     path = Path(path)
-    path.write_text(text, encoding="utf-8")
+    path.write_text(text, encoding=encoding)
     return path
 
 

@@ -84,6 +84,16 @@ _FLOAT_12 = re.compile(r"""^(?:[-+]?(?:[0-9][0-9_]*)(?:\.[0-9_]*)?(?:[eE][-+]?[0
 for _cls in (Loader, Dumper):
     _cls.add_implicit_resolver("tag:yaml.org,2002:float", _FLOAT_12, list("-+0123456789."))
 
+# Numbers the reader takes: decimal integers without a leading zero, 0x/0o/0b integers, and the
+# floats above. YAML 1.1's other forms silently gave other values than the one written: ``010``
+# (octal 8) and ``1:30`` (sexagesimal 90) stay text here, so a number key refuses them by name.
+_INT_12 = re.compile(r"^(?:[-+]?(?:0|[1-9][0-9_]*)|0x[0-9a-fA-F_]+|0o[0-7_]+|0b[01_]+)$")
+Loader.yaml_implicit_resolvers = {
+    ch: [(tag, rx) for tag, rx in resolvers if tag not in ("tag:yaml.org,2002:int", "tag:yaml.org,2002:float")]
+    for ch, resolvers in Loader.yaml_implicit_resolvers.items()}
+Loader.add_implicit_resolver("tag:yaml.org,2002:int", _INT_12, list("-+0123456789"))
+Loader.add_implicit_resolver("tag:yaml.org,2002:float", _FLOAT_12, list("-+0123456789."))
+
 
 def load_value(text: str) -> Any:
     """One YAML value (e.g. the VALUE of ``--set KEY=VALUE``), read like values in files."""
@@ -117,6 +127,10 @@ def _build(node, path: KeyPath, origins: Origins, file: str, problems: list[Prob
     except yaml.YAMLError as exc:  # e.g. a bad timestamp, an object tag (safe loading refuses it)
         what = getattr(exc, "problem", None) or str(exc).splitlines()[0]
         problems.append(Problem(file, node.start_mark.line + 1, format_key(path), f"cannot read value: {what}"))
+        return None
+    except ValueError:  # an integer of thousands of digits (Python refuses to convert it)
+        problems.append(Problem(file, node.start_mark.line + 1, format_key(path),
+                                "cannot read value: a number of thousands of digits, beyond the range of a double"))
         return None
 
 
