@@ -227,12 +227,14 @@ def test_golden_study_points_to_the_report(cli, tmp_path):
     assert code == 2 and "for 'tirecli report'" in err
 
 
-def test_reused_out_dir_keeps_files_and_says_so(cli, tmp_path):
-    """A reused --out keeps every file (one may be this run's input) and the command names the
-    earlier run's leftovers."""
+def test_reused_out_dir_holds_one_run_and_says_so(cli, tmp_path):
+    """A reused --out holds the new run's outputs only: the earlier run's other outputs are removed
+    (the command names them), files tirecli did not write stay."""
     out = tmp_path / "o"
     assert cli("sweep", EXAMPLES / "fm-fig1-left.yaml", "--out", out, "--quiet")[0] == 0
+    (out / "notes.txt").write_text("mine")
     code, stdout, err = cli("sweep", EXAMPLES / "fm-fig1-right.yaml", "--out", out)
     assert code == 0
-    assert (out / "figures" / "fm-fig1-left.png").exists()
-    assert "file(s) of an earlier run" in stdout and "figures/fm-fig1-left" in stdout
+    assert not (out / "figures" / "fm-fig1-left.png").exists() and (out / "figures" / "fm-fig1-right.png").exists()
+    assert (out / "notes.txt").read_text() == "mine"
+    assert "removed 3 file(s) of the earlier run" in stdout and "figures/fm-fig1-left" in stdout

@@ -208,6 +208,9 @@ def test_mf_eval_side_mirrors(cli, tmp_path):
     (b"\x00\x01\x02binary", "binary file"),
     # more fields than header names: pandas would shift the columns (kappa read from alpha ...)
     ("kappa,alpha,gamma,fz\n0.1,0.05,0,4000,7\n", "row 1 has 5 fields but the header names 4 columns"),
+    # a trailing comma: the copied row would shift every output column
+    ("kappa,alpha,gamma,fz\n0,0,0,4000\n0.1,0.05,0,4000,\n", "data row 2 has 5 fields but the header names 4"),
+    ("kappa,alpha,gamma,fz\n0,0,0,4000\n0.1,0.05,0\n", "data row 2 has 3 fields but the header names 4"),
     ("kappa,alpha,gamma,fz,fz\n0,0,0,4000,4000\n", "column(s) 'fz' appear more than once"),
 ])
 def test_mf_eval_rejects_bad_points(cli, tmp_path, content, expected):
@@ -220,7 +223,7 @@ def test_mf_eval_rejects_bad_points(cli, tmp_path, content, expected):
     code, stdout, err = cli("mf", "eval", "externdata-205-60r15", "--points", pts, "--out", out)
     one_line_error(code, err)
     assert expected in err
-    assert not out.exists() and not (tmp_path / "r.csv.part").exists()
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["p.csv"]  # no output, no temporary file
 
 
 def test_mf_eval_usage_errors(cli, tmp_path):

@@ -1,4 +1,4 @@
-"""The .tir reader and writer: every quirk of magic_formula.md §12.5, units, versions, required keys,
+"""The .tir reader and writer: every quirk of docs/models/magic_formula.md §12.5, units, versions, required keys,
 the malformed-file corpus, and the lossless YAML round trip."""
 import math
 
@@ -135,7 +135,7 @@ def test_missing_required_and_defaults():
     td = tire_data(parse(MINIMAL))
     assert td.values["LMUY"] == 1.0 and td.values["PKY4"] == 2.0 and td.values["QDZ8"] == 0.0
     assert "QDZ8" in td.defaulted and "QSY1" in td.defaulted
-    assert any("take the spec's default" in str(w) for w in td.warnings)
+    assert any("take tirecli's default" in str(w) for w in td.warnings)
 
 
 @pytest.mark.parametrize("change, key", [

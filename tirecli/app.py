@@ -104,6 +104,10 @@ def run_config(command: str, config_path: str | Path, overrides=(), out: str | P
                progress=None) -> RunSummary:
     """Run the study of ``config_path`` as ``tirecli COMMAND`` and write its outputs.
 
+    The run holds the output directory's lock from the study to the last file and writes into a
+    staging directory moved into place at the end (:func:`tirecli.io.atomic.staged_dir`): on an
+    error or Ctrl-C the earlier results there stay byte-identical.
+
     Parameters
     ----------
     command : str
@@ -115,14 +119,19 @@ def run_config(command: str, config_path: str | Path, overrides=(), out: str | P
     progress : object or None
         Progress reporter with ``start(total, label)``, ``advance(n)``, ``close()``.
     """
+    from tirecli.io.atomic import out_path, staged_dir
+
     t0 = time.perf_counter()
+    out = out_path(out) if out is not None else None  # an empty --out fails before the study runs
     config = load_config(config_path, overrides)
-    result = run_study(config, expected=command, progress=progress)
-    figs, checks = draw(result, progress=progress)
-    out = Path(out) if out is not None else default_out(config, command)
-    wall = time.perf_counter() - t0
-    paths = output.write_result(out, result, figs, checks, command_line(), wall, progress=progress)
-    close_figures(figs)
+    out = out or default_out(config, command)
+    with staged_dir(out) as stage:
+        result = run_study(config, expected=command, progress=progress)
+        figs, checks = draw(result, progress=progress)
+        wall = time.perf_counter() - t0
+        paths = output.write_result(stage, result, figs, checks, command_line(), wall, progress=progress)
+        close_figures(figs)
+    paths.update(removed=stage.removed, kept=stage.kept)
     return RunSummary(result=result, out=out, paths=paths, checks=checks, wall_time=time.perf_counter() - t0)
 
 

@@ -172,13 +172,12 @@ def tir_convert(ref: str, to: str, out: str | None) -> str:
         encoding = "latin-1" if doc.encoding == "latin-1" else "utf-8"
     if out is None:
         return text.rstrip("\n")
-    path = Path(out)
-    if path.exists() and path.is_dir():
-        raise UsageError(f"--out {out}: is a directory")
+    from tirecli.io.atomic import staged_file
     from tirecli.io.output import write_text
 
-    write_text(path, text, encoding=encoding)
-    return f"wrote {path}"
+    with staged_file(out) as tmp:
+        write_text(tmp, text, encoding=encoding)
+    return f"wrote {out}"
 
 
 # --------------------------------------------------------------------------- mf eval
@@ -216,6 +215,15 @@ def mf_eval(tire_ref: str, points: str | Path, out: str | Path, convention: str 
     input (missing column, non-numeric or NaN cell, p <= 0) is a DataError naming the column and
     row, and nothing is written.
     """
+    from tirecli.io.atomic import staged_file
+
+    with staged_file(out) as tmp:  # the lock of ``out``; ``out`` replaced only by a complete result
+        s = _evaluate_points(tire_ref, points, tmp, convention, side, limits, mapping, threads)
+    return {**s, "out": str(out)}
+
+
+def _evaluate_points(tire_ref, points, out: Path, convention, side, limits, mapping, threads) -> dict:
+    """:func:`mf_eval` writing to ``out`` (its staging file)."""
     from tirecli.io.data import read_columns
     from tirecli.io.fastcsv import format_rows, read_lines, write_rows
     from tirecli.models.magic_formula import evaluate
@@ -262,13 +270,7 @@ def mf_eval(tire_ref: str, points: str | Path, out: str | Path, convention: str 
         prefixes = None
         tails = format_rows(ins + outputs, threads=threads, keepends=True)
         how = "rewritten exactly"
-    out = Path(out)
-    if out.exists() and out.is_dir():
-        raise UsageError(f"--out {out}: is a directory")
-    try:
-        write_rows(out, ",".join(INPUT_COLUMNS + OUTPUT_COLUMNS), prefixes, tails)
-    except OSError as exc:
-        raise UsageError(f"--out {out}: cannot write ({exc.strerror})") from None
+    write_rows(out, ",".join(INPUT_COLUMNS + OUTPUT_COLUMNS), prefixes, tails)
     return {"points": n, "tire": ps.name, "warnings": list((ps.extra or {}).get("warnings", [])), "version": tire.version, "side": tire.side, "mirrored": res.mirrored,
             "convention": res.convention, "limits": limits, "counts": res.counts, "inputs": how, "out": str(out),
             "pressure_default": p_def if p is None else None, "speed_default": vx_def if vx is None else None,

@@ -1,4 +1,4 @@
-"""Exceptions of tirecli and the exit codes they map to (0 ok, 1 run failure, 2 usage/config).
+"""Exceptions of tirecli and the exit codes they map to (0 ok, 1 run failure, 2 usage/config, 130 Ctrl-C).
 
 The CLI maps these to exit codes in one place (:mod:`tirecli.cli.main`); library code raises
 them and never calls ``sys.exit``.
@@ -18,6 +18,13 @@ class RunError(TirecliError):
     """A run failed (numerical failure, a check failing under ``--strict``): exit code 1."""
 
     exit_code = 1
+
+
+class Interrupted(TirecliError):
+    """Ctrl-C during a run; the message says what was kept (``interrupted: previous results in DIR
+    kept``): exit code 130."""
+
+    exit_code = 130
 
 
 class UsageError(TirecliError):

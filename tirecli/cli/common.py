@@ -92,10 +92,13 @@ def report_run(summary, what: str, overridden: bool = False) -> None:
         warn(flag)
     echo(f"{what}: {len(summary.paths['data'])} data file(s), {len(summary.paths['figures'])} figure file(s) "
          f"in {summary.wall_time:.2f} s")
-    stale = summary.paths.get("stale") or []
-    if stale:
-        echo(f"note: {out} also holds {len(stale)} file(s) of an earlier run (e.g. {stale[0]}); "
-             "use a new --out to keep runs apart")
+    removed, kept = summary.paths.get("removed") or [], summary.paths.get("kept") or []
+    if removed:
+        echo(f"note: removed {len(removed)} file(s) of the earlier run in {out} that this run does not "
+             f"write (e.g. {removed[0]})")
+    if kept:
+        echo(f"note: kept {out / kept[0]} of the earlier run in {out}: an input of this run"
+             + (f" (and {len(kept) - 1} more)" if len(kept) > 1 else ""))
     failed = summary.failed_checks
     if failed and overridden:  # expected: one line, the details are in run.json
         result_line(f"{len(failed)} of {len(summary.checks)} reference checks differ from the paper's values "

@@ -7,7 +7,7 @@ from typing import List, Optional
 from tirecli.cli.common import ConfigArg, OutOpt, SetOpt, overrides, progress, report_run, result_line
 
 
-def compare(config: Path = ConfigArg, out: Optional[Path] = OutOpt, set_: Optional[List[str]] = SetOpt) -> None:
+def compare(config: Path = ConfigArg, out: Optional[str] = OutOpt, set_: Optional[List[str]] = SetOpt) -> None:
     """Stationary MCPS tire (complete model and/or solid carcass) against a Magic Formula tyre.
 
     Runs a 'study: mcps-stationary' config (MCPS Figs. 7-11): Fx(kappa), Fy and Mz(alpha), combined

@@ -15,7 +15,7 @@ MapOpt = typer.Option(None, "--map", "-m", metavar="FILE_COLUMN=NAME",
                            "Names: t [s], v [m/s], s [-] (or romega [m/s]), mu [-].")
 
 
-def fit(config: Path = ConfigArg, out: Optional[Path] = OutOpt, set_: Optional[List[str]] = SetOpt,
+def fit(config: Path = ConfigArg, out: Optional[str] = OutOpt, set_: Optional[List[str]] = SetOpt,
         data: Optional[Path] = DataOpt, map_: Optional[List[str]] = MapOpt) -> None:
     """Identify sigma0, sigma2, mu_c, mu_s, v_s (and alpha) from (s, mu, v) samples, then sigma1 from the transient.
 

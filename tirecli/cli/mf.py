@@ -29,7 +29,7 @@ def eval_(
                                show_default=False),
     points: Path = typer.Option(..., "--points", help="CSV with columns kappa, alpha, gamma, fz [, p, vx] "
                                                       "(SI: -, rad, rad, N, Pa, m/s).", show_default=False),
-    out: Path = typer.Option(..., "--out", "-o", help="Result CSV: the input columns, then fx, fy, mz, mx, my.",
+    out: str = typer.Option(..., "--out", "-o", help="Result CSV: the input columns, then fx, fy, mz, mx, my.",
                              show_default=False),
     convention: str = typer.Option("mfeval", "--convention", help="mfeval (default, §10 recommended) or teasit "
                                                                    "(§15.2, reproduces the public golden data)."),

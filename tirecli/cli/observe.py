@@ -37,7 +37,7 @@ def metrics_table(result) -> list[str]:
     return lines
 
 
-def observe(config: Path = ConfigArg, out: Optional[Path] = OutOpt, set_: Optional[List[str]] = SetOpt) -> None:
+def observe(config: Path = ConfigArg, out: Optional[str] = OutOpt, set_: Optional[List[str]] = SetOpt) -> None:
     """Simulate the quarter car with the nonlinear adhesion/speed observer (OBS Theorem 1).
 
     Writes run.json (metrics, design checks, warnings), data/observer.csv (t, theta, theta_hat

@@ -10,7 +10,7 @@ from tirecli.cli.common import echo, progress, result_line
 
 
 def report(
-    out: Path = typer.Option(Path("tirecli-out/report"), "--out", "-o", help="Output directory."),
+    out: str = typer.Option("tirecli-out/report", "--out", "-o", help="Output directory."),
     strict: bool = typer.Option(False, "--strict", help="Exit 1 when any reference check fails."),
     only: Optional[List[str]] = typer.Option(None, "--only", help="Only these papers or figure ids (repeatable)."),
 ) -> None:

@@ -7,7 +7,7 @@ from typing import List, Optional
 from tirecli.cli.common import ConfigArg, OutOpt, SetOpt, overrides, progress, report_run, result_line
 
 
-def simulate(config: Path = ConfigArg, out: Optional[Path] = OutOpt, set_: Optional[List[str]] = SetOpt) -> None:
+def simulate(config: Path = ConfigArg, out: Optional[str] = OutOpt, set_: Optional[List[str]] = SetOpt) -> None:
     """Transient runs: quarter-car brakings with LuGre tires, or the MCPS tire's time-domain studies.
 
     'study: simulate' writes run.json (cases, events: wheel lock, stop, peak |slip|, stopping distance

@@ -7,7 +7,7 @@ from typing import List, Optional
 from tirecli.cli.common import ConfigArg, OutOpt, SetOpt, overrides, progress, report_run
 
 
-def sweep(config: Path = ConfigArg, out: Optional[Path] = OutOpt, set_: Optional[List[str]] = SetOpt) -> None:
+def sweep(config: Path = ConfigArg, out: Optional[str] = OutOpt, set_: Optional[List[str]] = SetOpt) -> None:
     """Steady-state friction sweep: mu over slip x speed x theta x model variant.
 
     Writes run.json, data/sweep.csv (long format: model, v, theta, slip, mu, ...), for LuGre

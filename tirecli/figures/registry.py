@@ -44,7 +44,7 @@ class FigureDef:
     draw : callable
         ``draw(result) -> Figure | Table``.
     checks : callable or None
-        ``checks(result) -> list[Check]`` reference checks of the spec.
+        ``checks(result) -> list[Check]`` reference checks (their sources cite docs/models/).
     order : int
         Position within its paper's section of the report.
     """

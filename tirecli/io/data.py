@@ -14,6 +14,7 @@ from pathlib import Path
 import numpy as np
 
 from tirecli.errors import DataError
+from tirecli.io.files import note_input
 
 
 def read_table(path: str | Path):
@@ -21,6 +22,7 @@ def read_table(path: str | Path):
     import pandas as pd
 
     path = Path(path)
+    note_input(path)
     if not path.is_file():
         raise DataError(f"{path}: file not found")
     try:
@@ -56,21 +58,22 @@ def read_table(path: str | Path):
 
 def _check_fields(body: str, path) -> list[str]:
     """The header's column names, as written (pandas renames a repeated ``fz`` to ``fz.1``);
-    DataError when a data row has more fields than the header names (pandas would silently
-    shift the columns, or drop the extra cells)."""
+    DataError naming the first data row whose number of fields differs from the header's (pandas
+    would shift the columns, drop extra cells or fill missing ones with NaN; a trailing comma on a
+    row is such a field). Blank lines are skipped, rows counted as in every other message."""
     import csv
 
-    header = None
+    header, row_no = None, 0
     try:
-        for no, row in enumerate(csv.reader(io.StringIO(body, newline=""), skipinitialspace=True), start=0):
-            if not row or not any(c.strip() for c in row):
+        for row in csv.reader(io.StringIO(body, newline=""), skipinitialspace=True):
+            if not row or (len(row) == 1 and not row[0].strip()):
                 continue
             if header is None:
-                header, no0 = [c.strip() for c in row], no
+                header = [c.strip() for c in row]
                 continue
-            extra = row[len(header):]
-            if any(c.strip() for c in extra):
-                raise DataError(f"{path}: data row {no - no0} has {len(row)} fields but the header names "
+            row_no += 1
+            if len(row) != len(header):
+                raise DataError(f"{path}: data row {row_no} has {len(row)} fields but the header names "
                                 f"{len(header)} columns ({', '.join(header)})")
     except csv.Error as exc:
         raise DataError(f"{path}: cannot read as CSV ({exc})") from None
@@ -180,6 +183,7 @@ def select_rows(frame, where: dict | None, path, key: str = "where"):
 def leading_comments(path: str | Path, limit: int = 20) -> list[str]:
     """The ``#`` comment lines at the top of a CSV (e.g. tirecli's ``# SYNTHETIC DATA ...`` label)."""
     out = []
+    note_input(path)
     try:
         with Path(path).open(encoding="utf-8", errors="replace") as fh:
             for _ in range(limit):

@@ -210,6 +210,9 @@ def read_lines(path) -> tuple[list[bytes], dict]:
     ``blank`` (an empty line), ``trailing`` (blanks at a line end)."""
     from pathlib import Path
 
+    from tirecli.io.files import note_input
+
+    note_input(path)
     data = Path(path).read_bytes()
     if b"\r" in data[:65536]:
         data = data.replace(b"\r\n", b"\n")
@@ -228,25 +231,18 @@ def read_lines(path) -> tuple[list[bytes], dict]:
 
 def write_rows(path, header: str, prefixes, tails) -> None:
     """Write ``header`` then one line per row: ``prefix + tail`` (``tail`` alone when ``prefixes``
-    is None; every tail ends with its newline, see ``format_rows(keepends=True)``). Written to a
-    temporary file and renamed, so a failure leaves nothing."""
-    import os
+    is None; every tail ends with its newline, see ``format_rows(keepends=True)``). Written through
+    a unique temporary file (:func:`tirecli.io.atomic.atomic_write`), so a failure leaves nothing."""
     from itertools import chain
-    from pathlib import Path
 
-    path = Path(path)
-    tmp = path.with_name(path.name + ".part")
+    from tirecli.io.atomic import atomic_write
+
     n = len(tails)
     step = 65536  # rows per write: bounded memory, fewer page faults than one huge buffer
-    try:
-        with open(tmp, "wb") as fh:
-            fh.write(header.encode() + b"\n")
-            for s in range(0, n, step):
-                if prefixes is None:
-                    fh.write(b"".join(tails[s:s + step]))
-                else:
-                    fh.write(b"".join(chain.from_iterable(zip(prefixes[s:s + step], tails[s:s + step]))))
-        os.replace(tmp, path)
-    finally:
-        if tmp.exists():
-            tmp.unlink()
+    with atomic_write(path, "wb") as fh:
+        fh.write(header.encode() + b"\n")
+        for s in range(0, n, step):
+            if prefixes is None:
+                fh.write(b"".join(tails[s:s + step]))
+            else:
+                fh.write(b"".join(chain.from_iterable(zip(prefixes[s:s + step], tails[s:s + step]))))

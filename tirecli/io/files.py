@@ -1,9 +1,28 @@
-"""Reading input files as bytes with one clear error per failure (missing, a directory, unreadable)."""
+"""Reading input files as bytes with one clear error per failure (missing, a directory, unreadable),
+and the record of every input file the process read (an output never overwrites or removes one)."""
 from __future__ import annotations
 
+import os
 from pathlib import Path
 
 from tirecli.errors import ConfigError, Problem
+
+
+_INPUTS: set[str] = set()
+
+
+def note_input(path: str | Path) -> None:
+    """Record that ``path`` is an input of this run (every reader of :mod:`tirecli.io` calls this)."""
+    _INPUTS.add(os.path.realpath(path))
+
+
+def inputs_read() -> frozenset[str]:
+    """Real paths of the input files read since :func:`forget_inputs` (the start of the command)."""
+    return frozenset(_INPUTS)
+
+
+def forget_inputs() -> None:
+    _INPUTS.clear()
 
 
 def read_input_bytes(path: str | Path, expected: str) -> bytes:
@@ -15,6 +34,7 @@ def read_input_bytes(path: str | Path, expected: str) -> bytes:
         What the file should be, for the message (e.g. ``"a YAML file"``).
     """
     path = Path(path)
+    note_input(path)
     try:
         return path.read_bytes()
     except FileNotFoundError:

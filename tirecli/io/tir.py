@@ -1,4 +1,4 @@
-"""Reading and writing ``.tir`` tyre property files and their YAML form (magic_formula.md §12).
+"""Reading and writing ``.tir`` tyre property files and their YAML form (docs/models/magic_formula.md §12).
 
 A ``.tir`` file is a TeimOrbit property file: ``[SECTION]`` headers, ``KEY = value`` lines,
 ``$`` / ``!`` comments, optional tables. :func:`parse_tir` copes with every quirk of §12.5:
@@ -221,7 +221,7 @@ def _check_binary(data: bytes, file: str) -> None:
                                                   f"{len(head)}), expected a .tir text file"))
 
 
-#: Sections every kind of .tir file has at least one of (magic_formula.md §12).
+#: Sections every kind of .tir file has at least one of (docs/models/magic_formula.md §12).
 _TIR_SECTIONS = {"MDI_HEADER", "UNITS", "MODEL", "DIMENSION", "VERTICAL", "SCALING_COEFFICIENTS",
                  "LONGITUDINAL_COEFFICIENTS", "LATERAL_COEFFICIENTS", "ALIGNING_COEFFICIENTS", "SHAPE"}
 
@@ -446,9 +446,14 @@ def encode_tir(doc: TirDocument, text: str) -> bytes:
 
 
 def write_tir(path: str | Path, doc: TirDocument, descriptions: dict | None = None) -> Path:
-    """Write a document as a ``.tir`` file (in its encoding, see :func:`encode_tir`)."""
+    """Write a document as a ``.tir`` file (in its encoding, see :func:`encode_tir`; through a
+    temporary file: the file is complete or absent)."""
+    from tirecli.io.atomic import atomic_write
+
     path = Path(path)
-    path.write_bytes(encode_tir(doc, format_tir(doc, descriptions)))
+    data = encode_tir(doc, format_tir(doc, descriptions))
+    with atomic_write(path, mode="wb") as fh:
+        fh.write(data)
     return path
 
 

@@ -69,7 +69,7 @@ def calibrate(p, fz: float, targets: dict, grid: dict, carcass: str = "complete"
     carcass : {"complete", "rigid"}
         Model of the lateral fits.
     rounds : int
-        Largest number of alternations of the lateral fits (step 2 then 3); 1 is the spec's sequence.
+        Largest number of alternations of the lateral fits (step 2 then 3); 1 is the sequence of docs/models/mcps.md §8.
 
     Returns
     -------

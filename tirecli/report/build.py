@@ -2,7 +2,10 @@
 
 Writes ``DIR/index.html`` (self-contained: figures embedded as PNG, no network resources),
 ``DIR/summary.json`` (every reference check), ``DIR/figures/ID.png|svg`` (tables as CSV),
-``DIR/data/STUDY/NAME.csv`` and ``DIR/studies/STUDY.json`` (the run record of each study).
+``DIR/data/STUDY/NAME.csv``, ``DIR/studies/STUDY.json`` (the run record of each study) and
+``DIR/docs/`` (the user documentation as HTML; each card links its model's page, see
+:mod:`tirecli.report.docs`). Written like every run (:func:`tirecli.io.atomic.staged_dir`),
+``summary.json`` last: it lists the report's files (``outputs``).
 """
 from __future__ import annotations
 
@@ -16,6 +19,8 @@ import jinja2
 from tirecli import __version__
 from tirecli.figures.registry import PAPERS, Table, load_all
 from tirecli.io import output
+from tirecli.io.atomic import out_path, staged_dir
+from tirecli.report.docs import card_doc, link_sources, write_docs
 from tirecli.studies.base import Check, builtin_config, run_study
 
 PAPER_ORDER = ["FM", "OBS", "MF", "MCPS"]
@@ -62,9 +67,18 @@ def build_report(out: str | Path, only=None, progress=None) -> dict:
     is always written and ``--strict`` fails.
     """
     t_start = time.perf_counter()
+    out = out_path(out)
     reg = load_all()
     entries = _select(reg, only)
-    out = output.prepare_dir(out)
+    with staged_dir(out, marker="summary.json") as stage:
+        return _write_report(stage, entries, t_start, progress)
+
+
+def _write_report(stage, entries: list, t_start: float, progress) -> dict:
+    """Run the studies of ``entries`` and write the report under ``stage.root``; the summary."""
+    out = stage.root
+    (out / "data").mkdir()
+    (out / "figures").mkdir()
     studies = list(dict.fromkeys(f.study for f in entries))
     results, errors, timings = {}, {}, {}
     if progress is not None:
@@ -87,11 +101,13 @@ def build_report(out: str | Path, only=None, progress=None) -> dict:
         for dname, frame in res.data.items():
             output.write_csv(out / "data" / name / f"{dname}.csv", frame, comments)
 
+    docs = write_docs(out, __version__)
     cards, all_checks = [], []
     for f in entries:
         card = {"id": f.id, "paper": f.paper, "label": f.label, "title": f.title, "caption": f.caption_for(results.get(f.study)),
                 "paper_shows": f.paper_shows, "study": f.study, "image": None, "table": None, "error": None,
-                "checks": [], "parameters": [], "files": [], "synthetic": False, "assumed": []}
+                "checks": [], "parameters": [], "files": [], "synthetic": False, "assumed": [],
+                "doc": card_doc(f.paper, docs)}
         res = results.get(f.study)
         if res is None:
             card["error"] = errors.get(f.study, "study did not run")
@@ -159,8 +175,10 @@ def build_report(out: str | Path, only=None, progress=None) -> dict:
     html = _env().get_template("report.html.j2").render(
         version=__version__, sections=sections, n_checks=len(all_checks), n_failed=len(failed),
         n_figures=len(cards), wall=wall, environment=summary["environment"],
+        doclinks=lambda text: link_sources(text, docs), docs_index=docs.get("models/README"),
     )
     output.write_text(out / "index.html", html)
+    summary["outputs"] = stage.files() + ["summary.json"]
     output.write_json(out / "summary.json", summary)
     return summary
 

@@ -20,7 +20,7 @@ from tirecli.parameters.sets import ParameterSet
 
 @dataclass
 class Check:
-    """A reference check: a computed value against the spec's reference within a tolerance.
+    """A reference check: a computed value against a reference value within a tolerance.
 
     Attributes
     ----------
@@ -31,13 +31,13 @@ class Check:
     value : float
         Computed value.
     reference : float
-        The spec's reference value.
+        The reference value (docs/models/: computed independently of tirecli, or printed in a paper).
     tolerance : float
         Allowed absolute deviation (in ``unit``).
     unit : str
         Unit of value/reference.
     source : str
-        Where the reference comes from (spec section).
+        Where the reference comes from (a section of docs/models/, or a paper's table or figure).
     bound : str
         ``abs`` (default): pass when ``|value - reference| <= tolerance``; ``max``: pass when
         ``value <= reference + tolerance`` (an upper bound); ``min``: when ``value >= reference - tolerance``.

@@ -209,7 +209,7 @@ def _make_case(label, gains, checked, theta_raw, torque_raw, est, meas, config, 
     conv = sc["theta_convention"]
     v0 = sc["v0"]
     s0 = sc["slip0"]
-    # initial wheel speed from the slip (lugre.md §1): braking r w = v (1 + s), driving v = r w (1 - s)
+    # initial wheel speed from the slip (docs/models/lugre.md §1): braking r w = v (1 + s), driving v = r w (1 - s)
     romega0 = v0 * (1.0 + s0) if s0 <= 0 else v0 / (1.0 - s0)
     theta_hat0_obs = float(theta_obs_from_fm(to_theta_fm(est["theta"], conv)))
     theta0 = float(theta_obs_from_fm(to_theta_fm(theta_p(0.0), conv)))
@@ -328,7 +328,7 @@ def simulate_case(plan_: Plan, case: Case):
 
 
 def case_metrics(plant: lo.ObserverPlant, tr, case: Case, m: dict) -> dict:
-    """Metrics of one run (observer.md §7-§8; see :mod:`tirecli.observers.metrics`)."""
+    """Metrics of one run (docs/models/observer.md §7-§8; see :mod:`tirecli.observers.metrics`)."""
     r = plant.car.r
     vr = r * tr.omega - tr.v
     err = tr.theta_hat - tr.theta
@@ -349,7 +349,7 @@ def case_metrics(plant: lo.ObserverPlant, tr, case: Case, m: dict) -> dict:
 
 
 def design_record(plant: lo.ObserverPlant, gains: lo.ObserverGains, tr=None) -> dict:
-    """Design facts of a gain set (observer.md §4-§6), JSON-ready."""
+    """Design facts of a gain set (docs/models/observer.md §4-§6), JSON-ready."""
     obs = lo.observability(plant)
     tf = lo.transfer_function(plant, gains)
     rec = {
@@ -375,7 +375,7 @@ def design_record(plant: lo.ObserverPlant, gains: lo.ObserverGains, tr=None) -> 
                                   "z_max": float(np.max(np.abs(tr.z)))}
         rec["passivity"] = {"lambda_min_q": pm["lambda_min_q"],
                             "alpha_bound_17_m": lo.alpha_bound(pm["lambda_min_q"], theta_max, lip["L_phi"], lip["L_psi"]),
-                            "note": "sufficient bound (17); OBS's alpha is a practical tuning value (observer.md §6)"}
+                            "note": "sufficient bound (17); OBS's alpha is a practical tuning value (docs/models/observer.md §6)"}
     return rec
 
 
@@ -410,16 +410,32 @@ def _decimate(t, dt):
     return np.unique(np.concatenate([idx, [len(t) - 1]]))
 
 
+def _adaptation_off(case: Case, tr) -> str:
+    """What ``gamma = 0`` means for a run, in words: theta_hat is frozen at its initial value."""
+    th0 = float(case.scenario.theta_hat0)
+    lo_, hi_ = float(np.min(tr.theta)), float(np.max(tr.theta))
+    head = (f"{case.label}: adaptation off (gamma = 0): theta_hat stays at its initial value {th0:g} "
+            "(OBS convention) for the whole run and the observer estimates only v and z. ")
+    if abs(hi_ - th0) <= 1e-12 * max(1.0, abs(th0)) and abs(lo_ - th0) <= 1e-12 * max(1.0, abs(th0)):
+        return head + (f"Here the road's theta is {th0:g} throughout, so this is the 'theta known' observer the case "
+                       "asks for; on a road whose theta differs, v_hat and z_hat would be biased. Set gamma > 0 to "
+                       "estimate theta (OBS Fig. 2: gamma = 2e5).")
+    return head + (f"The road's theta varies over [{lo_:g}, {hi_:g}] and theta_hat cannot follow it, so v_hat and "
+                   "z_hat are biased; set gamma > 0 to estimate theta (OBS Fig. 2: gamma = 2e5).")
+
+
 def _warnings(case: Case, design: dict, met: dict, m: dict, tr) -> list[str]:
     out = []
     for c in design["conditions"]:
-        if not c["ok"]:
+        if c["id"] == "gamma-positive" and c["value"] == 0:
+            out.append(_adaptation_off(case, tr))
+        elif not c["ok"]:
             out.append(f"{case.label}: design condition '{c['id']}' fails: {c['requirement']} "
                        f"(value {c['value']:.4g}); {c['meaning']}")
     if met["excitation_share"] < m["min_excitation"]:
         out.append(f"{case.label}: excitation: |v_r| > {m['excitation_threshold']:g} m/s only "
                    f"{100 * met['excitation_share']:.0f}% of the time (< {100 * m['min_excitation']:.0f}%): theta is "
-                   "not observable while v_r = 0 (A4, observer.md §8)")
+                   "not observable while v_r = 0 (A4, docs/models/observer.md §8)")
     if np.any(tr.v < 0) or np.any(tr.omega < 0):
         out.append(f"{case.label}: the vehicle or the wheel reverses; the model assumes forward motion")
     return out
@@ -458,7 +474,7 @@ def run_observe(config: Config, progress=None) -> StudyResult:
     if progress is not None:
         progress.close()
     synthetic = any(c.sensor.synthetic for c in p.cases)
-    assumed = [f"scenario: {sc['assumed']}"] if sc["assumed"] else []
+    assumed = [sc["assumed"]] if sc["assumed"] else []
     gstudy = checked["gain_study"]
     data = {"observer": pd.concat(frames, ignore_index=True), "metrics": pd.DataFrame(rows)}
     if gstudy:

@@ -1,0 +1,130 @@
+"""Nothing user-facing refers to files a user does not have; the model documentation is complete
+and the report links it.
+
+Users get the repository's README, ``docs/``, ``examples/`` and the installed package (its sources,
+templates, built-in configs and parameter sets, whose texts end up in captions, check sources,
+run.json, warnings and ``--help``). Every reference there must point inside the repository: to a
+page of ``docs/models/`` with its section (``docs/models/lugre.md §7``) or to a paper (``FM eq. (9)``),
+never to the development specification or other folders outside the repository.
+"""
+from __future__ import annotations
+
+import io
+import re
+import tokenize
+from pathlib import Path
+
+import pytest
+
+from conftest import ROOT
+
+#: What users receive: the README, the docs, the examples and the package (sources and package data).
+USER_FILES = sorted({ROOT / "README.md", ROOT / "setup.py",
+                     *(ROOT / "docs").rglob("*.md"),
+                     *(p for p in (ROOT / "examples").rglob("*") if p.is_file()),
+                     *(p for p in (ROOT / "tirecli").rglob("*")
+                       if p.is_file() and "__pycache__" not in p.parts and p.suffix != ".pyc")})
+
+#: Anywhere: paths outside the repository.
+OUTSIDE = re.compile(r"\.\./shared|\bshared/(?:spec|papers|data)\b|/work/|\.\./\.\./\.\.")
+#: In prose (Markdown, YAML, .tir, templates; strings and comments of Python): the development
+#: specification by name.
+SPEC_PROSE = re.compile(r"(?i)\bthe spec\b|\bspec's\b|\bspec\s*§|\(spec\b|\bspec(?: value)?:|\bproject spec"
+                        r"|\bspec\s+`?\w+\.md|\bspecification\b")
+#: A bare ``observer.md §N`` outside docs/models/ is the specification's page, not a file users have.
+BARE_OBSERVER = re.compile(r"(?<![\w/])observer\.md\s*§")
+#: Any Markdown file named in the text.
+MD_NAME = re.compile(r"(?<![\w.-])((?:\.\./|\./)?[\w./-]*[\w-]\.md)\b")
+#: A section of a model page: docs/models/NAME.md §N or §N.M.
+SECTION = re.compile(r"docs/models/(\w+)\.md §(\d+(?:\.\d+)?)")
+
+
+def _prose(path: Path) -> str:
+    """The text a user reads: all of it, except in Python where only strings and comments count
+    (``spec`` is also the name of schema objects in code)."""
+    text = path.read_text(encoding="utf-8", errors="replace")
+    if path.suffix != ".py":
+        return text
+    out = []
+    for tok in tokenize.generate_tokens(io.StringIO(text).readline):
+        if tok.type in (tokenize.STRING, tokenize.COMMENT) or getattr(tokenize, "FSTRING_MIDDLE", -1) == tok.type:
+            out.append(tok.string)
+    return "\n".join(out)
+
+
+def _rel(path: Path) -> str:
+    return path.relative_to(ROOT).as_posix()
+
+
+def _resolves(name: str, path: Path) -> bool:
+    """Whether a Markdown file named in ``path`` exists: relative to that file's folder (links
+    inside docs/), to docs/ (link labels of the model pages) or to the repository root."""
+    name = name.split("#")[0]
+    if "NAME" in name:  # a placeholder (docs/models/NAME.md)
+        return True
+    return any((base / name).is_file() for base in (path.parent, ROOT, ROOT / "docs"))
+
+
+def test_user_files_found():
+    names = {_rel(p) for p in USER_FILES}
+    assert {"README.md", "docs/models/lugre.md", "docs/models/observer.md", "docs/models/magic_formula.md",
+            "docs/models/mcps.md", "docs/models/README.md", "tirecli/templates/report.html.j2"} <= names
+    assert any(n.startswith("tirecli/studies/configs/") for n in names)
+    assert any(n.startswith("tirecli/parameters/data/") for n in names)
+
+
+def test_no_reference_outside_the_repository():
+    bad = []
+    for path in USER_FILES:
+        text = path.read_text(encoding="utf-8", errors="replace")
+        prose = _prose(path)
+        for lineno, line in enumerate(text.splitlines(), 1):
+            for m in OUTSIDE.finditer(line):
+                bad.append(f"{_rel(path)}:{lineno}: {m.group(0)!r} (a path outside the repository)")
+        for m in SPEC_PROSE.finditer(prose):
+            bad.append(f"{_rel(path)}: {m.group(0)!r} (the development specification; cite docs/models/ or the paper)")
+        if not _rel(path).startswith("docs/models/"):
+            for m in BARE_OBSERVER.finditer(prose):
+                bad.append(f"{_rel(path)}: {m.group(0)!r} (write docs/models/observer.md §N)")
+        for m in MD_NAME.finditer(prose):
+            if not _resolves(m.group(1), path):
+                bad.append(f"{_rel(path)}: {m.group(1)!r} names no file of the repository")
+    assert not bad, "user-facing references to files users do not have:\n" + "\n".join(sorted(set(bad)))
+
+
+def test_cited_sections_exist():
+    """Every ``docs/models/NAME.md §N`` cited anywhere users look has that numbered section."""
+    heads = {}
+    for page in (ROOT / "docs" / "models").glob("*.md"):
+        heads[page.stem] = set(re.findall(r"(?m)^#{2,3} (\d+(?:\.\d+)?)[. ]", page.read_text(encoding="utf-8")))
+    bad = []
+    for path in USER_FILES:
+        for m in SECTION.finditer(path.read_text(encoding="utf-8", errors="replace")):
+            page, sec = m.groups()
+            if page != "NAME" and (page not in heads or sec not in heads[page]):
+                bad.append(f"{_rel(path)}: {m.group(0)}")
+    assert not bad, "cited sections that do not exist:\n" + "\n".join(sorted(set(bad)))
+
+
+@pytest.mark.parametrize("page", ["lugre", "observer", "magic_formula", "mcps"])
+def test_model_pages_are_numbered(page):
+    text = (ROOT / "docs" / "models" / f"{page}.md").read_text(encoding="utf-8")
+    numbers = [int(n) for n in re.findall(r"(?m)^## (\d+)\. ", text)]
+    assert numbers == list(range(1, len(numbers) + 1)) and len(numbers) >= 8
+
+
+def test_report_cards_link_their_model_page(tmp_path):
+    """The report carries the pages as HTML and each card links its model's page (offline)."""
+    from tirecli.report.build import build_report
+
+    out = tmp_path / "report"
+    build_report(out, only=["fm-fig1-right", "fm-table2"])
+    html = (out / "index.html").read_text(encoding="utf-8")
+    assert 'href="docs/models/lugre.html"' in html
+    assert 'href="docs/models/lugre.html#s5"' in html  # a check source linked to its section
+    page = (out / "docs" / "models" / "lugre.html").read_text(encoding="utf-8")
+    assert 'id="s5"' in page and 'id="s10"' in page and "<table>" in page
+    assert (out / "docs" / "models" / "observer.html").is_file()
+    for doc in [html, page]:
+        assert not OUTSIDE.search(doc) and not SPEC_PROSE.search(doc)
+    assert "scenario: scenario:" not in html and "ASSUMED</span> scenario: scenario" not in html
