@@ -135,7 +135,7 @@ def test_yaml_bombs_fail_at_once(tmp_path, name, text, pattern):
     ("chain.yaml", "study: sweep\na0: &a0 [1]\n" + "".join(f"a{i}: &a{i} [*a{i - 1}]\n" for i in range(1, 300)),
      r"nested more than 50"),
     ("big.yaml", "study: sweep\n" + "# padding\n" * 200_000, r"big\.yaml: too large for a YAML file \(2 MB, at most 1 MB\)"),
-    ("digits.yaml", "study: sweep\ntitle: 1" + "0" * 5000 + "\n", r"title: cannot read value: a number with too many digits"),
+    ("digits.yaml", "study: sweep\ntitle: 1" + "0" * 5000 + "\n", r"title: cannot read value .*not a usable value"),
 ])
 def test_oversized_yaml_is_refused(tmp_path, refused_here, name, text, pattern):
     refused_here(["params", "validate", _write(tmp_path, name, text)], pattern)
@@ -232,7 +232,7 @@ def test_data_files_with_huge_lines_or_rows_are_refused_before_they_are_parsed(t
     refused_here(args + ["--max-samples", "5000"],
                  r"p\.csv: 1,000 data rows of 200 columns \(13 samples a row\) would need 13,000 samples")
     refused(["mf", "eval", "chrono-185-80r14", "--points", "/dev/zero", "-o", tmp_path / "r.csv"],
-            r"/dev/zero: (line 1 is longer than 10,000 bytes|too large)")
+            r"/dev/zero: (line 1 is longer than 10,000 bytes|too large|.*not a regular file)")
     assert not (tmp_path / "r.csv").exists()
 
 

@@ -17,7 +17,7 @@ import yaml
 
 from tirecli import limits
 from tirecli.config.schema import Spec, check_document
-from tirecli.errors import ConfigError, Problem, UsageError
+from tirecli.errors import ConfigError, Problem, UsageError, token
 from tirecli.io.yamlio import Origins, load_value, load_yaml, parse_yaml
 from tirecli.parameters.sets import ParameterSet, resolve_group
 
@@ -90,9 +90,8 @@ def apply_override(data: dict, origins: Origins, text: str) -> None:
     path = parse_key_path(key.strip())
     try:
         value = load_value(value_text, OVERRIDE_FILE, path) if value_text.strip() else None
-    except yaml.YAMLError:
-        shown = value_text if len(value_text) <= 80 else value_text[:77] + "..."
-        raise UsageError(f"--set {key.strip()}: cannot read the value {shown!r}") from None
+    except (yaml.YAMLError, ValueError, OverflowError, TypeError):  # malformed YAML, a date that does not exist
+        raise UsageError(f"--set {token(text)}: cannot read the value {token(value_text)}") from None
     node: Any = data
     for i, part in enumerate(path[:-1]):
         nxt = path[i + 1]
