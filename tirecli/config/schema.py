@@ -49,6 +49,24 @@ def _type_name(value: Any) -> str:
     return type(value).__name__
 
 
+def _number_hint(value) -> str:
+    """Why a text that looks numeric is not read as a number (it is never guessed)."""
+    import re
+
+    if not isinstance(value, str):
+        return ""
+    t = value.strip()
+    if re.fullmatch(r"[-+]?0[0-9_]+", t):
+        return " (a leading zero is not read as a number: write it without, e.g. 10 or 8)"
+    if re.fullmatch(r"[-+]?[0-9][0-9_]*(:[0-5]?[0-9])+(\.[0-9_]*)?", t):
+        return " (base-60 times such as 1:30 are not read as numbers: write the value in the unit, e.g. 90)"
+    try:
+        float(t)
+    except ValueError:
+        return ""
+    return " (in quotes: write the number without them)"
+
+
 @dataclass
 class Spec:
     """Base of all specs."""
@@ -105,7 +123,7 @@ class Num(Spec):
     def check(self, value, path, ctx):
         kind = "a whole number" if self.integer else "a number"
         if isinstance(value, bool) or not isinstance(value, (int, float)):
-            ctx.fail(path, f"expected {kind} [{self.unit}], got {_type_name(value)}")
+            ctx.fail(path, f"expected {kind} [{self.unit}], got {_type_name(value)}{_number_hint(value)}")
             return MISSING
         if isinstance(value, float) and not math.isfinite(value):
             ctx.fail(path, f"expected a finite number [{self.unit}], got {value}")

@@ -108,39 +108,67 @@ def _cell_float(v) -> float:
 _DECIMAL = re.compile(r"^[+-]?(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d+)?$")
 
 
-def _cell_problem(cell) -> str:
-    """What is wrong with a cell that did not give a finite number."""
+def _too_large(cell) -> bool:
+    """A cell that is a number, but one beyond the range of a double (400 digits, 1e999)."""
     text = str(cell).strip()
-    if isinstance(cell, int) or (_DECIMAL.match(text) and len(text) > 300) or (
-            _DECIMAL.match(text) and not np.isfinite(_cell_float(text))):
-        return f"number too large for a double ({token(text, 20)})"
-    if isinstance(cell, float) and np.isnan(cell) or not text:
-        return "empty or NaN value"
-    if isinstance(cell, float):
-        return "infinite value (or a number too large for a double)"
-    return f"not a number ({token(cell)})"
+    return isinstance(cell, int) and not isinstance(cell, bool) and not np.isfinite(_cell_float(cell)) or bool(
+        _DECIMAL.match(text) and (len(text) > 300 or not np.isfinite(_cell_float(text))))
 
 
-def numeric_column(frame, name: str, path, finite: bool = True) -> np.ndarray:
-    """Column ``name`` as floats; DataError naming the first non-numeric, NaN, infinite or too large cell."""
+def numeric_column(frame, name: str, path, finite: bool = True, rows=None) -> np.ndarray:
+    """Column ``name`` as floats; DataError naming the column, the row and the cell of the first
+    cell that is not a plain number: text, a boolean (``True``/``False`` are not 1/0), a number
+    beyond the range of a double, an empty cell, NaN or an infinity (the last three allowed with
+    ``finite=False``, as NaN/inf).
+
+    ``rows`` are the 1-based data rows of the frame's rows in the file (default: 1, 2, ...), so a
+    frame whose rows were selected still names the rows of the file.
+    """
     import pandas as pd
 
     col = frame[name]
-    try:
-        vals = pd.to_numeric(col, errors="coerce").to_numpy(dtype=float)
-    except (OverflowError, ValueError, TypeError):  # e.g. a 400-digit integer among the cells
-        vals = np.array([_cell_float(v) for v in col.tolist()], dtype=float)
-    bad = np.flatnonzero(np.isnan(vals) & col.notna().to_numpy())
-    if not finite:
+
+    def where(i: int) -> str:
+        r = int(rows[i]) if rows is not None else i + 1
+        return f"{path}: column {token(name)} row {r}"
+
+    kind = col.dtype.kind
+    if kind == "b":
+        raise DataError(f"{where(0)}: not a number ({_cell(col.iloc[0])}; true/false are not numbers)")
+    if kind in "fiu":
+        vals = col.to_numpy(dtype=float)
+    else:  # text (or mixed) cells: every non-empty cell must read as a number, none a boolean
+        cells = col.to_numpy(dtype=object)
+        flags = np.fromiter((isinstance(c, (bool, np.bool_)) for c in cells), dtype=bool, count=len(cells))
+        if flags.any():
+            i = int(np.flatnonzero(flags)[0])
+            raise DataError(f"{where(i)}: not a number ({_cell(cells[i])}; true/false are not numbers)")
+        try:
+            vals = pd.to_numeric(col, errors="coerce").to_numpy(dtype=float)
+        except (OverflowError, ValueError, TypeError):  # e.g. a 400-digit integer among the cells
+            vals = np.array([_cell_float(v) for v in cells], dtype=float)
+        big = np.flatnonzero(~np.isfinite(vals) & col.notna().to_numpy())
+        for i in big[:1]:
+            if _too_large(cells[i]):
+                raise DataError(f"{where(int(i))}: number too large for a double ({token(str(cells[i]).strip(), 20)})")
+        bad = np.flatnonzero(np.isnan(vals) & col.notna().to_numpy())
         if bad.size:
             i = int(bad[0])
-            raise DataError(f"{path}: column {token(name)} row {i + 1}: {_cell_problem(col.iloc[i])}")
-        return vals
-    bad = np.flatnonzero(~np.isfinite(vals))
-    if bad.size:
-        i = int(bad[0])
-        raise DataError(f"{path}: column {token(name)} row {i + 1}: {_cell_problem(col.iloc[i])}")
+            hint = "; true/false are not numbers" if str(cells[i]).strip().lower() in ("true", "false") else ""
+            raise DataError(f"{where(i)}: not a number ({_cell(cells[i])}{hint})")
+    if finite:
+        bad = np.flatnonzero(~np.isfinite(vals))
+        if bad.size:
+            i = int(bad[0])
+            what = "empty or NaN" if np.isnan(vals[i]) else "infinite"
+            raise DataError(f"{where(i)}: {what} value (a finite number is needed)")
     return vals
+
+
+def _cell(v) -> str:
+    """A cell for a message: its text, at most 40 characters."""
+    text = str(v)
+    return repr(text if len(text) <= 40 else text[:37] + "...")
 
 
 def read_columns(path: str | Path, columns, increasing: str | None = None, min_rows: int = 2,
@@ -222,16 +250,26 @@ def frame_columns(frame, columns, path, increasing: str | None = None, min_rows:
                         f"(file has: {names(frame.columns) or 'none'}; map names with --map FILE_COLUMN=NAME)")
     if len(frame) < min_rows:
         raise DataError(f"{path}: too few data rows ({len(frame)}, need at least {min_rows})")
+    rows = data_rows(frame)
     frame = frame.reset_index(drop=True)
-    out = {c: numeric_column(frame, c, path) for c in columns}
+    out = {c: numeric_column(frame, c, path, rows=rows) for c in columns}
     for c in optional:
         if c in frame.columns:
-            out[c] = numeric_column(frame, c, path)
+            out[c] = numeric_column(frame, c, path, rows=rows)
     if increasing is not None:
         t = out[increasing]
         bad = np.flatnonzero(np.diff(t) <= 0)
         if bad.size:
             i = int(bad[0]) + 1
-            raise DataError(f"{path}: column {token(increasing)} row {i + 1}: time does not increase "
+            raise DataError(f"{path}: column {token(increasing)} row {rows[i]}: time does not increase "
                             f"({t[i - 1]:g} then {t[i]:g})")
     return out
+
+
+def data_rows(frame) -> np.ndarray:
+    """1-based data rows of the file for the rows of a frame from :func:`read_table` (rows kept by
+    :func:`select_rows` keep their numbers); 1, 2, ... for a frame of another origin."""
+    idx = frame.index
+    if idx.dtype.kind in "iu" and len(idx) and idx.min() >= 0:
+        return idx.to_numpy(dtype=np.int64) + 1
+    return np.arange(1, len(frame) + 1)
