@@ -128,8 +128,9 @@ class Num(Spec):
         if isinstance(value, float) and not math.isfinite(value):
             ctx.fail(path, f"expected a finite number [{self.unit}], got {value}")
             return MISSING
-        if isinstance(value, int) and abs(value) > 1e300:  # beyond every range, and float() overflows
-            ctx.fail(path, f"expected {kind} [{self.unit}] of a usable size, got {token(value)}")
+        if isinstance(value, int) and abs(value) > 1e308:  # float() would overflow
+            ctx.fail(path, f"expected a finite number [{self.unit}], got an integer of about "
+                           f"{int(value.bit_length() * 0.30103) + 1} digits (beyond the range of a double)")
             return MISSING
         if self.integer and not float(value).is_integer():
             ctx.fail(path, f"expected a whole number, got {value}")

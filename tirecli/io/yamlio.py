@@ -144,7 +144,12 @@ def _build(node, path: KeyPath, origins: Origins, file: str, problems: list[Prob
         return None
     except (ValueError, OverflowError, TypeError, ArithmeticError) as exc:
         # a date that does not exist (2024-13-45), an integer beyond Python's digit limit, ...
-        what = "not a valid date or time" if "timestamp" in str(getattr(node, "tag", "")) else "not a usable value"
+        tag = str(getattr(node, "tag", ""))
+        if tag.endswith(":int") and len(str(getattr(node, "value", ""))) > 1000:  # Python refuses to convert it
+            problems.append(Problem(file, node.start_mark.line + 1, format_key(path),
+                                    "cannot read value: a number of thousands of digits, beyond the range of a double"))
+            return None
+        what = "not a valid date or time" if "timestamp" in tag else "not a usable value"
         problems.append(Problem(file, node.start_mark.line + 1, format_key(path),
                                 f"cannot read value {token(getattr(node, 'value', ''))}: {what} ({clip(exc, 80)})"))
         return None
