@@ -60,7 +60,7 @@ def _mark(fig, result=None, text=SYN, title=None):
     if result is None or result.synthetic:
         if title:
             fig.suptitle(title, fontsize=10, y=0.965, va="top")
-        synthetic_mark(fig, text, top=0.94 if title else 0.975)
+        synthetic_mark(fig, text, top=0.94 if title else None)
     elif title:
         fig.suptitle(title, fontsize=10)
 
@@ -371,7 +371,7 @@ def draw_fm_fig5(result):
         ax.plot(g["t_record"], g["mu"] * Fn, color=COLORS[0], lw=1.2, label="longitudinal force F_x = mu F_z")
         finish(ax, "record time t [s]", "force [N]" if k == 0 else "", f"braking #{bk} (synthetic)", legend=False)
     _case_legend(fig, axes[0])
-    _mark(fig, title="FM Fig. 5 (synthetic): wheel forces; F_y and G_t are not modelled")
+    _mark(fig)
     return fig
 
 

@@ -14,8 +14,9 @@ from pathlib import Path
 #: CSS pixels per inch of figure: the page shows a figure drawn W inches wide W * 110 px wide, at most
 #: the width of its column (the fonts of tirecli's figures, 8-10 pt, then read like the page's small text).
 PX_PER_INCH = 110
-#: Figures wider than this (inches) span the card; the text "the paper shows" goes below them.
-WIDE_INCHES = 10.5
+#: Figures wider than this (inches) span the card and the text "the paper shows" goes below them: beside
+#: that text (on a 1280 px screen) a wider figure would be shrunk below its drawn size.
+WIDE_INCHES = 8.0
 
 
 def image_size(path: str | Path) -> tuple[int, int, float] | None:
