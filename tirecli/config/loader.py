@@ -16,7 +16,7 @@ from typing import Any
 import yaml
 
 from tirecli.config.schema import Spec, check_document
-from tirecli.errors import ConfigError, Problem, UsageError
+from tirecli.errors import ConfigError, Problem, UsageError, token
 from tirecli.io.yamlio import Origins, load_value, load_yaml, parse_yaml
 from tirecli.parameters.sets import ParameterSet, resolve_group
 
@@ -86,8 +86,8 @@ def apply_override(data: dict, origins: Origins, text: str) -> None:
     path = parse_key_path(key.strip())
     try:
         value = load_value(value_text) if value_text.strip() else None
-    except yaml.YAMLError:
-        raise UsageError(f"--set {text!r}: cannot read the value {value_text!r}") from None
+    except (yaml.YAMLError, ValueError, OverflowError, TypeError):  # malformed YAML, a date that does not exist
+        raise UsageError(f"--set {token(text)}: cannot read the value {token(value_text)}") from None
     node: Any = data
     for i, part in enumerate(path[:-1]):
         nxt = path[i + 1]
