@@ -21,6 +21,7 @@ from tirecli.figures.registry import PAPERS, Table, load_all
 from tirecli.io import output
 from tirecli.io.atomic import out_path, staged_dir
 from tirecli.io.files import check_output_dir
+from tirecli.report.cards import card_files
 from tirecli.report.docs import card_doc, link_sources, write_docs
 from tirecli.studies.base import Check, builtin_config, run_study
 
@@ -157,6 +158,10 @@ def _write_report(stage, entries: list, t_start: float, progress) -> dict:
             "citations": res.citations(), "meta": res.meta, "synthetic": res.synthetic,
             "wall_time_s": round(timings[name], 4),
         })
+
+    for card in cards:  # the card's links (PNG, SVG, data CSVs, run record) and display size
+        res = results.get(card["study"])
+        card.update(card_files(out, card["files"], card["study"], list(res.data) if res else [], res is not None))
 
     sections = []
     for paper in PAPER_ORDER + sorted({c["paper"] for c in cards} - set(PAPER_ORDER)):
