@@ -29,8 +29,8 @@ def show(name: str = typer.Argument(..., help="Built-in set name or a parameter-
 
 
 @app.command("validate")
-def validate(file: Path = typer.Argument(..., help="A parameter-set file or a study config.")) -> None:
-    """Check a parameter-set file or a study config; one line per problem, exit 2 if any."""
+def validate(file: Path = typer.Argument(..., help="A parameter-set file, a study config or a campaign file.")) -> None:
+    """Check a parameter-set file, a study config or a campaign (every point); one line per problem, exit 2 if any."""
     from tirecli.app import validate_file
 
     result_line(validate_file(file))

@@ -2,6 +2,7 @@
 and the record of every input file the process read (an output never overwrites or removes one)."""
 from __future__ import annotations
 
+import contextlib
 import os
 from pathlib import Path
 
@@ -9,11 +10,27 @@ from tirecli.errors import ConfigError, Problem
 
 
 _INPUTS: set[str] = set()
+_TRACKERS: list[set] = []
 
 
 def note_input(path: str | Path) -> None:
     """Record that ``path`` is an input of this run (every reader of :mod:`tirecli.io` calls this)."""
-    _INPUTS.add(os.path.realpath(path))
+    real = os.path.realpath(path)
+    _INPUTS.add(real)
+    for seen in _TRACKERS:
+        seen.add(real)
+
+
+@contextlib.contextmanager
+def tracked_inputs():
+    """Yield a set that collects the real paths of the input files read inside the block (a
+    campaign hashes the files its base study reads into the points' identities)."""
+    seen: set = set()
+    _TRACKERS.append(seen)
+    try:
+        yield seen
+    finally:
+        _TRACKERS.remove(seen)
 
 
 def inputs_read() -> frozenset[str]:
