@@ -164,6 +164,8 @@ def run_point(config, wanted=None, keep: bool = False) -> tuple[dict, object]:
         if missing:
             import difflib
 
+            facts = run_point(config)[0]  # every fact, to name them
+
             hint = difflib.get_close_matches(missing[0], list(facts), n=1)
             raise UnknownFact(f"no fact named {missing[0]!r}" + (f"; did you mean {hint[0]!r}?" if hint else "")
                            + f" (facts of this run: {', '.join(list(facts)[:30])}{' ...' if len(facts) > 30 else ''})", missing[0])
@@ -177,7 +179,7 @@ def error_text(exc: BaseException) -> str:
 
     msg = str(exc).strip().splitlines()
     text = msg[0] if msg else ""
-    if isinstance(exc, (TirecliError, PointTimeout)):
+    if isinstance(exc, (TirecliError, PointTimeout, UnknownFact)):
         return text or type(exc).__name__
     if isinstance(exc, KeyError):
         text = str(exc.args[0]) if exc.args else text

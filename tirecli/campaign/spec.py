@@ -138,6 +138,7 @@ SPEC = Map(fields={
     "description": Str(default="", doc="free description"),
     "base": Raw(doc="the base study: a config file (relative to this file), a built-in config name, or a mapping"),
     "set": Map(open_keys=Raw(), default=None, doc="fixed overrides of every point: {KEY: VALUE}"),
+    "unset": ListOf(item=Str(), default=[], min_len=0, doc="keys removed from the base (their defaults apply)"),
     "vary": Map(open_keys=Raw(), default=None, doc="grid: {KEY: [values] or {start, stop, num}}"),
     "sample": Map(fields={
         "n": Num(integer=True, ge=1, le=MAX_POINTS, doc="number of samples (saltelli: base sample N, N (D + 2) runs)"),
@@ -162,6 +163,7 @@ class Override:
     path: tuple
     value: Any
     origin: tuple
+    remove: bool = False  # ``unset:``: delete the key from the base
 
 
 @dataclass
@@ -238,12 +240,29 @@ def _plain(obj):
     return obj
 
 
+def _remove(data, origins: Origins, o) -> None:
+    node = data
+    for part in o.path[:-1]:
+        try:
+            node = node[part]
+        except (KeyError, IndexError, TypeError):
+            raise UsageError(f"unset {o.key}: the base has no {format_key(o.path)}") from None
+    if not isinstance(node, dict) or o.path[-1] not in node:
+        raise UsageError(f"unset {o.key}: the base has no {format_key(o.path)}")
+    del node[o.path[-1]]
+    origins.drop(o.path)
+
+
 def point_config(base: Config, overrides) -> Config:
-    """The base config with ``overrides`` (a list of :class:`Override`) applied, as ``--set`` does."""
+    """The base config with ``overrides`` (a list of :class:`Override`) applied, as ``--set`` does
+    (an override with ``remove`` deletes its key)."""
     data = _plain(base.data)
     origins = Origins(default_file=base.origins.default_file, where=dict(base.origins.where))
     for o in overrides:
-        set_value(data, origins, o.path, o.value, f"{o.key}", o.origin)
+        if o.remove:
+            _remove(data, origins, o)
+        else:
+            set_value(data, origins, o.path, o.value, f"{o.key}", o.origin)
     return Config(data=data, origins=origins, base_dir=base.base_dir, label=base.label)
 
 
@@ -380,6 +399,11 @@ def load_campaign(path: str | Path) -> Campaign:
             fixed.append(Override(key, kp, _plain(doc["set"][key]), origins.of(where)))
         else:
             overrides[key] = (kp, origins.of(where))
+    for j, key in enumerate(doc["unset"]):
+        try:
+            fixed.insert(0, Override(key, parse_key_path(key), None, origins.of(("unset", j)), remove=True))
+        except UsageError as err:
+            problems.append(origins.problem(("unset", j), str(err).replace("--set: ", "")))
     for k in (doc["set"] or {}):
         if k in design.keys:
             problems.append(origins.problem(("set", k), "also varied: a key is either fixed (set) or varied"))
