@@ -39,7 +39,7 @@ from typing import Any
 import numpy as np
 
 from tirecli.config.loader import Config, load_config, parse_key_path, set_value
-from tirecli.config.schema import MISSING, Bool, Context, Grid, ListOf, Map, Num, Raw, Spec, Str
+from tirecli.config.schema import MISSING, Bool, Context, Grid, ListOf, Map, Nullable, Num, Raw, Spec, Str
 from tirecli.errors import ConfigError, Problem, UsageError
 from tirecli.io.yamlio import Origins, format_key
 
@@ -148,10 +148,10 @@ SPEC = Map(fields={
     "outputs": ListOf(item=Str(), doc="names of the scalar facts of each run to tabulate"),
     "keep": Str(choices=KEEP, default="facts", doc="facts, or timeseries too (Parquet, one partition per point)"),
     "checks": ListOf(item=CHECK, default=[], min_len=0, doc="campaign-level checks on the outputs"),
-    "batch": Num(integer=True, ge=1, default=None, doc="points per task (default: about half a second of work)"),
+    "batch": Nullable(spec=Num(integer=True, ge=1), default=None, doc="points per task (default: about half a second of work)"),
     "figures": Bool(default=True, doc="draw the analysis figures"),
-    "timeout": Num(unit="s", gt=0, default=None,
-                   doc="a point running longer fails with a timeout (process pool and in-process runs)"),
+    "timeout": Nullable(spec=Num(unit="s", gt=0), default=None,
+                        doc="a point running longer fails with a timeout (process pool and in-process runs)"),
 })
 
 
