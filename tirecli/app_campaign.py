@@ -139,9 +139,9 @@ def run_campaign(path: str | Path, out=None, jobs: int | None = None, scheduler:
     t0 = time.perf_counter()
     out = out_path(out) if out is not None else None
     campaign = load_campaign(path)
-    ids, study = check_points(campaign)
-    out = out or default_out(path)
     jobs = jobs or default_jobs()
+    ids, study = check_points(campaign, jobs if not scheduler else min(jobs, default_jobs()))
+    out = out or default_out(path)
     keep = campaign.keep == "timeseries"
     payload = {"base": campaign.base, "fixed": campaign.fixed, "outputs": campaign.outputs, "keep": keep,
                "timeout": campaign.timeout}

@@ -266,11 +266,16 @@ def point_config(base: Config, overrides) -> Config:
     return Config(data=data, origins=origins, base_dir=base.base_dir, label=base.label)
 
 
-def point_id(config: Config, inputs_digest: str = "") -> str:
+def document_hash(config: Config) -> str:
+    """SHA-256 of a config document (canonical JSON)."""
+    blob = json.dumps(config.data, sort_keys=True, default=str, separators=(",", ":"))
+    return hashlib.sha256(blob.encode()).hexdigest()
+
+
+def point_id(doc_hash: str, inputs_digest: str = "") -> str:
     """A point's identity: 16 hex digits of the SHA-256 of its resolved config document (base with
-    overrides) and of the contents of the files the base reads (``inputs_digest``)."""
-    blob = json.dumps(config.data, sort_keys=True, default=str, separators=(",", ":")) + "\n" + inputs_digest
-    return hashlib.sha256(blob.encode()).hexdigest()[:16]
+    overrides, :func:`document_hash`) and of the contents of the files the base reads (``inputs_digest``)."""
+    return hashlib.sha256(f"{doc_hash}\n{inputs_digest}".encode()).hexdigest()[:16]
 
 
 def _load_base(raw, origins: Origins, campaign_dir: Path, label: str) -> Config:
@@ -415,39 +420,45 @@ def load_campaign(path: str | Path) -> Campaign:
                     timeout=doc["timeout"], document=data, origins=origins)
 
 
-def check_points(campaign: Campaign) -> tuple[list, str]:
+#: A campaign with at least this many points is checked on ``jobs`` processes.
+PARALLEL_CHECK = 2000
+_CHECKING = None
+
+
+def check_points(campaign: Campaign, jobs: int = 1) -> tuple[list, str]:
     """Check every point's config as its command would (:func:`tirecli.studies.base.check_study`)
     without running it; returns ``(point ids, study name)``. All problems of all points are raised
-    together as one ConfigError (each distinct problem once, with how many points have it)."""
-    from tirecli.io.files import tracked_inputs
-    from tirecli.studies.base import check_study
-
-    with tracked_inputs() as read:
-        ids, study = _check_points(campaign, read)
-    return ids, study
-
-
-def _check_points(campaign: Campaign, read: set) -> tuple[list, str]:
-    from tirecli.studies.base import check_study
+    together as one ConfigError (each distinct problem once, with how many points have it). Large
+    campaigns are checked on ``jobs`` processes (Linux)."""
+    global _CHECKING
+    import sys
 
     design = campaign.design
-    ids, studies = [], set()
-    seen: dict = {}
-    configs = []
-    for i, values in enumerate(design.points):
+    n = len(design.points)
+    if jobs > 1 and n >= PARALLEL_CHECK and sys.platform.startswith("linux"):
+        import multiprocessing
+        from concurrent.futures import ProcessPoolExecutor
+
+        from tirecli.campaign.execute import _init_worker
+
+        bounds = np.linspace(0, n, 4 * jobs + 1).astype(int)
+        _CHECKING = campaign  # inherited by the forked workers
         try:
-            cfg = point_config(campaign.base, campaign.fixed + campaign.point_overrides(values))
-            studies.add(check_study(cfg))
-        except ConfigError as err:
-            for p in err.problems:
-                seen.setdefault((p.file, p.line, p.key, p.message), []).append(i)
-            cfg = None
-        except UsageError as err:
-            seen.setdefault((campaign.label, None, "", str(err)), []).append(i)
-            cfg = None
-        configs.append(cfg)
+            with ProcessPoolExecutor(jobs, mp_context=multiprocessing.get_context("fork"), initializer=_init_worker,
+                                     initargs=(None,)) as pool:
+                parts = list(pool.map(_check_range_global, zip(bounds[:-1], bounds[1:])))
+        finally:
+            _CHECKING = None
+    else:
+        parts = [_check_range(campaign, 0, n)]
+    hashes, studies, seen, read = [], set(), {}, set()
+    for h, st, problems, files in parts:
+        hashes += h
+        studies |= st
+        read |= files
+        for k, pts in problems.items():
+            seen.setdefault(k, []).extend(pts)
     if seen:
-        n = len(design.points)
         problems = []
         for (file, line, key, msg), pts in list(seen.items())[:20]:
             where = "" if len(pts) == n else f" (in {len(pts)} of {n} points, e.g. point {pts[0]}: " \
@@ -457,7 +468,33 @@ def _check_points(campaign: Campaign, read: set) -> tuple[list, str]:
     if len(studies) > 1:
         raise ConfigError(campaign.origins.problem(("base",), f"the points run different studies: {', '.join(sorted(studies))}"))
     digest = inputs_digest(read, exclude={campaign.label})
-    return [point_id(c, digest) for c in configs], studies.pop()
+    return [point_id(h, digest) for h in hashes], studies.pop()
+
+
+def _check_range_global(bounds):
+    return _check_range(_CHECKING, int(bounds[0]), int(bounds[1]))
+
+
+def _check_range(campaign: Campaign, lo: int, hi: int):
+    """Check points ``lo`` to ``hi - 1``: ``(document hashes, studies, {problem: [points]}, files read)``."""
+    from tirecli.io.files import tracked_inputs
+    from tirecli.studies.base import check_study
+
+    hashes, studies, seen = [], set(), {}
+    with tracked_inputs() as read:
+        for i in range(lo, hi):
+            h = None
+            try:
+                cfg = point_config(campaign.base, campaign.fixed + campaign.point_overrides(campaign.design.points[i]))
+                studies.add(check_study(cfg))
+                h = document_hash(cfg)
+            except ConfigError as err:
+                for p in err.problems:
+                    seen.setdefault((p.file, p.line, p.key, p.message), []).append(i)
+            except UsageError as err:
+                seen.setdefault((campaign.label, None, "", str(err)), []).append(i)
+            hashes.append(h)
+    return hashes, studies, seen, set(read)
 
 
 def _short(v) -> str:
