@@ -51,6 +51,9 @@ def _init_worker(payload) -> None:
     global _PAYLOAD
     signal.signal(signal.SIGINT, signal.SIG_IGN)
     signal.signal(signal.SIGTERM, signal.SIG_DFL)
+    from tirecli.numerics import pool
+
+    pool._POOL, pool._SIZE = None, 0  # a forked copy of the parent's thread pool has no threads
     _PAYLOAD = payload
 
 
