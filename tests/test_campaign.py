@@ -118,7 +118,10 @@ def test_a_failing_point_is_recorded_and_the_campaign_goes_on(cli, tmp_path, mon
     assert pd.isna(bad.iloc[0]["fy"]) and (df["status"] == "ok").sum() == 5
     assert "point 3 failed: time integration stopped" in out
     assert "check failed: points-ran" in out
-    assert cli("campaign", c, "--out", tmp_path / "o", "-j", "1", "--strict")[0] == 1  # the failed point runs again
+    code, out, err = cli("campaign", c, "--out", tmp_path / "o", "-j", "1", "--strict", "--junit", tmp_path / "j.xml")
+    assert code == 1  # the failed point runs again, and fails again
+    xml = (tmp_path / "j.xml").read_text()
+    assert 'classname="campaign mf"' in xml and 'name="points-ran"' in xml and "<failure" in xml
     monkeypatch.setattr(facts, "run_point", real)
     code, out, err = cli("campaign", c, "--out", tmp_path / "o", "-j", "1", "--strict")
     assert code == 0, err
@@ -262,8 +265,9 @@ checks: [{output: fy, max: 0}]
     assert st["points.fz"] > st["tire.LMUY"] > 0  # load dominates Fy over these ranges
     figs = {Path(p).name for p in summary["outputs"] if p.startswith("figures/")}
     assert {"sobol.png", "tornado.png", "distribution-fy.png", "scatter-fy.png"} <= figs
-    code, out, err = cli("report", c, "--out", tmp_path / "rep")
+    code, out, err = cli("report", c, "--out", tmp_path / "rep", "--junit", tmp_path / "rep.xml")
     assert code == 0, err
+    assert '<testsuite name="report campaign sob"' in (tmp_path / "rep.xml").read_text()
     html = (tmp_path / "rep" / "index.html").read_text()
     assert 'id="campaign-sob"' in html and "sobol" in html
     rep = json.loads((tmp_path / "rep" / "summary.json").read_text())

@@ -9,6 +9,10 @@ Each ```yaml block is one of:
 - a parameter set (``kind:``): ``tirecli params validate`` accepts it;
 - a campaign (``campaign:``): ``tirecli params validate`` accepts it (every point checked; tests/test_campaign.py
   runs campaigns);
+- a CI pipeline (docs/ci.md): a GitHub Actions workflow (``jobs:`` whose jobs have ``steps:``) or
+  GitLab CI jobs (mappings with ``script:``), not a tirecli file: it parses as YAML (as the CI
+  system reads it), its ``tirecli`` commands are valid, and it publishes the JUnit file and keeps
+  the report folder that its ``tirecli report`` writes (:func:`test_ci_pipeline`);
 - a fragment (e.g. the forms a ``tire:`` group may take, one per line): listed in ``FRAGMENTS``
   with the study to check it in; each of its top-level entries is validated inside a minimal
   config of that study. A new fragment fails :func:`test_every_fragment_is_checked` until it is
@@ -104,6 +108,25 @@ def parse(block: Block):
     return data if isinstance(data, dict) else None
 
 
+def ci_pipeline(block: Block):
+    """The block as a CI system reads it, when it is a GitHub Actions workflow or GitLab CI jobs; else None."""
+    import yaml
+
+    try:
+        data = yaml.safe_load(block.text)
+    except yaml.YAMLError:
+        return None
+    if not isinstance(data, dict):
+        return None
+    jobs = data.get("jobs")
+    if isinstance(jobs, dict) and jobs and all(isinstance(j, dict) and "steps" in j for j in jobs.values()):
+        return data
+    jobs = [v for v in data.values() if isinstance(v, dict)]
+    if jobs and all("script" in j for j in jobs):
+        return data
+    return None
+
+
 def kind_of(block: Block) -> str:
     data = parse(block)
     if data is not None and "study" in data:
@@ -112,11 +135,14 @@ def kind_of(block: Block) -> str:
         return "set"
     if data is not None and "campaign" in data:
         return "campaign"
+    if ci_pipeline(block) is not None:
+        return "ci"
     return "fragment"
 
 
 BLOCKS = yaml_blocks()
 CONFIGS = [b for b in BLOCKS if kind_of(b) == "config"]
+PIPELINES = [b for b in BLOCKS if kind_of(b) == "ci"]
 
 
 def entries(text: str) -> list[str]:
@@ -179,6 +205,7 @@ def test_docs_have_yaml_snippets():
     assert len(CONFIGS) >= 10
     assert {parse(b)["study"] for b in CONFIGS} >= {"sweep", "simulate", "observe", "fit", "mcps-stationary",
                                                     "mcps-slider", "mcps-standstill", "mcps-relaxation"}
+    assert len([b for b in PIPELINES if b.file == "docs/ci.md"]) == 2  # GitHub Actions and GitLab CI
 
 
 def test_every_fragment_is_checked():
@@ -187,7 +214,7 @@ def test_every_fragment_is_checked():
     assert not unknown, f"YAML fragments without a check (add them to FRAGMENTS in {__file__}): {unknown}"
 
 
-@pytest.mark.parametrize("block", BLOCKS, ids=lambda b: b.id)
+@pytest.mark.parametrize("block", [b for b in BLOCKS if kind_of(b) != "ci"], ids=lambda b: b.id)
 def test_snippet_validates(cli, snippet_dir, block):
     kind = kind_of(block)
     if kind in ("config", "set", "campaign"):
@@ -277,3 +304,40 @@ def test_solver_tol_null_is_accepted_as_documented(cli, tmp_path):
     bad.write_text(base + "solver: {tol: fast}\n")
     code, out, err = cli("params", "validate", bad)
     assert code == 2 and "solver.tol" in err and err.count("\n") == 1, err
+
+
+@pytest.mark.parametrize("block", PIPELINES, ids=lambda b: b.id)
+def test_ci_pipeline(block):
+    """A CI example: its tirecli commands are valid; the one running ``tirecli report --strict --junit
+    FILE`` is followed by steps that publish FILE as the JUnit test report and keep the report folder,
+    also when the job failed."""
+    from doc_commands import parse as parse_command
+    from doc_commands import split
+
+    data = ci_pipeline(block)
+    if "jobs" in data:  # GitHub Actions: steps with run: (shell) or uses: (an action)
+        jobs = {name: (job["steps"], None) for name, job in data["jobs"].items()}
+    else:  # GitLab CI: script lines, artifacts
+        jobs = {name: ([{"run": line} for line in job["script"]], job.get("artifacts")) for name, job in data.items()}
+    reports = 0
+    for name, (steps, artifacts) in jobs.items():
+        for step in steps:
+            for argv in (a for line in str(step.get("run", "")).splitlines() for a in split(line)):
+                path, params = parse_command(argv)
+                if path != ["report"]:
+                    continue
+                assert params["strict"] and params["junit"], f"{block.id}: {name}: tirecli {' '.join(argv)}"
+                junit, folder = params["junit"], params["out"].rstrip("/")
+                reports += 1
+                if artifacts is not None:  # GitLab
+                    assert artifacts["when"] == "always"
+                    assert artifacts["reports"]["junit"] == junit
+                    assert folder in [p.rstrip("/") for p in artifacts["paths"]]
+                else:  # GitHub
+                    after = steps[steps.index(step) + 1:]
+                    kept = [s for s in after if str(s.get("uses", "")).startswith("actions/upload-artifact@")]
+                    published = [s for s in after if "junit" in str(s.get("uses", ""))]
+                    assert kept and kept[0]["with"]["path"].rstrip("/") == folder and kept[0]["if"] == "always()"
+                    assert published and published[0]["with"]["report_paths"] == junit
+                    assert published[0]["if"] == "always()"
+    assert reports == 1, f"{block.id}: expected one 'tirecli report --strict --junit FILE'"

@@ -57,7 +57,7 @@ def test_strict_fails_when_a_transient_study_drifts(cli, tmp_path, monkeypatch, 
     monkeypatch.setattr(build, "builtin_config",
                         lambda name, overrides=(): real(name, list(overrides) + ["input.pressure_gain=21"]))
     code, out, err = cli("report", "--out", tmp_path, "--only", fid, "--strict")
-    assert code == 1
+    assert code == 1, out + err
     summary = json.loads((tmp_path / "summary.json").read_text())
     assert summary["n_failed"] >= 1
     assert all(c["id"].startswith(fid + "/") for c in summary["checks"] if not c["passed"])

@@ -6,18 +6,20 @@ from typing import Optional
 
 import typer
 
-from tirecli.cli.common import echo, progress, result_line
+from tirecli.cli.common import JunitOpt, echo, progress, result_line, strict_exit
 
 CampaignArg = typer.Argument(..., metavar="CAMPAIGN", help="YAML campaign file (see docs/campaigns.md).", show_default=False)
 
 
 def campaign(
-    path: Path = CampaignArg,
-    out: Optional[str] = typer.Option(None, "--out", "-o", help="Output directory [default: tirecli-out/campaign-NAME]."),
-    jobs: Optional[int] = typer.Option(None, "--jobs", "-j", min=1, help="Worker processes [default: the CPU count]."),
+    config: Path = CampaignArg,
+    out: Optional[str] = typer.Option(None, "--out", "-o", metavar="DIR",
+                                      help="Output directory [default: tirecli-out/campaign-CAMPAIGN]."),
+    jobs: Optional[int] = typer.Option(None, "--jobs", "-j", min=1, metavar="N", help="Worker processes [default: the CPU count]."),
     scheduler: Optional[str] = typer.Option(None, "--scheduler", metavar="ADDRESS",
                                             help="Run on Dask: 'local' (a LocalCluster of --jobs workers) or tcp://HOST:8786."),
-    strict: bool = typer.Option(False, "--strict", help="Exit 1 when a campaign check fails or a point failed."),
+    strict: bool = typer.Option(False, "--strict", help="Exit 1 when a campaign check fails (or a point failed)."),
+    junit: Optional[str] = JunitOpt,
 ) -> None:
     """Run a study at every point of a grid and/or a sample over config keys, and tabulate its facts.
 
@@ -27,9 +29,12 @@ def campaign(
     analysis figures. A rerun skips the points already done (Ctrl-C keeps them).
     """
     from tirecli.app_campaign import run_campaign
-    from tirecli.errors import RunError
 
-    summary = run_campaign(path, out, jobs, scheduler, progress(), note=echo)
+    if junit is not None:
+        from tirecli.io import junit as jx
+
+        jx.target(junit, inputs=[config])  # a bad --junit fails before the campaign runs
+    summary = run_campaign(config, out, jobs, scheduler, progress(), note=echo)
     rec = summary.record
     pts = rec["points"]
     echo(f"campaign {rec['campaign']}: {pts['ok']} ok, {pts['failed']} failed of {pts['total']} points "
@@ -47,5 +52,9 @@ def campaign(
         result_line(f"check failed: {c.id}: {c.description}: {shown}")
     result_line(f"wrote {summary.paths['results']}, {summary.paths['csv'].name}, {summary.paths['summary'].name}, "
                 f"{len(summary.paths['figures'])} figure file(s)")
-    if strict and failed:
-        raise RunError(f"{len(failed)} campaign check(s) failed (--strict)")
+    records = [c.record() for c in summary.checks]
+    if junit is not None:
+        named = [{**r, "id": f"campaign {rec['campaign']}/{r['id']}"} for r in records]  # classname: the campaign
+        suite = jx.checks_suite(f"campaign {rec['campaign']}", named, rec["wall_time_s"])
+        result_line(f"wrote {jx.write(junit, [suite], 'tirecli campaign', done=f'the results are in {summary.out}')}")
+    strict_exit(records, strict)

@@ -1,6 +1,7 @@
 """Options, output helpers and the progress bar shared by all commands."""
 from __future__ import annotations
 
+import contextlib
 import sys
 import time
 from pathlib import Path
@@ -12,7 +13,11 @@ import typer
 STATE = {"quiet": False, "debug": False}
 
 ConfigArg = typer.Argument(..., metavar="CONFIG", help="YAML config file of the run (see examples/).", show_default=False)
-OutOpt = typer.Option(None, "--out", "-o", help="Output directory [default: tirecli-out/COMMAND-CONFIG].")
+OutOpt = typer.Option(None, "--out", "-o", metavar="DIR", help="Output directory [default: tirecli-out/COMMAND-CONFIG].")
+JunitOpt = typer.Option(None, "--junit", metavar="FILE",
+                        help="Also write the reference checks as JUnit XML to FILE (one test case per check, "
+                             "failed checks as failures), for the test report of a CI pipeline.")
+StrictOpt = typer.Option(False, "--strict", help="Exit 1 when any reference check fails.")
 SetOpt = typer.Option(None, "--set", "-s", metavar="KEY=VALUE",
                       help="Override a config value, e.g. --set tire.sigma0=170 (repeatable).")
 
@@ -26,6 +31,13 @@ def echo(msg: str = "") -> None:
 def result_line(msg: str) -> None:
     """Print a result line (always, even with --quiet: it is the command's answer)."""
     typer.echo(msg)
+
+
+def table(rows: list[tuple]) -> list[str]:
+    """Rows of text cells as aligned lines: each column as wide as its widest cell, two spaces apart."""
+    rows = [[str(c) for c in r] for r in rows]
+    widths = [max(len(r[i]) for r in rows if i < len(r)) for i in range(max((len(r) for r in rows), default=0))]
+    return ["  ".join(c.ljust(widths[i]) if i < len(r) - 1 else c for i, c in enumerate(r)) for r in rows]
 
 
 class TerminalProgress:
@@ -75,6 +87,62 @@ def progress() -> TerminalProgress:
 
 def overrides(values: Optional[List[str]]) -> list[str]:
     return list(values or [])
+
+
+def run(command: str, config: Path, set_: Optional[List[str]], out: Optional[str], junit: Optional[str],
+        extra: list[str] | tuple = ()):
+    """Run ``config`` as ``tirecli COMMAND`` (:func:`tirecli.app.run_config`; ``extra``: more overrides).
+
+    ``--junit FILE`` is checked before the run (exit 2 for a directory, an empty name); a run that
+    fails (exit 1) is recorded in FILE as an error, so a CI test report shows it.
+    """
+    from tirecli.app import run_config
+    from tirecli.errors import Interrupted, TirecliError, UsageError
+    from tirecli.io import junit as jx
+
+    target = jx.target(junit, inputs=[config]) if junit is not None else None
+    t0 = time.perf_counter()
+    try:
+        return run_config(command, config, overrides(set_) + list(extra), out, progress())
+    except (UsageError, Interrupted):
+        raise
+    except Exception as exc:
+        if target is not None:
+            if isinstance(exc, TirecliError):
+                text = str(exc) + (f"; {exc.tirecli_note}" if getattr(exc, "tirecli_note", None) else "")
+            else:
+                import traceback
+
+                text = f"internal error: {type(exc).__name__}: {exc}\n" + traceback.format_exc()
+            case = jx.Case(Path(config).stem, "run", time.perf_counter() - t0, error=text, error_type=type(exc).__name__)
+            with contextlib.suppress(TirecliError):  # the run's own error is the one to report
+                jx.write(target, [jx.Suite(f"{command} {Path(config).stem}", [case], case.time)], f"tirecli {command}")
+        raise
+
+
+def finish(summary, command: str, config: Path, junit: Optional[str], strict: bool, overridden: bool) -> None:
+    """The end of a run command: :func:`report_run`, the ``--junit`` file, the ``--strict`` exit code."""
+    report_run(summary, command, overridden=overridden)
+    records = [c.record() for c in summary.checks]
+    if junit is not None:
+        from tirecli.io import junit as jx
+
+        stem = Path(config).stem
+        run_case = jx.Case(stem, "run", summary.wall_time,
+                           output=f"study: {summary.result.study}\nconfig: {config}\n"
+                                  f"outputs: {Path(summary.out) / 'run.json'}")
+        suite = jx.checks_suite(f"{command} {stem}", records, summary.wall_time, first=run_case)
+        result_line(f"wrote {jx.write(junit, [suite], f'tirecli {command}', done=f'the results are in {summary.out}')}")
+    strict_exit(records, strict)
+
+
+def strict_exit(records: list[dict], strict: bool) -> None:
+    """Under ``--strict``, RunError (exit 1) when a check record failed."""
+    failed = sum(not r["passed"] for r in records)
+    if strict and failed:
+        from tirecli.errors import RunError
+
+        raise RunError(f"{failed} of {len(records)} reference check(s) failed (--strict)")
 
 
 def report_run(summary, what: str, overridden: bool = False) -> None:

@@ -4,10 +4,11 @@ from __future__ import annotations
 from pathlib import Path
 from typing import List, Optional
 
-from tirecli.cli.common import ConfigArg, OutOpt, SetOpt, overrides, progress, report_run, result_line
+from tirecli.cli.common import ConfigArg, JunitOpt, OutOpt, SetOpt, StrictOpt, finish, result_line, run
 
 
-def compare(config: Path = ConfigArg, out: Optional[str] = OutOpt, set_: Optional[List[str]] = SetOpt) -> None:
+def compare(config: Path = ConfigArg, out: Optional[str] = OutOpt, set_: Optional[List[str]] = SetOpt,
+            junit: Optional[str] = JunitOpt, strict: bool = StrictOpt) -> None:
     """Stationary MCPS tire (complete model and/or solid carcass) against a Magic Formula tyre.
 
     Runs a 'study: mcps-stationary' config (MCPS Figs. 7-11): Fx(kappa), Fy and Mz(alpha), combined
@@ -16,11 +17,9 @@ def compare(config: Path = ConfigArg, out: Optional[str] = OutOpt, set_: Optiona
     carcass, calibrated, family, fz, kappa, alpha, phi, fx, fy, mz, x, y, delta; ISO-W, SI),
     calibrated.yaml when calibrating, and the figures as PNG and SVG.
     """
-    from tirecli.app import run_config
-
-    summary = run_config("compare", config, overrides(set_), out, progress())
+    summary = run("compare", config, set_, out, junit)
     for line in summary.result.meta.get("summary", []):
         result_line(f"  {line}")
     if "calibrated.yaml" in summary.result.files:
         result_line(f"wrote {Path(summary.out) / 'calibrated.yaml'}")
-    report_run(summary, "compare", overridden=bool(set_))
+    finish(summary, "compare", config, junit, strict, overridden=bool(set_))

@@ -3,7 +3,7 @@ from __future__ import annotations
 
 import typer
 
-from tirecli.cli.common import result_line
+from tirecli.cli.common import result_line, table
 
 app = typer.Typer(help="The registered figures (paper figures and generic plots).", no_args_is_help=True)
 
@@ -14,7 +14,5 @@ def list_() -> None:
     from tirecli.figures.registry import load_all
 
     figs = sorted(load_all().values(), key=lambda f: (f.paper, f.order, f.id))
-    w_id = max(len(f.id) for f in figs)
-    w_label = max(len(f.label) for f in figs)
-    for f in figs:
-        result_line(f"{f.id:{w_id}s}  {f.paper:7s}  {f.label:{w_label}s}  {f.title}  [study: {f.study or 'any'}]")
+    for line in table([(f.id, f.paper, f.label, f"{f.title}  [study: {f.study or 'any'}]") for f in figs]):
+        result_line(line)

@@ -6,7 +6,7 @@ from typing import List, Optional
 
 import typer
 
-from tirecli.cli.common import ConfigArg, OutOpt, SetOpt, overrides, progress, report_run, result_line
+from tirecli.cli.common import ConfigArg, JunitOpt, OutOpt, SetOpt, StrictOpt, finish, result_line, run
 
 DataOpt = typer.Option(None, "--data", "-d", metavar="CSV",
                        help="Data file instead of the config's data source (columns t, v, s or romega, mu).")
@@ -16,7 +16,8 @@ MapOpt = typer.Option(None, "--map", "-m", metavar="FILE_COLUMN=NAME",
 
 
 def fit(config: Path = ConfigArg, out: Optional[str] = OutOpt, set_: Optional[List[str]] = SetOpt,
-        data: Optional[Path] = DataOpt, map_: Optional[List[str]] = MapOpt) -> None:
+        data: Optional[Path] = DataOpt, map_: Optional[List[str]] = MapOpt,
+        junit: Optional[str] = JunitOpt, strict: bool = StrictOpt) -> None:
     """Identify sigma0, sigma2, mu_c, mu_s, v_s (and alpha) from (s, mu, v) samples, then sigma1 from the transient.
 
     With fit.model: distributed, then all of them at once from mu(t) with the distributed model in the loop.
@@ -25,11 +26,9 @@ def fit(config: Path = ConfigArg, out: Optional[str] = OutOpt, set_: Optional[Li
     data/parameters.csv, data/correlation.csv, data/samples.csv, data/transient.csv (and data/distributed.csv,
     data/correlation_distributed.csv) and the figures.
     """
-    from tirecli.app import run_config
     from tirecli.studies.fit import overrides_for
 
-    summary = run_config("fit", config, overrides(set_) + overrides_for(str(data) if data else None, map_), out,
-                         progress())
+    summary = run("fit", config, set_, out, junit, extra=overrides_for(str(data) if data else None, map_))
     df = summary.result.data["parameters"]
     meta = summary.result.meta
     two = meta.get("distributed") is not None
@@ -46,5 +45,5 @@ def fit(config: Path = ConfigArg, out: Optional[str] = OutOpt, set_: Optional[Li
         else:
             result_line(f"  residual RMS of mu(t): {meta['distributed']['residual_rms']:.3g} "
                         f"({meta['distributed']['samples_used']} samples)")
-    report_run(summary, "fit", overridden=bool(set_))
     result_line(f"wrote {Path(summary.out) / 'fitted.yaml'}")
+    finish(summary, "fit", config, junit, strict, overridden=bool(set_))

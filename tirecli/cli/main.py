@@ -38,7 +38,8 @@ def _version(value: bool) -> None:
 
 @app.callback()
 def _root(
-    version: bool = typer.Option(False, "--version", callback=_version, is_eager=True, help="Print the version."),
+    version: bool = typer.Option(False, "--version", "-V", callback=_version, is_eager=True,
+                                 help="Print the version and exit."),
     debug: bool = typer.Option(False, "--debug", help="Show tracebacks on errors (also accepted after the command)."),
     quiet: bool = typer.Option(False, "--quiet", "-q", help="Only print results; no progress bar (also after the command)."),
 ) -> None:

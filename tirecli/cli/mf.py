@@ -27,16 +27,17 @@ def _mapping(values: Optional[List[str]]) -> dict | None:
 def eval_(
     tire: str = typer.Argument(..., metavar="TIRE", help="A .tir file, its YAML form, or a built-in tyre name.",
                                show_default=False),
-    points: Path = typer.Option(..., "--points", help="CSV with columns kappa, alpha, gamma, fz [, p, vx] "
+    points: Path = typer.Option(..., "--points", metavar="CSV", help="CSV with columns kappa, alpha, gamma, fz [, p, vx] "
                                                       "(SI: -, rad, rad, N, Pa, m/s).", show_default=False),
-    out: str = typer.Option(..., "--out", "-o", help="Result CSV: the input columns, then fx, fy, mz, mx, my.",
+    out: str = typer.Option(..., "--out", "-o", metavar="FILE", help="Result CSV: the input columns, then fx, fy, mz, mx, my.",
                              show_default=False),
-    convention: str = typer.Option("mfeval", "--convention", help="mfeval (default, §10 recommended) or teasit "
-                                                                   "(§15.2, reproduces the public golden data)."),
-    side: Optional[str] = typer.Option(None, "--side", help="Mount the tyre on this side (left or right); "
+    convention: str = typer.Option("mfeval", "--convention", metavar="mfeval|teasit", help="Where public implementations differ "
+                                   "(docs/models/magic_formula.md §10): mfeval (default) or teasit (reproduces the "
+                                   "public golden data)."),
+    side: Optional[str] = typer.Option(None, "--side", metavar="left|right", help="Mount the tyre on this side (left or right); "
                                                             "mirrored when the file was measured on the other."),
     no_limits: bool = typer.Option(False, "--no-limits", help="No input clipping to the file's ranges and no "
-                                                              "low-speed handling (§11)."),
+                                                              "low-speed handling (docs/models/magic_formula.md §11)."),
     map_: Optional[List[str]] = typer.Option(None, "--map", metavar="FILE_COLUMN=NAME",
                                              help="Use a differently named column, e.g. --map slip=kappa (repeatable)."),
 ) -> None:

@@ -5,7 +5,7 @@ import sys
 from pathlib import Path
 from typing import List, Optional
 
-from tirecli.cli.common import ConfigArg, OutOpt, SetOpt, echo, overrides, progress, report_run, result_line
+from tirecli.cli.common import ConfigArg, JunitOpt, OutOpt, SetOpt, StrictOpt, echo, finish, result_line, run
 
 
 def _fmt(x, spec=".4g") -> str:
@@ -37,7 +37,8 @@ def metrics_table(result) -> list[str]:
     return lines
 
 
-def observe(config: Path = ConfigArg, out: Optional[str] = OutOpt, set_: Optional[List[str]] = SetOpt) -> None:
+def observe(config: Path = ConfigArg, out: Optional[str] = OutOpt, set_: Optional[List[str]] = SetOpt,
+            junit: Optional[str] = JunitOpt, strict: bool = StrictOpt) -> None:
     """Simulate the quarter car with the nonlinear adhesion/speed observer (OBS Theorem 1).
 
     Writes run.json (metrics, design checks, warnings), data/observer.csv (t, theta, theta_hat
@@ -45,9 +46,7 @@ def observe(config: Path = ConfigArg, out: Optional[str] = OutOpt, set_: Optiona
     figures (OBS Fig. 2 by default) as PNG and SVG. Design or excitation problems are printed as
     'warning:' lines; they do not change the exit code.
     """
-    from tirecli.app import run_config
-
-    summary = run_config("observe", config, overrides(set_), out, progress())
+    summary = run("observe", config, set_, out, junit)
     res = summary.result
     for line in metrics_table(res):
         result_line(line)
@@ -55,4 +54,4 @@ def observe(config: Path = ConfigArg, out: Optional[str] = OutOpt, set_: Optiona
         echo(f"assumed: {a}")
     for w in res.meta.get("warnings", []):
         sys.stderr.write(f"warning: {w}\n")
-    report_run(summary, "observe", overridden=bool(set_))
+    finish(summary, "observe", config, junit, strict, overridden=bool(set_))

@@ -5,7 +5,7 @@ from pathlib import Path
 
 import typer
 
-from tirecli.cli.common import result_line
+from tirecli.cli.common import result_line, table
 
 app = typer.Typer(help="List, show and validate parameter sets.", no_args_is_help=True)
 
@@ -15,13 +15,14 @@ def list_() -> None:
     """List the built-in parameter sets with their kind and title."""
     from tirecli.parameters.sets import builtin_names, load_builtin
 
-    for name in builtin_names():
-        ps = load_builtin(name)
-        result_line(f"{name:32s} {ps.kind:12s} {ps.title}")
+    sets = [load_builtin(name) for name in builtin_names()]
+    for line in table([(name, ps.kind, ps.title) for name, ps in zip(builtin_names(), sets)]):
+        result_line(line)
 
 
 @app.command("show")
-def show(name: str = typer.Argument(..., help="Built-in set name or a parameter-set YAML file.")) -> None:
+def show(name: str = typer.Argument(..., metavar="NAME", help="A built-in set name (tirecli params list) or a "
+                                                             "parameter-set YAML file.", show_default=False)) -> None:
     """Show a parameter set: values, units, meaning, equation, source; assumed values flagged."""
     from tirecli.app import show_parameter_set
 
@@ -29,7 +30,8 @@ def show(name: str = typer.Argument(..., help="Built-in set name or a parameter-
 
 
 @app.command("validate")
-def validate(file: Path = typer.Argument(..., help="A parameter-set file, a study config or a campaign file.")) -> None:
+def validate(file: Path = typer.Argument(..., metavar="FILE", help="A parameter-set file, a study config, a campaign "
+                                         "file or a .tir file.", show_default=False)) -> None:
     """Check a parameter-set file, a study config or a campaign (every point); one line per problem, exit 2 if any."""
     from tirecli.app import validate_file
 

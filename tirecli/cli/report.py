@@ -6,16 +6,18 @@ from typing import List, Optional
 
 import typer
 
-from tirecli.cli.common import echo, progress, result_line
+from tirecli.cli.common import JunitOpt, StrictOpt, echo, progress, result_line, strict_exit
 
 
 def report(
-    campaigns: Optional[List[Path]] = typer.Argument(None, metavar="[CAMPAIGN]...",
+    campaigns: Optional[List[Path]] = typer.Argument(None, metavar="CAMPAIGN", show_default=False,
                                                      help="Campaign files to report (then only their sections, "
                                                           "unless --only names papers or figures)."),
-    out: str = typer.Option("tirecli-out/report", "--out", "-o", help="Output directory."),
-    strict: bool = typer.Option(False, "--strict", help="Exit 1 when any reference check fails."),
-    only: Optional[List[str]] = typer.Option(None, "--only", help="Only these papers or figure ids (repeatable)."),
+    out: str = typer.Option("tirecli-out/report", "--out", "-o", metavar="DIR", help="Output directory."),
+    strict: bool = StrictOpt,
+    only: Optional[List[str]] = typer.Option(None, "--only", metavar="NAME",
+                                             help="Only this paper (FM, OBS, MF, MCPS) or figure id (repeatable)."),
+    junit: Optional[str] = JunitOpt,
 ) -> None:
     """Run the built-in study of every registered figure and write DIR/index.html.
 
@@ -23,9 +25,12 @@ def report(
     With campaign files: their sections (each campaign runs or resumes in tirecli-out/campaign-NAME),
     and their checks in summary.json.
     """
-    from tirecli.errors import RunError
     from tirecli.report.build import build_report
 
+    if junit is not None:
+        from tirecli.io import junit as jx
+
+        jx.target(junit)  # a bad --junit fails before the studies run
     summary = build_report(out, only=only or None, progress=progress(), campaigns=list(campaigns or []))
     failed = [c for c in summary["checks"] if not c["passed"]]
     echo(f"{summary['n_figures']} figure{'' if summary['n_figures'] == 1 else 's'}, {len(summary['checks'])} reference checks, {len(failed)} failed, "
@@ -33,5 +38,28 @@ def report(
     for c in failed:
         echo(f"check failed: {c['id']}: {c['value']} vs reference {c['reference']} (tolerance {c['tolerance']})")
     result_line(f"wrote {Path(out) / 'index.html'}")
-    if strict and failed:
-        raise RunError(f"{len(failed)} reference check(s) failed (--strict)")
+    if junit is not None:
+        result_line(f"wrote {jx.write(junit, report_suites(summary), 'tirecli report', done=f'the report is in {out}')}")
+    strict_exit(summary["checks"], strict)
+
+
+def report_suites(summary: dict) -> list:
+    """The JUnit suites of a report: one per paper (in the report's order), a case per check
+    (classname: the figure id); a suite's time is that of its papers' studies."""
+    from tirecli.figures.registry import load_all
+    from tirecli.io import junit as jx
+
+    reg = load_all()
+    groups: dict[str, list] = {}
+    for c in summary["checks"]:
+        fid = c["id"].split("/", 1)[0]
+        if fid == "campaign":  # campaign/NAME/CHECK: a suite per campaign
+            groups.setdefault(f"campaign {c['id'].split('/')[1]}", []).append(c)
+            continue
+        groups.setdefault(reg[fid].paper if fid in reg else "report", []).append(c)
+    times = summary.get("study_wall_time_s") or {}
+    suites = []
+    for paper, records in groups.items():
+        studies = {reg[c["id"].split("/", 1)[0]].study for c in records if c["id"].split("/", 1)[0] in reg}
+        suites.append(jx.checks_suite(f"report {paper}", records, sum(times.get(s, 0.0) for s in studies)))
+    return suites

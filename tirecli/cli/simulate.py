@@ -4,10 +4,11 @@ from __future__ import annotations
 from pathlib import Path
 from typing import List, Optional
 
-from tirecli.cli.common import ConfigArg, OutOpt, SetOpt, overrides, progress, report_run, result_line
+from tirecli.cli.common import ConfigArg, JunitOpt, OutOpt, SetOpt, StrictOpt, finish, result_line, run
 
 
-def simulate(config: Path = ConfigArg, out: Optional[str] = OutOpt, set_: Optional[List[str]] = SetOpt) -> None:
+def simulate(config: Path = ConfigArg, out: Optional[str] = OutOpt, set_: Optional[List[str]] = SetOpt,
+             junit: Optional[str] = JunitOpt, strict: bool = StrictOpt) -> None:
     """Transient runs: quarter-car brakings with LuGre tires, or the MCPS tire's time-domain studies.
 
     'study: simulate' writes run.json (cases, events: wheel lock, stop, peak |slip|, stopping distance
@@ -17,9 +18,7 @@ def simulate(config: Path = ConfigArg, out: Optional[str] = OutOpt, set_: Option
     ('mcps-standstill', Figs. 4-5) or data/relaxation.csv ('mcps-relaxation'), with their facts in
     run.json. Figures as PNG and SVG.
     """
-    from tirecli.app import run_config
-
-    summary = run_config("simulate", config, overrides(set_), out, progress())
+    summary = run("simulate", config, set_, out, junit)
     for line in summary.result.meta.get("summary", []):
         result_line(f"  {line}")
     for ev in summary.result.meta.get("events", []):
@@ -28,4 +27,4 @@ def simulate(config: Path = ConfigArg, out: Optional[str] = OutOpt, set_: Option
             else f"v = {ev['v_final']:.3g} m/s at {ev['t_final']:.3g} s"
         result_line(f"  {ev['case']}: peak |s| {ev['peak_abs_slip']:.4f} at {ev['t_peak_abs_slip']:.3f} s, "
              f"peak |mu| {ev['peak_abs_mu']:.4f}, wheel lock: {locks}, {stop}")
-    report_run(summary, "simulate", overridden=bool(set_))
+    finish(summary, "simulate", config, junit, strict, overridden=bool(set_))

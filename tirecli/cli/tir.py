@@ -10,7 +10,7 @@ from tirecli.cli.common import result_line
 app = typer.Typer(help="Tyre property files (.tir): show a summary, check the coefficients, convert to YAML and back.",
                   no_args_is_help=True)
 
-FileArg = typer.Argument(..., metavar="FILE", help="A .tir file, its YAML form, or a built-in tyre name "
+FileArg = typer.Argument(..., metavar="TIRE", help="A .tir file, its YAML form, or a built-in tyre name "
                                                      "(tirecli params list).", show_default=False)
 
 
@@ -40,8 +40,8 @@ def check(file: str = FileArg) -> None:
 @app.command("convert")
 def convert(
     file: str = FileArg,
-    to: str = typer.Option(..., "--to", help="Target format: yaml or tir.", show_default=False),
-    out: Optional[str] = typer.Option(None, "--out", "-o", help="Output file [default: print to stdout]."),
+    to: str = typer.Option(..., "--to", metavar="yaml|tir", help="Target format: yaml or tir.", show_default=False),
+    out: Optional[str] = typer.Option(None, "--out", "-o", metavar="FILE", help="Output file [default: print to stdout]."),
 ) -> None:
     """Convert a .tir file to YAML (--to yaml) or back (--to tir), keeping coefficients, units and tables."""
     from tirecli.app_mf import tir_convert
