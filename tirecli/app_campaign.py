@@ -5,8 +5,8 @@
    value fails the campaign (exit 2) before anything runs.
 2. The output directory is locked; the points already finished there (same identity, the asked
    outputs stored, and the time series with ``keep: timeseries``) are skipped.
-3. The first missing point runs here (its time sizes the batches, and an output name that is not a
-   fact of the run fails the campaign naming it); the others run in batches on the executor
+3. The first missing points run here (their time sizes the batches, and an output name that is not
+   a fact of the run fails the campaign naming it); the others run in batches on the executor
    (:mod:`tirecli.campaign.execute`). Finished points are written every few seconds, a failed point
    is recorded with its error.
 4. ``results.parquet`` / ``results.csv``, the analysis figures and ``summary.json`` (last) are
@@ -91,16 +91,25 @@ def _done(rec, outputs, keep, root) -> bool:
             and (not keep or has_timeseries(root, rec["id"])))
 
 
-def _probe(campaign: Campaign, payload, item) -> dict:
-    """Run the first missing point here; an unknown output name is a ConfigError at ``outputs``."""
+#: Points run in this process first: the first checks the outputs, the others time a warm run.
+PROBES = 3
+
+
+def _probe(campaign: Campaign, payload, items) -> tuple[list, float]:
+    """Run the first missing points here: ``(records, seconds of one warm run)``. An output name that
+    is not a fact of the run is a ConfigError at its place in ``outputs``; the first run pays the
+    imports and caches, so the batches are sized from the fastest of the others."""
     from tirecli.campaign.facts import run_batch
 
-    t0 = time.perf_counter()
-    rec = run_batch(payload, [item])[0]
-    rec["seconds"] = time.perf_counter() - t0
-    if rec["status"] != "ok" and rec.get("unknown") in campaign.outputs:
-        raise ConfigError(campaign.origins.problem(("outputs", campaign.outputs.index(rec["unknown"])), rec["error"]))
-    return rec
+    recs, times = [], []
+    for item in items:
+        t0 = time.perf_counter()
+        rec = run_batch(payload, [item])[0]
+        times.append(time.perf_counter() - t0)
+        if rec["status"] != "ok" and rec.get("unknown") in campaign.outputs:
+            raise ConfigError(campaign.origins.problem(("outputs", campaign.outputs.index(rec["unknown"])), rec["error"]))
+        recs.append(rec)
+    return recs, min(times[1:] or times)
 
 
 def results_frame(campaign: Campaign, ids: list, records: dict) -> pd.DataFrame:
@@ -164,12 +173,12 @@ def run_campaign(path: str | Path, out=None, jobs: int | None = None, scheduler:
         interrupted = False
         try:
             if todo:
-                first = _probe(campaign, payload, todo[0])
-                collector([first])
-                rest = todo[1:]
+                first, seconds = _probe(campaign, payload, todo[:PROBES])
+                collector(first)
+                rest = todo[len(first):]
                 if rest:
                     workers = 1 if (jobs <= 1 and not scheduler) else jobs
-                    size = batch_size(len(rest), workers, first["seconds"], campaign.batch)
+                    size = batch_size(len(rest), workers, seconds, campaign.batch)
                     batches = [rest[k:k + size] for k in range(0, len(rest), size)]
                     executor = run_batches(payload, batches, jobs, scheduler, collector)
                     executor["batch"] = size
