@@ -46,7 +46,9 @@ class CampaignSummary:
 
 
 def default_out(path: str | Path) -> Path:
-    return DEFAULT_OUT / f"campaign-{Path(path).stem}"
+    """``tirecli-out/campaign-STEM`` (``tirecli-out/STEM`` when the file's name starts with ``campaign``)."""
+    stem = Path(path).stem
+    return DEFAULT_OUT / (stem if stem.startswith("campaign") else f"campaign-{stem}")
 
 
 class _Collector:

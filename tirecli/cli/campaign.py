@@ -14,7 +14,7 @@ CampaignArg = typer.Argument(..., metavar="CAMPAIGN", help="YAML campaign file (
 def campaign(
     config: Path = CampaignArg,
     out: Optional[str] = typer.Option(None, "--out", "-o", metavar="DIR",
-                                      help="Output directory [default: tirecli-out/campaign-CAMPAIGN]."),
+                                      help="Output directory [default: tirecli-out/campaign-STEM, STEM the file name without .yaml]."),
     jobs: Optional[int] = typer.Option(None, "--jobs", "-j", min=1, metavar="N", help="Worker processes [default: the CPU count]."),
     scheduler: Optional[str] = typer.Option(None, "--scheduler", metavar="ADDRESS",
                                             help="Run on Dask: 'local' (a LocalCluster of --jobs workers) or tcp://HOST:8786."),

@@ -22,7 +22,7 @@ def report(
     """Run the built-in study of every registered figure and write DIR/index.html.
 
     Also writes summary.json (every reference check), the figures as PNG/SVG and the data as CSV.
-    With a campaign file: its section (the campaign runs, or resumes, in tirecli-out/campaign-NAME),
+    With a campaign file: its section (the campaign runs, or resumes, in its default folder),
     and its checks in summary.json.
     """
     from tirecli.report.build import build_report

@@ -1,7 +1,7 @@
 """The campaign sections of ``tirecli report CAMPAIGN.yaml ...``.
 
 Each campaign runs (or resumes: its finished points are reused) into its own output directory,
-``tirecli-out/campaign-NAME`` as ``tirecli campaign`` writes it; its section shows the design, the
+the default folder of ``tirecli campaign`` (``tirecli-out/campaign-STEM``); its section shows the design, the
 statistics of each output, the campaign checks (also in the report's ``summary.json``, ids
 ``campaign/NAME/CHECK``) and the analysis figures, and the report folder gets a copy of its
 ``results.csv`` (``campaigns/NAME/results.csv``).
