@@ -100,14 +100,14 @@ PROBES = 3
 def _probe(campaign: Campaign, payload, items) -> tuple[list, float]:
     """Run the first missing points here: ``(records, seconds of one warm run)``. An output name that
     is not a fact of the run is a ConfigError at its place in ``outputs``; the first run pays the
-    imports and caches, so the batches are sized from the fastest of the others."""
+    imports and caches, so the batches are sized from the fastest of the others (CPU time)."""
     from tirecli.campaign.facts import run_batch
 
     recs, times = [], []
     for item in items:
-        t0 = time.perf_counter()
+        t0 = time.process_time()  # CPU time: a loaded machine does not shrink the batches
         rec = run_batch(payload, [item])[0]
-        times.append(time.perf_counter() - t0)
+        times.append(time.process_time() - t0)
         if rec["status"] != "ok" and rec.get("unknown") in campaign.outputs:
             raise ConfigError(campaign.origins.problem(("outputs", campaign.outputs.index(rec["unknown"])), rec["error"]))
         recs.append(rec)
