@@ -120,11 +120,14 @@ def run_config(command: str, config_path: str | Path, overrides=(), out: str | P
         Progress reporter with ``start(total, label)``, ``advance(n)``, ``close()``.
     """
     from tirecli.io.atomic import out_path, staged_dir
+    from tirecli.io.files import check_output_dir
 
     t0 = time.perf_counter()
     out = out_path(out) if out is not None else None  # an empty --out fails before the study runs
     config = load_config(config_path, overrides)
     out = out or default_out(config, command)
+    # before the run: a bad location fails in a second, not after it
+    check_output_dir(out, files=("run.json",), dirs=("data", "figures"))
     with staged_dir(out) as stage:
         result = run_study(config, expected=command, progress=progress)
         figs, checks = draw(result, progress=progress)
@@ -137,9 +140,10 @@ def run_config(command: str, config_path: str | Path, overrides=(), out: str | P
 
 def show_parameter_set(ref: str) -> str:
     """Text table of a parameter set (built-in name or file): value, unit, meaning, source."""
-    from tirecli.parameters.sets import load_set
+    from tirecli.io.files import exists
+    from tirecli.parameters.sets import builtin_names, load_set
 
-    if Path(ref).is_file() and not ref.lower().endswith(".tir"):
+    if ref not in builtin_names() and exists(ref) and not ref.lower().endswith(".tir"):
         from tirecli.io.yamlio import load_yaml
 
         data, _ = load_yaml(ref)

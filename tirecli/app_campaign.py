@@ -153,6 +153,10 @@ def run_campaign(path: str | Path, out=None, jobs: int | None = None, scheduler:
     jobs = jobs or default_jobs()
     ids, study = check_points(campaign, jobs if not scheduler else min(jobs, default_jobs()))
     out = out or default_out(path)
+    from tirecli.io.files import check_output_dir
+
+    # a bad location fails before the runs
+    check_output_dir(out, files=("results.parquet", "results.csv", "summary.json"), dirs=("figures", "points", "timeseries"))
     keep = campaign.keep == "timeseries"
     payload = {"base": campaign.base, "fixed": campaign.fixed, "outputs": campaign.outputs, "keep": keep,
                "timeout": campaign.timeout}

@@ -10,8 +10,9 @@ from pathlib import Path
 
 import numpy as np
 
-from tirecli.errors import DataError, RunError, UsageError
+from tirecli.errors import DataError, RunError, UsageError, token
 from tirecli.io import tir as tirio
+from tirecli.io.files import check_output_file, exists
 from tirecli.parameters import mf as mfp
 
 #: Columns of ``tirecli mf eval``: inputs (``p``, ``vx`` optional) and outputs, ISO-W, SI.
@@ -21,10 +22,10 @@ OUTPUT_COLUMNS = ("fx", "fy", "mz", "mx", "my")
 
 def read_document(ref: str) -> tuple[tirio.TirDocument, str]:
     """A ``.tir`` file, its YAML form, or a built-in tyre by name: ``(document, label)``."""
-    if ref in mfp.builtin_tire_names() and not Path(ref).exists():
+    if ref in mfp.builtin_tire_names() and not exists(ref):
         res = mfp.builtin_tire_resource(ref)
         return tirio.parse_tir(res.read_bytes(), f"<built-in {ref}>"), ref
-    if not Path(ref).exists() and "/" not in ref and not ref.lower().endswith((".tir", ".yaml", ".yml")):
+    if not exists(ref) and "/" not in ref and not ref.lower().endswith((".tir", ".yaml", ".yml")):
         import difflib
 
         from tirecli.parameters.sets import builtin_names
@@ -36,7 +37,7 @@ def read_document(ref: str) -> tuple[tirio.TirDocument, str]:
         names = mfp.builtin_tire_names()
         hint = difflib.get_close_matches(ref, names, n=1)
         dym = f"; did you mean {hint[0]!r}?" if hint else ""
-        raise UsageError(f"{ref}: no such file and no built-in tyre of that name{dym} (built-in: {', '.join(names)})")
+        raise UsageError(f"{token(ref)}: no such file and no built-in tyre of that name{dym} (built-in: {', '.join(names)})")
     return tirio.read_any(ref), ref
 
 
@@ -75,7 +76,8 @@ def tir_show(ref: str) -> str:
         meta = mfp.BUILTIN_TIRES[label]
         lines += [f"built-in tyre {label}: {meta['title']}", f"citation: {meta['citation']}", f"licence: {meta['licence']}"]
     if doc.n_bytes:
-        lines.append(f"file: {doc.file} ({doc.n_bytes} bytes, {doc.last_line} lines, {doc.line_ends} line ends)")
+        enc = "" if doc.encoding == "ascii" else f", {doc.encoding} text"
+        lines.append(f"file: {doc.file} ({doc.n_bytes} bytes, {doc.last_line} lines, {doc.line_ends} line ends{enc})")
     else:
         lines.append(f"file: {doc.file} (the YAML form of a .tir file)")
     size = tyre_size(v)
@@ -158,21 +160,26 @@ def tir_convert(ref: str, to: str, out: str | None) -> str:
 
     if to not in ("yaml", "tir"):
         raise UsageError(f"--to {to!r}: expected 'yaml' or 'tir'")
+    if out is not None:
+        check_output_file(out)
     doc, label = read_document(ref)
     mfp.tire_data(doc)  # refuse what cannot be evaluated
+    encoding = "utf-8"
     if to == "yaml":
         head = (f"# {label} as YAML (tirecli tir convert --to yaml): sections, keys, values, units and tables "
                 f"as in the .tir file;\n# convert back with: tirecli tir convert FILE.yaml --to tir\n")
         text = head + dump_yaml(tirio.to_yaml_data(doc))
     else:
         text = tirio.format_tir(doc)
+        tirio.encode_tir(doc, text)  # a character the file's encoding cannot hold: an error naming it
+        encoding = "latin-1" if doc.encoding == "latin-1" else "utf-8"
     if out is None:
         return text.rstrip("\n")
     from tirecli.io.atomic import staged_file
     from tirecli.io.output import write_text
 
     with staged_file(out) as tmp:
-        write_text(tmp, text)
+        write_text(tmp, text, encoding=encoding)
     return f"wrote {out}"
 
 
@@ -183,7 +190,7 @@ def load_tire(ref: str, base_dir: Path | None = None):
     """``(ParameterSet, MFTire)`` of a built-in tyre name or a ``.tir``/YAML path."""
     from tirecli.parameters.sets import builtin_names, load_set
 
-    if ref not in builtin_names() and not Path(ref).exists():
+    if ref not in builtin_names() and not exists(ref):
         read_document(ref)  # raises with a did-you-mean
     ps = load_set(ref, base_dir or Path.cwd())
     if ps.kind != "magic_formula":
@@ -213,6 +220,7 @@ def mf_eval(tire_ref: str, points: str | Path, out: str | Path, convention: str 
     """
     from tirecli.io.atomic import staged_file
 
+    check_output_file(out)  # before the run: a bad location fails at once, naming it
     with staged_file(out) as tmp:  # the lock of ``out``; ``out`` replaced only by a complete result
         s = _evaluate_points(tire_ref, points, tmp, convention, side, limits, mapping, threads)
     return {**s, "out": str(out)}
@@ -243,9 +251,13 @@ def _evaluate_points(tire_ref, points, out: Path, convention, side, limits, mapp
     res = evaluate(tire, cols["kappa"], cols["alpha"], cols["gamma"], cols["fz"],
                    vx if vx is not None else vx_def, p if p is not None else p_def,
                    convention=convention, side=side, limits=limits, threads=threads)
-    bad = [k for k in OUTPUT_COLUMNS if not np.isfinite(getattr(res, k)).all()]
-    if bad:
-        raise RunError(f"non-finite {', '.join(bad)} at {int((~np.isfinite(getattr(res, bad[0]))).sum())} point(s)")
+    found = nonfinite_point(tire, res, {"kappa": cols["kappa"], "alpha": cols["alpha"], "gamma": cols["gamma"],
+                                        "fz": cols["fz"], "vx": vx if vx is not None else vx_def,
+                                        "p": p if p is not None else p_def}, limits)
+    if found is not None:  # never an empty cell: the row, its inputs and why
+        i, text, at_fault = found
+        cls = DataError if at_fault else RunError
+        raise cls(f"{points}: row {i + 1}: {text}; nothing was written")
     outputs = [getattr(res, k) for k in OUTPUT_COLUMNS]
     lines, facts = read_lines(points)
     header = [h.strip() for h in lines[0].decode("utf-8", "replace").split(",")] if lines else []
@@ -265,7 +277,63 @@ def _evaluate_points(tire_ref, points, out: Path, convention, side, limits, mapp
     write_rows(out, ",".join(INPUT_COLUMNS + OUTPUT_COLUMNS), prefixes, tails)
     return {"points": n, "tire": ps.name, "warnings": list((ps.extra or {}).get("warnings", [])), "version": tire.version, "side": tire.side, "mirrored": res.mirrored,
             "convention": res.convention, "limits": limits, "counts": res.counts, "inputs": how, "out": str(out),
-            "pressure_default": p_def if p is None else None, "speed_default": vx_def if vx is None else None}
+            "pressure_default": p_def if p is None else None, "speed_default": vx_def if vx is None else None,
+            "outside": res.outside}
+
+
+def nonfinite_point(tire, res, inputs: dict, limits: bool):
+    """The first point where an output of ``res`` is not finite: ``(index, text, input_at_fault)``, or None.
+
+    ``inputs`` maps ``kappa, alpha, gamma, fz, vx, p`` to arrays (or scalars, or None) broadcast like
+    the outputs. The text names the outputs, the point's inputs and, when an input lies outside the
+    tyre's ranges (or a load is far above FNOMIN), that input: then the input is at fault (exit 2),
+    else the tyre's coefficients are (a run failure).
+    """
+    outs = [k for k in OUTPUT_COLUMNS if getattr(res, k) is not None]
+    shape = np.shape(getattr(res, outs[0])) if outs else ()
+    bad = np.zeros(shape, dtype=bool)
+    for k in outs:
+        bad |= ~np.isfinite(getattr(res, k))
+    if not bad.any():
+        return None
+    i = int(np.flatnonzero(bad.ravel())[0])
+
+    def at(x):
+        if x is None:
+            return None
+        a = np.broadcast_to(np.asarray(x, dtype=float), shape).ravel()
+        return float(a[i])
+
+    vals = {k: at(v) for k, v in inputs.items()}
+    which = [k for k in outs if not np.isfinite(np.asarray(getattr(res, k)).ravel()[i])]
+    units = {"kappa": "", "alpha": " rad", "gamma": " rad", "fz": " N", "vx": " m/s", "p": " Pa"}
+    point = ", ".join(f"{k} = {v:g}{units[k]}" for k, v in vals.items() if v is not None)
+    why = []
+    names = {"fz": ("load", "FZMIN", "FZMAX"), "kappa": ("slip", "KPUMIN", "KPUMAX"),
+             "alpha": ("slip angle", "ALPMIN", "ALPMAX"), "gamma": ("inclination", "CAMMIN", "CAMMAX"),
+             "p": ("pressure", "PRESMIN", "PRESMAX")}
+    for k, (what, lo_key, hi_key) in names.items():
+        v = vals.get(k)
+        if v is None or (k == "p" and not tire.nominal_pressure):
+            continue
+        lo, hi = tire.coef.get(lo_key), tire.coef.get(hi_key)
+        if hi is not None and v > hi:
+            why.append(f"the {what} is above {hi_key} = {hi:g}{units[k]}")
+        elif lo is not None and v < lo:
+            why.append(f"the {what} is below {lo_key} = {lo:g}{units[k]}")
+    fnom = tire.coef.get("FNOMIN")
+    if vals.get("fz") is not None and fnom and vals["fz"] > 10 * fnom and not any(w.startswith("the load") for w in why):
+        why.append(f"the load is {vals['fz'] / fnom:.3g} x FNOMIN ({fnom:g} N)")
+    n = int(bad.sum())
+    text = f"the Magic Formula gives no finite {', '.join(which)} at {point}"
+    if n > 1:
+        text += f" (and at {n - 1} more point(s))"
+    if why:
+        mode = " with the limits off" if not limits else ""
+        text += f": {'; '.join(why)}, beyond what the tyre can evaluate{mode}"
+    else:
+        text += ": the tyre's coefficients give no finite value there"
+    return i, text, bool(why)
 
 
 def describe_counts(counts: dict) -> list[str]:
@@ -275,4 +343,12 @@ def describe_counts(counts: dict) -> list[str]:
     return [f"{n} point(s): {COUNTERS.get(k, k)}" for k, n in counts.items() if n]
 
 
-__all__ = ["tir_show", "tir_check", "tir_convert", "mf_eval", "load_tire", "read_document", "describe_counts"]
+def describe_outside(outside: dict) -> list[str]:
+    """Lines naming the inputs evaluated outside the tyre's ranges (flagged: extrapolated results)."""
+    from tirecli.models.magic_formula.inputs import OUTSIDE
+
+    return [f"{n} point(s): {OUTSIDE.get(k, k)}" for k, n in outside.items() if n]
+
+
+__all__ = ["tir_show", "tir_check", "tir_convert", "mf_eval", "load_tire", "read_document", "describe_counts",
+           "describe_outside", "nonfinite_point"]

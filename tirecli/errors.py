@@ -2,10 +2,64 @@
 
 The CLI maps these to exit codes in one place (:mod:`tirecli.cli.main`); library code raises
 them and never calls ``sys.exit``.
+
+Messages quote input only through :func:`token` (the offending token, at most
+:data:`TOKEN_LIMIT` characters, control characters escaped), and every line printed goes through
+:func:`clean_line` (no terminal control sequences, bounded length); :func:`error_lines` is the
+one formatter of an error for the terminal.
 """
 from __future__ import annotations
 
+import re
 from dataclasses import dataclass
+
+#: Most characters of input content an error message quotes (the offending token).
+TOKEN_LIMIT = 80
+#: Most problem lines printed for one error (the rest are counted).
+MAX_PROBLEM_LINES = 20
+#: Longest line printed (a last resort: sources quote tokens through :func:`token`).
+MAX_LINE = 1000
+
+# C0/C1 control characters, DEL, and the Unicode bidirectional overrides (they reorder what a
+# terminal shows): printed escaped, never raw
+_CONTROL = re.compile("[\x00-\x08\x0b-\x1f\x7f-\x9f\u200e\u200f\u202a-\u202e\u2066-\u2069\ufeff]")
+
+
+def _escape(m: re.Match) -> str:
+    c = ord(m.group(0))
+    return f"\\x{c:02x}" if c < 0x100 else f"\\u{c:04x}"
+
+
+def clip(text: str, limit: int = TOKEN_LIMIT) -> str:
+    """``text`` with control characters escaped, cut to ``limit`` characters (``...`` marks a cut)."""
+    text = _CONTROL.sub(_escape, str(text).replace("\t", "\\t").replace("\n", "\\n").replace("\r", "\\r"))
+    return text if len(text) <= limit else text[:max(limit - 3, 1)] + "..."
+
+
+def token(value, limit: int = TOKEN_LIMIT) -> str:
+    """The quoted form of an offending value for a message: ``'text'`` (as ``repr``), at most ``limit``
+    characters of the input (``...`` marks a cut), control characters escaped. Other values are shown by
+    their ``repr``, cut the same way (a list or mapping from a file is never printed whole)."""
+    if isinstance(value, str):
+        if len(value) <= limit:
+            return repr(value)
+        r = repr(value[:max(limit - 3, 1)])
+        return r[:-1] + "..." + r[-1]
+    if isinstance(value, int) and not isinstance(value, bool) and value.bit_length() > 100:
+        return f"a {_digits(value)}-digit integer"
+    return clip(repr(value), limit)
+
+
+def _digits(value: int) -> int:
+    """Number of decimal digits of an integer (without ``str``, which refuses more than 4300)."""
+    v = abs(value)
+    n = int(v.bit_length() * 0.30102999566398120) + 1
+    return n - 1 if 10 ** (n - 1) > v else n
+
+
+def clean_line(text: str, limit: int = MAX_LINE) -> str:
+    """One printable line: control characters and line breaks escaped, at most ``limit`` characters."""
+    return clip(text, limit)
 
 
 class TirecliError(Exception):
@@ -56,7 +110,15 @@ class Problem:
 
     def __str__(self) -> str:
         where = self.file if self.line is None else f"{self.file}:{self.line}"
-        return f"{where}: {self.key}: {self.message}" if self.key else f"{where}: {self.message}"
+        key = _short_key(self.key)
+        return f"{where}: {key}: {self.message}" if key else f"{where}: {self.message}"
+
+
+def _short_key(key: str) -> str:
+    """A key path with each part cut to the token limit (a key is input too)."""
+    if len(key) <= TOKEN_LIMIT:
+        return clip(key, TOKEN_LIMIT)
+    return ".".join(clip(part, TOKEN_LIMIT) for part in str(key).split("."))
 
 
 class ConfigError(UsageError):
@@ -74,3 +136,14 @@ class ConfigError(UsageError):
 
 class DataError(UsageError):
     """A data file (CSV) that cannot be used: missing column, NaN, too few rows: exit code 2."""
+
+
+def error_lines(exc: BaseException) -> list[str]:
+    """The lines printed for an error (each then prefixed with ``error: ``): one per problem, at most
+    :data:`MAX_PROBLEM_LINES` (then a count of the rest), each a clean line."""
+    problems = getattr(exc, "problems", None)
+    lines = [str(p) for p in problems] if problems else (str(exc).splitlines() or [""])
+    if len(lines) > MAX_PROBLEM_LINES:
+        rest = len(lines) - (MAX_PROBLEM_LINES - 1)
+        lines = lines[:MAX_PROBLEM_LINES - 1] + [f"... and {rest} more problem(s) of the same input"]
+    return [clean_line(line) for line in lines]

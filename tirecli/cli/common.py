@@ -40,6 +40,11 @@ def table(rows: list[tuple]) -> list[str]:
     return ["  ".join(c.ljust(widths[i]) if i < len(r) - 1 else c for i, c in enumerate(r)) for r in rows]
 
 
+def warn(msg: str) -> None:
+    """Print ``warning: MSG`` on stderr (always, even with --quiet: a result to look at twice)."""
+    typer.echo(f"warning: {msg}", err=True)
+
+
 class TerminalProgress:
     """A progress bar on stderr that appears only once work has taken over a second.
 
@@ -151,6 +156,8 @@ def report_run(summary, what: str, overridden: bool = False) -> None:
     ``overridden``: the config was changed by ``--set`` (then failed reference checks are expected).
     """
     out = Path(summary.out)
+    for flag in (summary.result.meta or {}).get("flags") or []:  # results to look at twice (also in run.json)
+        warn(flag)
     echo(f"{what}: {len(summary.paths['data'])} data file(s), {len(summary.paths['figures'])} figure file(s) "
          f"in {summary.wall_time:.2f} s")
     removed, kept = summary.paths.get("removed") or [], summary.paths.get("kept") or []

@@ -1,13 +1,15 @@
 """The ``tirecli`` command: Typer app, global flags and the one place errors map to exit codes.
 
 Exit codes: 0 success; 1 run failure (numerical failure, failed checks under ``--strict``,
-internal error); 2 usage or input error (bad option, bad config, bad data file); 130 Ctrl-C
-(or SIGTERM).
-Errors print one line each on stderr without a traceback; ``--debug`` shows the traceback. A run
-that fails or is interrupted leaves its earlier outputs as they were and says so.
+internal error); 2 usage, input or environment error (bad option, bad config, bad data file, an
+unusable input or output path); 130 Ctrl-C (or SIGTERM). Errors print one line each on stderr
+without a traceback (at most the offending token of an input, see :mod:`tirecli.errors`);
+``--debug`` shows the traceback. A run that fails or is interrupted leaves its earlier outputs as
+they were and says so.
 """
 from __future__ import annotations
 
+import errno
 import signal
 import sys
 import threading
@@ -59,14 +61,51 @@ app.add_typer(tir.app, name="tir")
 app.add_typer(mf.app, name="mf")
 
 
-def _error(msg: str, exc: BaseException | None = None) -> None:
-    """``error: MSG`` on stderr, one line per line of MSG; the note of a failed run (what it kept) joins the last."""
-    lines = str(msg).splitlines() or [""]
-    note = getattr(exc, "tirecli_note", None)
+def _error(msg) -> None:
+    """Print an error: one ``error:`` line per problem, each sanitized (see :func:`tirecli.errors.error_lines`);
+    the note of a failed run (what it kept) joins the last."""
+    from tirecli.errors import clean_line, error_lines
+
+    lines = error_lines(msg if isinstance(msg, BaseException) else Exception(str(msg)))
+    note = getattr(msg, "tirecli_note", None)
     if note:
-        lines[-1] += f"; {note}"
+        lines[-1] += f"; {clean_line(note)}"
     for line in lines:
         sys.stderr.write(f"error: {line}\n")
+
+
+def _click():
+    try:
+        from typer import _click as click  # typer >= 0.16 vendors click
+    except ImportError:  # pragma: no cover - older typer uses click itself
+        import click
+    return click
+
+
+def _usage_line(exc) -> str:
+    """One line for a command-line usage error: the problem and where the help is."""
+    ctx = getattr(exc, "ctx", None)
+    where = f" (see '{ctx.command_path} --help')" if ctx is not None else ""
+    return f"{exc.format_message().rstrip('.')}{where}"
+
+
+#: ``OSError`` numbers that are the environment's doing (a file, a directory, a disk): exit 2.
+_ENVIRONMENT_ERRNOS = {errno.ENOENT, errno.ENOTDIR, errno.EISDIR, errno.EEXIST, errno.EACCES, errno.EPERM,
+                       errno.EROFS, errno.ENOSPC, errno.ENAMETOOLONG, errno.ELOOP, errno.EXDEV, errno.EBUSY,
+                       errno.ETXTBSY, errno.EFBIG, errno.EMFILE, errno.ENFILE, errno.ENXIO, errno.ENODEV,
+                       getattr(errno, "EDQUOT", errno.ENOSPC)}
+
+
+def _os_error_line(exc: OSError) -> str:
+    from tirecli.io.files import os_reason, show_path
+
+    name = exc.filename if exc.filename is not None else None
+    reason = os_reason(exc)
+    if name is None:
+        return f"file system: {reason}"
+    if exc.filename2 is not None:
+        return f"{show_path(name)} -> {show_path(exc.filename2)}: {reason}"
+    return f"{show_path(name)}: {reason}"
 
 
 class _CtrlC:
@@ -96,11 +135,22 @@ class _CtrlC:
 
 
 def main(argv: list[str] | None = None) -> int:
-    """Entry point of the ``tirecli`` script; returns (and exits with) the exit code."""
+    """Entry point of the ``tirecli`` script; returns (and exits with) the exit code.
+
+    The one place errors become exit codes: 0 success; 1 a run failure (:class:`~tirecli.errors.RunError`,
+    failed checks under ``--strict``) or an internal error; 2 a usage, input or environment problem
+    (:class:`~tirecli.errors.UsageError`, a command-line error, a file-system error such as a read-only
+    output location); 130 interrupted.
+    """
     from tirecli.errors import Interrupted, TirecliError
     from tirecli.io.files import forget_inputs
 
     forget_inputs()
+    click = _click()  # the exception classes, looked up before anything can fail
+    no_args_help = getattr(click.exceptions, "NoArgsIsHelpError", ())
+    usage_error = getattr(click.exceptions, "UsageError", ())
+    click_error = getattr(click.exceptions, "ClickException", ())
+    abort = getattr(typer, "Abort", None) or getattr(click.exceptions, "Abort", ())
     args = list(sys.argv[1:] if argv is None else argv)
     common.STATE["debug"] = "--debug" in args
     common.STATE["quiet"] = "--quiet" in args or "-q" in args
@@ -109,29 +159,69 @@ def main(argv: list[str] | None = None) -> int:
     ctrl_c = _CtrlC()
     try:
         with ctrl_c:
-            # standalone mode: Typer prints usage errors itself and exits 2 (SystemExit below)
-            app(args=args, prog_name="tirecli")
+            rv = app(args=args, prog_name="tirecli", standalone_mode=False)
+        code = rv if isinstance(rv, int) and not isinstance(rv, bool) else 0
     except SystemExit as exc:
         code = exc.code if isinstance(exc.code, int) else (0 if exc.code is None else 1)
         if ctrl_c.seen and code != 0:  # Typer's own handling of a Ctrl-C outside a run
             _error("interrupted")
             code = 130
     except TirecliError as exc:
-        _error(str(exc), exc)
+        _error(exc)
         code = exc.exit_code
         if common.STATE["debug"] and not isinstance(exc, Interrupted):
             traceback.print_exc()
-    except KeyboardInterrupt:
+    except no_args_help as exc:  # 'tirecli' or 'tirecli tir' alone: the help, exit 2
+        exc.show()
+        code = 2
+    except usage_error as exc:
+        _error(_usage_line(exc))
+        code = 2
+    except click_error as exc:
+        _error(exc.format_message())
+        code = exc.exit_code
+    except (KeyboardInterrupt, abort):
         _error("interrupted")
         code = 130
-    except Exception as exc:  # noqa: BLE001 - the one place internal errors become exit code 1
-        _error(f"internal error: {type(exc).__name__}: {exc} (run with --debug for the traceback)", exc)
+    except BrokenPipeError:  # the reader of our output went away (``tirecli params list | head -1``)
+        _quiet_streams()
         code = 1
-        if common.STATE["debug"]:
-            traceback.print_exc()
+    except OSError as exc:
+        if exc.errno not in _ENVIRONMENT_ERRNOS:
+            _internal(exc)
+            code = 1
+        else:  # a file or directory the environment refuses: an environment problem, not a failure of tirecli
+            _error(_os_error_line(exc))
+            code = 2
+            if common.STATE["debug"]:
+                traceback.print_exc()
+    except Exception as exc:  # noqa: BLE001 - the one place internal errors become exit code 1
+        _internal(exc)
+        code = 1
     if argv is None:
         sys.exit(code)
     return code
+
+
+def _internal(exc: BaseException) -> None:
+    from tirecli.errors import clip
+
+    note = getattr(exc, "tirecli_note", None)
+    _error(f"internal error: {type(exc).__name__}: {clip(str(exc), 200)} (run with --debug for the traceback)"
+           + (f"; {note}" if note else ""))
+    if common.STATE["debug"]:
+        traceback.print_exc()
+
+
+def _quiet_streams() -> None:
+    """Replace stdout with /dev/null so that the interpreter's final flush does not fail again."""
+    import os
+
+    try:
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(devnull, sys.stdout.fileno())
+    except (OSError, ValueError, AttributeError):
+        pass
 
 
 if __name__ == "__main__":  # pragma: no cover

@@ -6,7 +6,7 @@ from typing import List, Optional
 
 import typer
 
-from tirecli.cli.common import echo, result_line
+from tirecli.cli.common import echo, result_line, warn
 
 app = typer.Typer(help="Magic Formula tyre model (MF 6.1 / 6.2 / 5.2 / PAC89).", no_args_is_help=True)
 
@@ -46,7 +46,7 @@ def eval_(
     p and vx default to the tyre's INFLPRES (else NOMPRES) and LONGVL. Bad input (missing column,
     non-numeric or NaN cell) is an error naming the column and row (exit 2), and nothing is written.
     """
-    from tirecli.app_mf import describe_counts, mf_eval
+    from tirecli.app_mf import describe_counts, describe_outside, mf_eval
     from tirecli.errors import UsageError
 
     if convention not in ("mfeval", "teasit"):
@@ -70,4 +70,6 @@ def eval_(
         echo("limits and low-speed rules: " + ("; ".join(touched) if touched else "no point touched"))
     else:
         echo("limits and low-speed rules off (--no-limits)")
+    for line in describe_outside(s["outside"]):  # flagged even with --quiet: these rows are extrapolated
+        warn(line)
     result_line(f"wrote {s['out']}")

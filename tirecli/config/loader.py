@@ -16,7 +16,7 @@ from typing import Any
 import yaml
 
 from tirecli.config.schema import Spec, check_document
-from tirecli.errors import ConfigError, Problem, UsageError
+from tirecli.errors import ConfigError, Problem, UsageError, clip, token
 from tirecli.io.yamlio import Origins, format_key, load_value, load_yaml, parse_yaml
 from tirecli.parameters.sets import ParameterSet, resolve_group
 
@@ -86,8 +86,12 @@ def apply_override(data: dict, origins: Origins, text: str) -> None:
     path = parse_key_path(key.strip())
     try:
         value = load_value(value_text) if value_text.strip() else None
-    except yaml.YAMLError:
-        raise UsageError(f"--set {text!r}: cannot read the value {value_text!r}") from None
+    except (yaml.YAMLError, ValueError, OverflowError, TypeError):  # malformed YAML, a date that does not exist
+        digits = value_text.strip().lstrip("+-")
+        if digits.isdigit() and len(digits) > 1000:  # an integer Python refuses to convert
+            raise UsageError(f"--set {clip(key.strip())}=...: cannot read the value (a number of {len(digits)} "
+                             "digits, beyond the range of a double)") from None
+        raise UsageError(f"--set {token(text)}: cannot read the value {token(value_text)}") from None
     set_value(data, origins, path, value, f"--set {text!r}")
 
 

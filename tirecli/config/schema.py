@@ -12,7 +12,7 @@ import math
 from dataclasses import dataclass, field
 from typing import Any, Callable
 
-from tirecli.errors import ConfigError
+from tirecli.errors import ConfigError, token
 from tirecli.io.yamlio import KeyPath, Origins
 
 MISSING = object()
@@ -39,14 +39,32 @@ def _type_name(value: Any) -> str:
     if isinstance(value, bool):
         return f"a boolean ({value})"
     if isinstance(value, (int, float)):
-        return f"the number {value}"
+        return f"the number {token(value)}"
     if isinstance(value, str):
-        return f"the text {value!r}"
+        return f"the text {token(value)}"
     if isinstance(value, list):
         return "a list"
     if isinstance(value, dict):
         return "a mapping"
     return type(value).__name__
+
+
+def _number_hint(value) -> str:
+    """Why a text that looks numeric is not read as a number (it is never guessed)."""
+    import re
+
+    if not isinstance(value, str):
+        return ""
+    t = value.strip()
+    if re.fullmatch(r"[-+]?0[0-9_]+", t):
+        return " (a leading zero is not read as a number: write it without, e.g. 10 or 8)"
+    if re.fullmatch(r"[-+]?[0-9][0-9_]*(:[0-5]?[0-9])+(\.[0-9_]*)?", t):
+        return " (base-60 times such as 1:30 are not read as numbers: write the value in the unit, e.g. 90)"
+    try:
+        float(t)
+    except ValueError:
+        return ""
+    return " (in quotes: write the number without them)"
 
 
 @dataclass
@@ -105,10 +123,14 @@ class Num(Spec):
     def check(self, value, path, ctx):
         kind = "a whole number" if self.integer else "a number"
         if isinstance(value, bool) or not isinstance(value, (int, float)):
-            ctx.fail(path, f"expected {kind} [{self.unit}], got {_type_name(value)}")
+            ctx.fail(path, f"expected {kind} [{self.unit}], got {_type_name(value)}{_number_hint(value)}")
             return MISSING
         if isinstance(value, float) and not math.isfinite(value):
             ctx.fail(path, f"expected a finite number [{self.unit}], got {value}")
+            return MISSING
+        if isinstance(value, int) and abs(value) > 1e308:  # float() would overflow
+            ctx.fail(path, f"expected a finite number [{self.unit}], got an integer of about "
+                           f"{int(value.bit_length() * 0.30103) + 1} digits (beyond the range of a double)")
             return MISSING
         if self.integer and not float(value).is_integer():
             ctx.fail(path, f"expected a whole number, got {value}")
@@ -145,7 +167,7 @@ class Str(Spec):
         if self.choices is not None and value not in self.choices:
             hint = difflib.get_close_matches(value, self.choices, n=1)
             dym = f"; did you mean {hint[0]!r}?" if hint else ""
-            ctx.fail(path, f"unknown value {value!r}{dym} (expected one of: {', '.join(self.choices)})")
+            ctx.fail(path, f"unknown value {token(value)}{dym} (expected one of: {', '.join(self.choices)})")
             return MISSING
         return value
 
@@ -224,7 +246,7 @@ class AnyOf(Spec):
                 return opt.check(value, path, ctx)
             # a text that is none of the option's choices: say every form the value may take
             hint = difflib.get_close_matches(value, opt.choices, n=1)
-            ctx.fail(path, f"expected {self.what}, got {value!r}" + (f"; did you mean {hint[0]!r}?" if hint else ""))
+            ctx.fail(path, f"expected {self.what}, got {token(value)}" + (f"; did you mean {hint[0]!r}?" if hint else ""))
             return MISSING
         best = None
         for opt in self.options:
@@ -236,7 +258,7 @@ class AnyOf(Spec):
                 best = sub.problems
         if self.what:
             if not isinstance(value, (dict, list)):  # a scalar of none of the forms: name them once
-                ctx.fail(path, f"expected {self.what}, got {value!r}")
+                ctx.fail(path, f"expected {self.what}, got {token(value)}")
             else:
                 ctx.fail(path, f"expected {self.what}; " + (best[0].message if best else ""))
         else:

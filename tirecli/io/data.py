@@ -8,33 +8,48 @@ column and the row (1-based data row, i.e. not counting the header).
 from __future__ import annotations
 
 import io
+import re
 import warnings
 from pathlib import Path
 
 import numpy as np
 
-from tirecli.errors import DataError
-from tirecli.io.files import note_input
+from tirecli.errors import DataError, UsageError, clip, token
+
+#: Most column names listed in a message (a header is input too: never printed whole).
+_MAX_NAMES = 12
+
+
+#: A column name as people write them (``mu``, ``v [m/s]``, ``Fx (N)``, ``slip %``); anything else in a
+#: header is not echoed: a file that is not a CSV table (a password file, a log) would have its first
+#: line printed as "the column names".
+_PLAIN_NAME = re.compile(r"[\w .,/()\[\]%+-]{1,40}")
+
+
+def names(columns, quoted: bool = False) -> str:
+    """Column names for a message: at most a dozen, each cut to 40 characters (quoted when ``quoted``
+    or when it is not a plain name). Names read from a file (``quoted`` False) that do not look like
+    column names are counted, not shown."""
+    cols = [str(c) for c in columns]
+    if not quoted:
+        hidden = sum(not _PLAIN_NAME.fullmatch(c) for c in cols)
+        cols = [c for c in cols if _PLAIN_NAME.fullmatch(c)]
+        if hidden:
+            rest = f"{hidden} header field(s) that do not look like column names, not shown"
+            return (names(cols) + "; " + rest) if cols else rest
+    shown = ", ".join(c if not quoted and c.isidentifier() and len(c) <= 40 else token(c, 40)
+                      for c in cols[:_MAX_NAMES])
+    return shown + (f", ... ({len(cols)} columns)" if len(cols) > _MAX_NAMES else "")
 
 
 def read_table(path: str | Path):
     """Read a CSV into a DataFrame of strings/numbers; DataError if missing, empty or unreadable."""
     import pandas as pd
 
+    from tirecli.io.files import read_input_text
+
     path = Path(path)
-    note_input(path)
-    if not path.is_file():
-        raise DataError(f"{path}: file not found")
-    try:
-        raw = path.read_bytes()
-    except OSError as exc:
-        raise DataError(f"{path}: cannot read ({exc.strerror})") from None
-    if b"\x00" in raw[:4096]:
-        raise DataError(f"{path}: binary file, expected CSV text")
-    try:
-        text = raw.decode("utf-8-sig")
-    except UnicodeDecodeError as exc:
-        raise DataError(f"{path}: not UTF-8 text (byte {exc.start})") from None
+    text = read_input_text(path, "a CSV file", encoding="utf-8-sig")
     # whole-line comments only: pandas' comment="#" would also cut a row at a "#" inside a cell
     # (tirecli's own case labels are "braking #1", ...) and leave NaN in the rest of it
     text = text.replace("\r\n", "\n").replace("\r", "\n")  # CRLF and CR-only files
@@ -46,13 +61,13 @@ def read_table(path: str | Path):
             frame = pd.read_csv(io.StringIO(body), skipinitialspace=True, index_col=False)
     except pd.errors.EmptyDataError:
         raise DataError(f"{path}: empty file (expected a header line and data rows)") from None
-    except pd.errors.ParserError as exc:
-        raise DataError(f"{path}: cannot read as CSV ({str(exc).splitlines()[0]})") from None
+    except (pd.errors.ParserError, ValueError, OverflowError) as exc:
+        raise DataError(f"{path}: cannot read as CSV ({clip((str(exc).splitlines() or [''])[0], 120)})") from None
     frame.columns = [str(c).strip() for c in frame.columns]
     named = [c for c in header if c]  # trailing separators give unnamed, empty columns
     dupes = sorted({c for c in named if named.count(c) > 1})
     if dupes:
-        raise DataError(f"{path}: column(s) {', '.join(map(repr, dupes))} appear more than once in the header")
+        raise DataError(f"{path}: column(s) {names(dupes, quoted=True)} appear more than once in the header")
     return frame
 
 
@@ -74,29 +89,86 @@ def _check_fields(body: str, path) -> list[str]:
             row_no += 1
             if len(row) != len(header):
                 raise DataError(f"{path}: data row {row_no} has {len(row)} fields but the header names "
-                                f"{len(header)} columns ({', '.join(header)})")
+                                f"{len(header)} columns ({names(header)})")
     except csv.Error as exc:
-        raise DataError(f"{path}: cannot read as CSV ({exc})") from None
+        raise DataError(f"{path}: cannot read as CSV ({clip(exc, 120)})") from None
     return header or []
 
 
-def numeric_column(frame, name: str, path, finite: bool = True) -> np.ndarray:
-    """Column ``name`` as floats; DataError naming the first non-numeric or NaN/inf cell."""
+def _cell_float(v) -> float:
+    """One cell as a float: NaN if it is not a number, +-inf if it is one too large for a double."""
+    try:
+        return float(v)
+    except OverflowError:  # an integer beyond the double range
+        return float("inf") if v > 0 else float("-inf")
+    except (TypeError, ValueError):
+        return float("nan")
+
+
+_DECIMAL = re.compile(r"^[+-]?(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d+)?$")
+
+
+def _too_large(cell) -> bool:
+    """A cell that is a number, but one beyond the range of a double (400 digits, 1e999)."""
+    text = str(cell).strip()
+    return isinstance(cell, int) and not isinstance(cell, bool) and not np.isfinite(_cell_float(cell)) or bool(
+        _DECIMAL.match(text) and (len(text) > 300 or not np.isfinite(_cell_float(text))))
+
+
+def numeric_column(frame, name: str, path, finite: bool = True, rows=None) -> np.ndarray:
+    """Column ``name`` as floats; DataError naming the column, the row and the cell of the first
+    cell that is not a plain number: text, a boolean (``True``/``False`` are not 1/0), a number
+    beyond the range of a double, an empty cell, NaN or an infinity (the last three allowed with
+    ``finite=False``, as NaN/inf).
+
+    ``rows`` are the 1-based data rows of the frame's rows in the file (default: 1, 2, ...), so a
+    frame whose rows were selected still names the rows of the file.
+    """
     import pandas as pd
 
     col = frame[name]
-    vals = pd.to_numeric(col, errors="coerce").to_numpy(dtype=float)
-    bad = np.flatnonzero(np.isnan(vals) & col.notna().to_numpy())
-    if bad.size:
-        i = int(bad[0])
-        raise DataError(f"{path}: column {name!r} row {i + 1}: not a number ({col.iloc[i]!r})")
+
+    def where(i: int) -> str:
+        r = int(rows[i]) if rows is not None else i + 1
+        return f"{path}: column {token(name)} row {r}"
+
+    kind = col.dtype.kind
+    if kind == "b":
+        raise DataError(f"{where(0)}: not a number ({_cell(col.iloc[0])}; true/false are not numbers)")
+    if kind in "fiu":
+        vals = col.to_numpy(dtype=float)
+    else:  # text (or mixed) cells: every non-empty cell must read as a number, none a boolean
+        cells = col.to_numpy(dtype=object)
+        flags = np.fromiter((isinstance(c, (bool, np.bool_)) for c in cells), dtype=bool, count=len(cells))
+        if flags.any():
+            i = int(np.flatnonzero(flags)[0])
+            raise DataError(f"{where(i)}: not a number ({_cell(cells[i])}; true/false are not numbers)")
+        try:
+            vals = pd.to_numeric(col, errors="coerce").to_numpy(dtype=float)
+        except (OverflowError, ValueError, TypeError):  # e.g. a 400-digit integer among the cells
+            vals = np.array([_cell_float(v) for v in cells], dtype=float)
+        big = np.flatnonzero(~np.isfinite(vals) & col.notna().to_numpy())
+        for i in big[:1]:
+            if _too_large(cells[i]):
+                raise DataError(f"{where(int(i))}: number too large for a double ({token(str(cells[i]).strip(), 20)})")
+        bad = np.flatnonzero(np.isnan(vals) & col.notna().to_numpy())
+        if bad.size:
+            i = int(bad[0])
+            hint = "; true/false are not numbers" if str(cells[i]).strip().lower() in ("true", "false") else ""
+            raise DataError(f"{where(i)}: not a number ({_cell(cells[i])}{hint})")
     if finite:
         bad = np.flatnonzero(~np.isfinite(vals))
         if bad.size:
             i = int(bad[0])
             what = "empty or NaN" if np.isnan(vals[i]) else "infinite"
-            raise DataError(f"{path}: column {name!r} row {i + 1}: {what} value")
+            raise DataError(f"{where(i)}: {what} value (a finite number is needed)")
     return vals
+
+
+def _cell(v) -> str:
+    """A cell for a message: its text, at most 40 characters."""
+    text = str(v)
+    return repr(text if len(text) <= 40 else text[:37] + "...")
 
 
 def read_columns(path: str | Path, columns, increasing: str | None = None, min_rows: int = 2,
@@ -132,8 +204,8 @@ def rename_columns(frame, rename: dict | None, path):
         return frame
     missing_src = [src for src in rename if src not in frame.columns]
     if missing_src:
-        raise DataError(f"{path}: mapped column(s) {', '.join(map(repr, missing_src))} not in the file "
-                        f"(columns: {', '.join(map(str, frame.columns))})")
+        raise DataError(f"{path}: mapped column(s) {names(missing_src, quoted=True)} not in the file "
+                        f"(columns: {names(frame.columns)})")
     return frame.rename(columns=rename)
 
 
@@ -144,26 +216,27 @@ def select_rows(frame, where: dict | None, path, key: str = "where"):
     """
     for col, val in (where or {}).items():
         if col not in frame.columns:
-            raise DataError(f"{path}: {key}: no column {col!r} (columns: {', '.join(map(str, frame.columns))})")
+            raise DataError(f"{path}: {key}: no column {token(col)} (columns: {names(frame.columns)})")
         frame = frame[frame[col].astype(str) == str(val)] if isinstance(val, str) else frame[frame[col] == val]
         if frame.empty:
-            raise DataError(f"{path}: {key}: no row has {col} == {val!r}")
+            shown = col if str(col).isidentifier() and len(str(col)) <= 40 else token(col)
+            raise DataError(f"{path}: {key}: no row has {shown} == {token(val)}")
     return frame
 
 
 def leading_comments(path: str | Path, limit: int = 20) -> list[str]:
     """The ``#`` comment lines at the top of a CSV (e.g. tirecli's ``# SYNTHETIC DATA ...`` label)."""
+    from tirecli.io.files import read_input_bytes
+
     out = []
-    note_input(path)
     try:
-        with Path(path).open(encoding="utf-8", errors="replace") as fh:
-            for _ in range(limit):
-                line = fh.readline()
-                if not line.startswith("#"):
-                    break
-                out.append(line[1:].strip())
-    except OSError:
+        text = read_input_bytes(path, "a CSV file").decode("utf-8", errors="replace")
+    except UsageError:  # the reader reports the file itself
         return []
+    for line in text.splitlines()[:limit]:
+        if not line.startswith("#"):
+            break
+        out.append(line[1:].strip())
     return out
 
 
@@ -173,20 +246,30 @@ def frame_columns(frame, columns, path, increasing: str | None = None, min_rows:
     :func:`read_columns` (missing columns, non-numbers, NaN, too few rows, non-increasing time)."""
     missing = [c for c in columns if c not in frame.columns]
     if missing:
-        raise DataError(f"{path}: missing column(s) {', '.join(map(repr, missing))} "
-                        f"(file has: {', '.join(map(str, frame.columns)) or 'none'}; map names with --map FILE_COLUMN=NAME)")
+        raise DataError(f"{path}: missing column(s) {names(missing, quoted=True)} "
+                        f"(file has: {names(frame.columns) or 'none'}; map names with --map FILE_COLUMN=NAME)")
     if len(frame) < min_rows:
         raise DataError(f"{path}: too few data rows ({len(frame)}, need at least {min_rows})")
+    rows = data_rows(frame)
     frame = frame.reset_index(drop=True)
-    out = {c: numeric_column(frame, c, path) for c in columns}
+    out = {c: numeric_column(frame, c, path, rows=rows) for c in columns}
     for c in optional:
         if c in frame.columns:
-            out[c] = numeric_column(frame, c, path)
+            out[c] = numeric_column(frame, c, path, rows=rows)
     if increasing is not None:
         t = out[increasing]
         bad = np.flatnonzero(np.diff(t) <= 0)
         if bad.size:
             i = int(bad[0]) + 1
-            raise DataError(f"{path}: column {increasing!r} row {i + 1}: time does not increase "
+            raise DataError(f"{path}: column {token(increasing)} row {rows[i]}: time does not increase "
                             f"({t[i - 1]:g} then {t[i]:g})")
     return out
+
+
+def data_rows(frame) -> np.ndarray:
+    """1-based data rows of the file for the rows of a frame from :func:`read_table` (rows kept by
+    :func:`select_rows` keep their numbers); 1, 2, ... for a frame of another origin."""
+    idx = frame.index
+    if idx.dtype.kind in "iu" and len(idx) and idx.min() >= 0:
+        return idx.to_numpy(dtype=np.int64) + 1
+    return np.arange(1, len(frame) + 1)

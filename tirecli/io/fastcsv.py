@@ -208,12 +208,9 @@ def read_lines(path) -> tuple[list[bytes], dict]:
     """The lines of a text file as bytes (line ends ``\\n`` or ``\\r\\n`` removed), and facts about
     the whole text found with fast byte searches: ``comment`` (a ``#``), ``quote`` (a ``"``),
     ``blank`` (an empty line), ``trailing`` (blanks at a line end)."""
-    from pathlib import Path
+    from tirecli.io.files import read_input_bytes
 
-    from tirecli.io.files import note_input
-
-    note_input(path)
-    data = Path(path).read_bytes()
+    data = read_input_bytes(path, "a CSV file")
     if b"\r" in data[:65536]:
         data = data.replace(b"\r\n", b"\n")
     body = data.rstrip(b"\n")

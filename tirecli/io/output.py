@@ -93,10 +93,10 @@ def write_csv(path: str | Path, frame, comments: list[str] | tuple = ()) -> Path
     return path
 
 
-def write_text(path: str | Path, text: str) -> Path:
-    """Write UTF-8 text (through a temporary file: the file is complete or absent)."""
+def write_text(path: str | Path, text: str, encoding: str = "utf-8") -> Path:
+    """Write text in ``encoding`` (through a temporary file: the file is complete or absent)."""
     path = Path(path)
-    with atomic_write(path) as fh:
+    with atomic_write(path, encoding=encoding) as fh:
         fh.write(text)
     return path
 

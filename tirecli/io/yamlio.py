@@ -12,7 +12,7 @@ from typing import Any
 
 import yaml
 
-from tirecli.errors import ConfigError, Problem
+from tirecli.errors import ConfigError, Problem, clip, token
 
 KeyPath = tuple  # tuple of str (mapping keys) and int (sequence indices)
 
@@ -84,6 +84,16 @@ _FLOAT_12 = re.compile(r"""^(?:[-+]?(?:[0-9][0-9_]*)(?:\.[0-9_]*)?(?:[eE][-+]?[0
 for _cls in (Loader, Dumper):
     _cls.add_implicit_resolver("tag:yaml.org,2002:float", _FLOAT_12, list("-+0123456789."))
 
+# Numbers the reader takes: decimal integers without a leading zero, 0x/0o/0b integers, and the
+# floats above. YAML 1.1's other forms silently gave other values than the one written: ``010``
+# (octal 8) and ``1:30`` (sexagesimal 90) stay text here, so a number key refuses them by name.
+_INT_12 = re.compile(r"^(?:[-+]?(?:0|[1-9][0-9_]*)|0x[0-9a-fA-F_]+|0o[0-7_]+|0b[01_]+)$")
+Loader.yaml_implicit_resolvers = {
+    ch: [(tag, rx) for tag, rx in resolvers if tag not in ("tag:yaml.org,2002:int", "tag:yaml.org,2002:float")]
+    for ch, resolvers in Loader.yaml_implicit_resolvers.items()}
+Loader.add_implicit_resolver("tag:yaml.org,2002:int", _INT_12, list("-+0123456789"))
+Loader.add_implicit_resolver("tag:yaml.org,2002:float", _FLOAT_12, list("-+0123456789."))
+
 
 def load_value(text: str) -> Any:
     """One YAML value (e.g. the VALUE of ``--set KEY=VALUE``), read like values in files."""
@@ -94,8 +104,22 @@ class _Constructor(yaml.constructor.SafeConstructor):
     pass
 
 
+#: The only tags a mapping or a list may carry (an explicit ``!!python/...`` or ``!custom`` tag is refused).
+_PLAIN_TAGS = {yaml.MappingNode: "tag:yaml.org,2002:map", yaml.SequenceNode: "tag:yaml.org,2002:seq"}
+
+
+def _tag_text(tag: str) -> str:
+    return "!!" + tag[len("tag:yaml.org,2002:"):] if tag.startswith("tag:yaml.org,2002:") else tag
+
+
 def _build(node, path: KeyPath, origins: Origins, file: str, problems: list[Problem]) -> Any:
     origins.set(path, file, node.start_mark.line + 1)
+    plain = _PLAIN_TAGS.get(type(node))
+    if plain is not None and node.tag != plain:
+        problems.append(Problem(file, node.start_mark.line + 1, format_key(path),
+                                f"cannot read value: the tag {token(_tag_text(node.tag))} is not allowed "
+                                "(plain YAML only: mappings, lists, numbers, text)"))
+        return None
     if isinstance(node, yaml.MappingNode):
         out: dict = {}
         for knode, vnode in node.value:
@@ -114,10 +138,32 @@ def _build(node, path: KeyPath, origins: Origins, file: str, problems: list[Prob
         return [_build(n, path + (i,), origins, file, problems) for i, n in enumerate(node.value)]
     try:
         return _Constructor().construct_object(node, deep=True)
-    except yaml.YAMLError as exc:  # e.g. a bad timestamp, an object tag (safe loading refuses it)
-        what = getattr(exc, "problem", None) or str(exc).splitlines()[0]
-        problems.append(Problem(file, node.start_mark.line + 1, format_key(path), f"cannot read value: {what}"))
+    except yaml.YAMLError as exc:  # e.g. an object tag (safe loading refuses it), bad base64
+        what = getattr(exc, "problem", None) or (str(exc).splitlines() or [""])[0]
+        problems.append(Problem(file, node.start_mark.line + 1, format_key(path), f"cannot read value: {yaml_message(what)}"))
         return None
+    except (ValueError, OverflowError, TypeError, ArithmeticError) as exc:
+        # a date that does not exist (2024-13-45), an integer beyond Python's digit limit, ...
+        tag = str(getattr(node, "tag", ""))
+        if tag.endswith(":int") and len(str(getattr(node, "value", ""))) > 1000:  # Python refuses to convert it
+            problems.append(Problem(file, node.start_mark.line + 1, format_key(path),
+                                    "cannot read value: a number of thousands of digits, beyond the range of a double"))
+            return None
+        what = "not a valid date or time" if "timestamp" in tag else "not a usable value"
+        problems.append(Problem(file, node.start_mark.line + 1, format_key(path),
+                                f"cannot read value {token(getattr(node, 'value', ''))}: {what} ({clip(exc, 80)})"))
+        return None
+
+
+_QUOTED = re.compile(r"'([^']*)'|\"([^\"]*)\"")
+
+
+def yaml_message(text) -> str:
+    """A PyYAML message with every quoted token cut to the token limit (no file content beyond it)."""
+    def cut(m: re.Match) -> str:
+        inner = m.group(1) if m.group(1) is not None else m.group(2)
+        return token(inner)
+    return clip(_QUOTED.sub(cut, str(text)), 240)
 
 
 def parse_yaml(text: str, file: str = "<input>") -> tuple[Any, Origins]:
@@ -136,9 +182,17 @@ def parse_yaml(text: str, file: str = "<input>") -> tuple[Any, Origins]:
         mark = exc.problem_mark or exc.context_mark
         line = mark.line + 1 if mark is not None else None
         what = " ".join(str(x) for x in (exc.context, exc.problem) if x)
+        raise ConfigError(Problem(file, line, "", f"malformed YAML: {yaml_message(what)}")) from None
+    except yaml.YAMLError as exc:  # e.g. a ReaderError (a character YAML does not allow), without content
+        line = None
+        if isinstance(exc, yaml.reader.ReaderError):
+            line = text.count("\n", 0, max(int(exc.position), 0)) + 1
+            ch = exc.character
+            what = (f"character U+{ch:04X} is not allowed in YAML" if isinstance(ch, int)
+                    else "a character YAML does not allow")
+        else:
+            what = yaml_message((str(exc).splitlines() or [""])[0])
         raise ConfigError(Problem(file, line, "", f"malformed YAML: {what}")) from None
-    except yaml.YAMLError as exc:
-        raise ConfigError(Problem(file, None, "", f"malformed YAML: {exc}")) from None
     nodes = [n for n in nodes if n is not None]
     if not nodes:
         raise ConfigError(Problem(file, None, "", "the file is empty (expected a YAML mapping)"))
@@ -154,16 +208,10 @@ def parse_yaml(text: str, file: str = "<input>") -> tuple[Any, Origins]:
 
 def load_yaml(path: str | Path) -> tuple[Any, Origins]:
     """Read and parse a YAML file (see :func:`parse_yaml`); a missing file is a ConfigError."""
-    from tirecli.io.files import read_input_bytes
+    from tirecli.io.files import read_input_text
 
     path = Path(path)
-    raw = read_input_bytes(path, "a YAML file")
-    try:
-        text = raw.decode("utf-8")
-    except UnicodeDecodeError as exc:
-        raise ConfigError(Problem(str(path), None, "", f"not a UTF-8 text file (byte {exc.start})")) from None
-    if "\x00" in text:
-        raise ConfigError(Problem(str(path), None, "", "binary file, expected YAML text"))
+    text = read_input_text(path, "a YAML file", encoding="utf-8-sig")
     return parse_yaml(text, str(path))
 
 

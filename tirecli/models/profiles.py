@@ -32,7 +32,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from tirecli.errors import UsageError
+from tirecli.errors import UsageError, token
 
 SHAPES = ("step", "linear", "half-cosine")
 
@@ -71,6 +71,7 @@ class Table:
     t: tuple
     y: tuple
     source: str = ""
+    column: str = field(default="", compare=False)
 
     def __call__(self, t):
         tt = np.asarray(self.t, dtype=float)
@@ -184,7 +185,7 @@ def expression_problem(text: str) -> str | None:
         if not isinstance(node, allowed):
             return f"not allowed in a formula: {type(node).__name__}"
         if isinstance(node, ast.Name) and node.id not in _EXPRESSION_NAMES:
-            return f"unknown name {node.id!r} (use t, pi, e and {', '.join(sorted(EXPRESSION_FUNCTIONS))})"
+            return f"unknown name {token(node.id)} (use t, pi, e and {', '.join(sorted(EXPRESSION_FUNCTIONS))})"
         if isinstance(node, ast.Call) and not (isinstance(node.func, ast.Name) and node.func.id in EXPRESSION_FUNCTIONS):
             return "only the listed functions may be called"
         if isinstance(node, ast.Constant) and not isinstance(node.value, (int, float)):
@@ -206,7 +207,7 @@ class Expression:
     def __post_init__(self):
         problem = expression_problem(self.text)
         if problem is not None:
-            raise ValueError(f"formula {self.text!r}: {problem}")
+            raise ValueError(f"formula {token(self.text)}: {problem}")
         import ast
 
         object.__setattr__(self, "_code", compile(ast.parse(self.text, mode="eval"), "<formula>", "eval"))
@@ -215,17 +216,27 @@ class Expression:
         """The formula's value at ``t`` [s] (scalar or array); UsageError (exit 2) naming the
         formula and the time where it cannot be evaluated or is not finite."""
         tarr = np.asarray(t, dtype=float)
+        out = self._eval(tarr)
+        bad = ~np.isfinite(out)
+        if bad.any():
+            raise UsageError(f"formula {token(self.text)} gives {float(np.asarray(out)[bad].flat[0])} at "
+                             f"t = {_first(tarr[bad] if tarr.ndim else tarr):g} s")
+        return np.array(out) if np.ndim(t) else float(out)
+
+    def values(self, t) -> np.ndarray:
+        """The formula's values at the times ``t`` [s] as a float array, NaN or infinite where it is
+        so (no error: :func:`check_over_run` reports where); UsageError if it cannot be evaluated."""
+        return np.array(self._eval(np.atleast_1d(np.asarray(t, dtype=float))))
+
+    def _eval(self, tarr: np.ndarray) -> np.ndarray:
+        """The formula at the times ``tarr`` (broadcast to their shape, read-only); UsageError naming
+        the first time if it cannot be evaluated (a division by zero of integers, a complex value)."""
         env = {"__builtins__": {}, "t": tarr, "pi": np.pi, "e": np.e, **EXPRESSION_FUNCTIONS}
         try:
             with np.errstate(all="ignore"):
-                out = np.broadcast_to(np.asarray(eval(self._code, env), dtype=float), tarr.shape)  # noqa: S307 - checked AST
+                return np.broadcast_to(_real(eval(self._code, env)), tarr.shape)  # noqa: S307 - checked AST
         except (ArithmeticError, ValueError, TypeError) as exc:
-            raise UsageError(f"formula {self.text!r} cannot be evaluated at t = {_first(tarr):g} s: {exc}") from None
-        bad = ~np.isfinite(out)
-        if bad.any():
-            raise UsageError(f"formula {self.text!r} gives {float(np.asarray(out)[bad].flat[0])} at "
-                             f"t = {_first(tarr[bad] if tarr.ndim else tarr):g} s")
-        return np.array(out) if np.ndim(t) else float(out)
+            raise UsageError(f"formula {token(self.text)} cannot be evaluated at t = {_first(tarr):g} s: {exc}") from None
 
     def at(self, t: float) -> float:
         """The value at ``t`` [s]; at one of its switch times the right limit (the value that holds from
@@ -353,6 +364,14 @@ def _post_transitions(v, path, ctx):
         last = c["at"] + (c["duration"] or 0.0)
 
 
+def _real(value) -> np.ndarray:
+    """A formula's value as floats; ValueError for a complex one (``(-8)**(1/3)``: never its real part)."""
+    arr = np.asarray(value)
+    if np.iscomplexobj(arr):
+        raise ValueError("the value is a complex number (a fractional power of a negative number?)")
+    return arr.astype(float)
+
+
 def _first(t) -> float:
     return float(np.asarray(t, dtype=float).flat[0])
 
@@ -363,10 +382,138 @@ def _post_expr(v, path, ctx):
         try:
             Expression(v["expr"])(0.0)
         except UsageError as exc:
-            prefix = f"formula {v['expr']!r} "
+            prefix = f"formula {token(v['expr'])} "
             problem = str(exc)[len(prefix):] if str(exc).startswith(prefix) else str(exc)
     if problem is not None:
         ctx.fail(path + ("expr",), problem)
+
+
+@dataclass(frozen=True)
+class Limits:
+    """The admissible values of a profile: its unit and bounds (``lo <= y``, ``y <= hi``, ``y > gt``;
+    None: no bound). Every value must also be finite."""
+
+    unit: str = "-"
+    lo: float | None = None
+    hi: float | None = None
+    gt: float | None = None
+
+    def text(self) -> str:
+        parts = [f"> {self.gt:g}" if self.gt is not None else "", f">= {self.lo:g}" if self.lo is not None else "",
+                 f"<= {self.hi:g}" if self.hi is not None else ""]
+        return " and ".join(p for p in parts if p) or "finite"
+
+    def bad(self, y) -> np.ndarray:
+        """Mask of the values outside the limits (NaN and infinities included)."""
+        y = np.asarray(y, dtype=float)
+        with np.errstate(invalid="ignore"):
+            out = ~np.isfinite(y)
+            if self.lo is not None:
+                out |= y < self.lo
+            if self.hi is not None:
+                out |= y > self.hi
+            if self.gt is not None:
+                out |= ~(y > self.gt)
+        return out
+
+
+#: Points of the uniform grid on which a profile is checked over a run (besides the output grid
+#: and the breakpoints); the largest output grid used for the check.
+CHECK_POINTS = 20001
+CHECK_MAX_GRID = 4_000_000
+
+
+def run_times(t_end: float, dt: float | None = None, breakpoints=()) -> np.ndarray:
+    """The times [s] at which an input is checked over a run ``[0, t_end]``: the output grid (step
+    ``dt``, when given and at most :data:`CHECK_MAX_GRID` points), a uniform grid of
+    :data:`CHECK_POINTS` points, ``t_end``, and every breakpoint with a time just before and just
+    after it (both sides of a jump)."""
+    t_end = float(t_end)
+    parts = [np.linspace(0.0, t_end, CHECK_POINTS), [t_end]]
+    if dt is not None and dt > 0 and t_end / dt < CHECK_MAX_GRID:
+        parts.append(np.arange(int(np.floor(t_end / dt + 1e-9)) + 1) * float(dt))
+    bps = np.asarray([b for b in breakpoints if 0.0 <= b <= t_end], dtype=float)
+    if bps.size:
+        eps = 1e-9 * np.maximum(1.0, np.abs(bps))
+        parts += [bps, np.clip(bps - eps, 0.0, t_end), np.clip(bps + eps, 0.0, t_end)]
+    return np.unique(np.concatenate([np.asarray(p, dtype=float) for p in parts]))
+
+
+def check_over_run(profile, limits: Limits | None, t_end: float, dt: float | None = None) -> tuple | None:
+    """Where ``profile`` leaves ``limits`` (or is not finite) in ``[0, t_end]``, at the times of
+    :func:`run_times`: None if nowhere, else ``(sub_key, message)`` for the earliest such time, with
+    ``sub_key`` the key of the profile's form (``expr``, ``csv``, ``table``, ``changes``) and the
+    message naming the time and the value (and for a CSV profile its file, row and column)."""
+    if isinstance(profile, Constant):
+        return None
+    lim = limits or Limits()
+    bps = profile.breakpoints(t_end)
+    t = run_times(t_end, dt, bps)
+    y = profile.values(t) if isinstance(profile, Expression) else np.asarray(profile(t), dtype=float)
+    bad = np.flatnonzero(lim.bad(y))
+    unit = f" [{lim.unit}]" if lim.unit not in ("", "-") else ""
+    must = f"must be {lim.text()}{unit} at every time of the run (0 .. {float(t_end):g} s)"
+    if isinstance(profile, Table) and profile.source:
+        rows = np.flatnonzero(lim.bad(profile.y))
+        if rows.size:
+            i = int(rows[0])
+            return "csv", (f"{profile.source}: column {profile.column or 'value'!r} row {i + 1} (t = {profile.t[i]:g} s): "
+                           f"{_num(profile.y[i])} is out of range: {must}")
+        return None
+    if not bad.size:
+        return None
+    i = int(bad[0])
+
+    def value(tm):
+        return float((profile.values(tm) if isinstance(profile, Expression) else
+                      np.asarray(profile(np.array([tm])), dtype=float)).ravel()[0])
+
+    at = f"{_num(y[i])} at t = {t[i]:.9g} s"
+    if i > 0:  # the first time out of range, between the last good sample and this one
+        a, b = float(t[i - 1]), float(t[i])
+        for _ in range(60):
+            if b - a <= 1e-12 * max(1.0, b):
+                break
+            m = 0.5 * (a + b)
+            a, b = (a, m) if lim.bad(value(m)) else (m, b)
+        if t[i] - b > 1e-9 * max(1.0, b):
+            yb = value(b)
+            if np.isfinite(y[i]) and np.isfinite(yb):
+                at += f" (it leaves its range at t = {b:.9g} s)"
+            else:  # not finite from there on: that is the time to name
+                at = f"{_num(yb)} at t = {b:.9g} s"
+    if isinstance(profile, Expression):
+        return "expr", f"the formula gives {at}: {must}"
+    key = "table" if isinstance(profile, Table) else "changes"
+    return key, f"the profile is {at}: {must}"
+
+
+def profile_problems(items, origins, t_end: float, dt: float | None = None) -> list:
+    """Check input profiles over a whole run: ``items`` are ``(profile, spec, path)`` (``spec`` from
+    :func:`profile_spec`, or a :class:`Limits`; ``path`` the config key of the profile). One
+    :class:`~tirecli.errors.Problem` per profile that leaves its limits, naming the config line and
+    key, the time and the value (each path is checked once)."""
+    problems, seen = [], set()
+    for prof, spec, path in items:
+        path = tuple(path)
+        if path in seen or prof is None:
+            continue
+        seen.add(path)
+        lim = spec if isinstance(spec, Limits) or spec is None else getattr(spec, "limits", None)
+        try:
+            found = check_over_run(prof, lim, t_end, dt)
+        except UsageError as exc:
+            problems.append(origins.problem(path + ("expr",), str(exc)))
+            continue
+        if found is not None:
+            sub, msg = found
+            problems.append(origins.problem(path + (sub,) if sub in ("expr", "csv") else path, msg))
+    return problems
+
+
+def _num(v) -> str:
+    v = float(v)
+    return "NaN (not a number)" if v != v else f"{v:g}"
 
 
 def profile_spec(unit: str, lo: float | None = None, hi: float | None = None, gt: float | None = None):
@@ -375,7 +522,7 @@ def profile_spec(unit: str, lo: float | None = None, hi: float | None = None, gt
     Each mapping form is recognised by its key (``table``, ``initial``, ``csv``, ``expr``), so a
     problem inside one form is reported as such.
     """
-    from tirecli.config.schema import AnyOf, ListOf, Num, Str
+    from tirecli.config.schema import ListOf, Num, Str
     from tirecli.config.schema import Map as _Map
 
     def Map(fields, post=None):
@@ -389,7 +536,7 @@ def profile_spec(unit: str, lo: float | None = None, hi: float | None = None, gt
 
     val = Num(unit=unit, ge=lo, le=hi, gt=gt)
     time = Num(unit="s", ge=0)
-    return AnyOf(options=(
+    spec = _profile_spec_class()(options=(
         val,
         Map(fields={"table": Map(fields={"t": ListOf(item=time, min_len=1), "value": ListOf(item=val, min_len=1)},
                                  post=_post_table)}),
@@ -401,7 +548,26 @@ def profile_spec(unit: str, lo: float | None = None, hi: float | None = None, gt
         Map(fields={"csv": Str(doc="CSV file (relative to the config)"),
                     "t": Str(default="t", doc="time column"), "value": Str(doc="value column")}),
         Map(fields={"expr": Str(doc=f"formula of t [s] giving the value [{unit}]")}, post=_post_expr),
-    ), what=f"a number [{unit}], {{table: {{t, value}}}}, {{initial, changes}}, {{csv, t, value}} or {{expr}}")
+    ), what=f"a number [{unit}], {{table: {{t, value}}}}, {{initial, changes}}, {{csv, t, value}} or {{expr}}",
+        limits=Limits(unit, lo, hi, gt))
+    return spec
+
+
+_SPEC_CLASS = None
+
+
+def _profile_spec_class():
+    """:class:`~tirecli.config.schema.AnyOf` with the profile's :class:`Limits` (kept by ``dataclasses.replace``)."""
+    global _SPEC_CLASS
+    if _SPEC_CLASS is None:
+        from tirecli.config.schema import AnyOf
+
+        @dataclass
+        class ProfileSpec(AnyOf):
+            limits: object = None
+
+        _SPEC_CLASS = ProfileSpec
+    return _SPEC_CLASS
 
 
 def profile_from_checked(v, base_dir=None, origin=("", None)):
@@ -423,4 +589,4 @@ def profile_from_checked(v, base_dir=None, origin=("", None)):
     if base_dir is not None and not path.is_absolute():
         path = Path(base_dir) / path
     cols = read_columns(path, [v["t"], v["value"]], increasing=v["t"])
-    return Table(tuple(cols[v["t"]]), tuple(cols[v["value"]]), source=str(path))
+    return Table(tuple(cols[v["t"]]), tuple(cols[v["value"]]), source=str(path), column=v["value"])

@@ -83,6 +83,24 @@ class FitResult:
     nfev: int = 0
     extra: dict = field(default_factory=dict)
 
+    def failure(self) -> str | None:
+        """Why this is not a fitted result (None when it is): the optimiser did not converge, a
+        residual, estimate or standard error is not finite (data the model cannot reach), or every
+        fitted parameter ended on a bound (the optimum lies outside the admissible region: the model
+        cannot represent the data). Such a result must not be written as a fitted set."""
+        vals = np.array([self.residual_rms] + [self.estimate[k] for k in self.names], dtype=float)
+        if not np.all(np.isfinite(vals)):
+            return "the residuals or estimates are not finite (the data are beyond what the model can reach)"
+        if not self.success:
+            return f"the optimiser stopped without converging ({self.message.rstrip('.')})"
+        se = np.array([self.se[k] for k in self.names], dtype=float)
+        if np.any(np.isnan(se)):
+            return "the covariance of the estimates is not finite"
+        if len(self.names) > 1 and all(self.at_bound.get(k, False) for k in self.names):
+            return (f"every fitted parameter ended on a bound ({', '.join(self.names)}): the model cannot represent "
+                    "the data within the bounds")
+        return None
+
     def record(self) -> dict:
         return {
             "parameters": {k: {"estimate": self.estimate[k], "se": self.se[k], "ci": [self.ci_low[k], self.ci_high[k]],
@@ -91,6 +109,12 @@ class FitResult:
             "residual_rms": self.residual_rms, "n": self.n, "dof": self.dof, "confidence": self.confidence,
             "cond_JTJ": self.cond, "success": self.success, "message": self.message, "nfev": self.nfev, **self.extra,
         }
+
+
+def _rms(resid) -> float:
+    """RMS of the residuals (inf when they overflow: no warning, :meth:`FitResult.failure` reports it)."""
+    with np.errstate(all="ignore"):
+        return float(np.sqrt(np.mean(np.square(np.asarray(resid, dtype=float)))))
 
 
 def romega_of(s, v):
@@ -106,13 +130,17 @@ def _stats(J, resid, names, estimate, lo, hi, confidence):
 
     n, p = J.shape
     dof = max(n - p, 1)
-    s2 = float(resid @ resid) / dof
-    JTJ = J.T @ J
-    try:
-        cond = float(np.linalg.cond(JTJ))
-        cov = s2 * np.linalg.inv(JTJ) if np.isfinite(cond) and cond < 1e15 else s2 * np.linalg.pinv(JTJ)
-    except np.linalg.LinAlgError:
-        cond, cov = float("inf"), s2 * np.linalg.pinv(JTJ)
+    with np.errstate(all="ignore"):  # data beyond the model's reach: inf/NaN, reported by FitResult.failure
+        s2 = float(resid @ resid) / dof
+        JTJ = J.T @ J
+        if not (np.isfinite(s2) and np.all(np.isfinite(JTJ))):
+            cond, cov = float("inf"), np.full((p, p), np.nan)
+        else:
+            try:
+                cond = float(np.linalg.cond(JTJ))
+                cov = s2 * np.linalg.inv(JTJ) if np.isfinite(cond) and cond < 1e15 else s2 * np.linalg.pinv(JTJ)
+            except np.linalg.LinAlgError:
+                cond, cov = float("inf"), s2 * np.linalg.pinv(JTJ)
     se = np.sqrt(np.maximum(np.diag(cov), 0.0))
     tq = float(stdtrit(dof, 0.5 + confidence / 2.0))
     with np.errstate(divide="ignore", invalid="ignore"):
@@ -187,7 +215,7 @@ class _Space:
                 st["at_bound"]["mu_s"] = st["at_bound"]["mu_c"] = True
         return FitResult(names=self.free, estimate=pub, se=st["se"], ci_low=st["ci_low"], ci_high=st["ci_high"],
                          corr=st["corr"], cov=st["cov"], at_bound=st["at_bound"],
-                         residual_rms=float(np.sqrt(np.mean(resid ** 2))), n=n, dof=st["dof"],
+                         residual_rms=_rms(resid), n=n, dof=st["dof"],
                          confidence=confidence, cond=st["cond"], success=bool(sol.success), message=str(sol.message),
                          nfev=int(sol.nfev), extra={"start": dict(self.x0), **(extra or {})})
 
@@ -220,8 +248,9 @@ def fit_steady_state(s, v, mu, start: LuGreParams, free=("sigma0", "sigma2", "mu
     def resid(xi):
         return mu_ss_uniform(vr, rw, model(xi)) - mu
 
-    sol = least_squares(resid, sp.xi0, bounds=(sp.lb, sp.ub), jac="3-point", x_scale="jac", method="trf",
-                        xtol=1e-14, ftol=1e-14, gtol=1e-14, max_nfev=2000)
+    with np.errstate(all="ignore"):  # overflow on data beyond the model's reach: FitResult.failure says so
+        sol = least_squares(resid, sp.xi0, bounds=(sp.lb, sp.ub), jac="3-point", x_scale="jac", method="trf",
+                            xtol=1e-14, ftol=1e-14, gtol=1e-14, max_nfev=2000)
     x = sp.snap(sol.x)
     # Jacobian in public coordinates (mu_c, mu_s independent): J_internal = J_public @ T
     Jp = sol.jac @ np.linalg.inv(sp.T)
@@ -318,8 +347,9 @@ def fit_distributed(t, v, romega, mu, start: LuGreParams, free=("sigma0", "sigma
         return J
 
     # dogbox: on this ill-conditioned problem (mu_c, v_s correlated) 3-4x fewer iterations than trf, same optimum
-    sol = least_squares(fun, sp.xi0, jac=lambda xi: jac_public(xi) @ sp.T, bounds=(sp.lb, sp.ub), x_scale="jac",
-                        method="dogbox", xtol=1e-12, ftol=1e-12, gtol=1e-12, max_nfev=200)
+    with np.errstate(all="ignore"):
+        sol = least_squares(fun, sp.xi0, jac=lambda xi: jac_public(xi) @ sp.T, bounds=(sp.lb, sp.ub), x_scale="jac",
+                            method="dogbox", xtol=1e-12, ftol=1e-12, gtol=1e-12, max_nfev=200)
     x = sp.snap(sol.x)
     resid = fun(x)
     res = sp.result(jac_public(x), resid, x, confidence, int(use.sum()), sol,
@@ -335,15 +365,17 @@ def fit_sigma1(mu, z, zdot, vr, p: LuGreParams, bounds=(0.0, 100.0), confidence:
     ``z`` [m], ``zdot`` [m/s], ``vr`` [m/s] come from the tire model driven by the measured kinematics.
     """
     mu, z, zdot, vr = (np.asarray(a, dtype=float) for a in (mu, z, zdot, vr))
-    y = mu - p.sigma0 * z - p.sigma2 * vr
-    den = float(zdot @ zdot)
-    s1 = float(zdot @ y) / den if den > 0 else 0.0
-    s1 = min(max(s1, bounds[0]), bounds[1])
-    resid = s1 * zdot - y
+    with np.errstate(all="ignore"):
+        y = mu - p.sigma0 * z - p.sigma2 * vr
+        den = float(zdot @ zdot)
+        s1 = float(zdot @ y) / den if den > 0 else 0.0
+        s1 = min(max(s1, bounds[0]), bounds[1]) if np.isfinite(s1) else s1
+        resid = s1 * zdot - y
     st = _stats(zdot[:, None], resid, ["sigma1"], {"sigma1": s1}, {"sigma1": bounds[0]}, {"sigma1": bounds[1]},
                 confidence)
     return FitResult(names=["sigma1"], estimate={"sigma1": s1}, se=st["se"], ci_low=st["ci_low"],
                      ci_high=st["ci_high"], corr=st["corr"], cov=st["cov"], at_bound=st["at_bound"],
-                     residual_rms=float(np.sqrt(np.mean(resid ** 2))), n=len(mu), dof=st["dof"],
+                     residual_rms=_rms(resid), n=len(mu), dof=st["dof"],
                      confidence=confidence, cond=st["cond"], success=den > 0,
-                     message="linear least squares" if den > 0 else "dz/dt is zero: sigma1 not identifiable", nfev=1)
+                     message="linear least squares" if den > 0 else "dz/dt is zero: sigma1 is not identifiable",
+                     nfev=1)

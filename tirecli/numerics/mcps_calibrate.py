@@ -74,8 +74,8 @@ def calibrate(p, fz: float, targets: dict, grid: dict, carcass: str = "complete"
     Returns
     -------
     (MCPSParams, report) : the calibrated parameters and, per fitted group, a dict with the
-    values, their bounds, whether each ended at a bound, the max and RMS gap before and after, and
-    the optimiser's status.
+    values, their bounds, whether each ended at a bound, the max and RMS gap before and after, the
+    optimiser's status, and ``failure``: why the group is not a fitted result (None when it is).
     """
     from scipy.optimize import least_squares
 
@@ -110,8 +110,9 @@ def calibrate(p, fz: float, targets: dict, grid: dict, carcass: str = "complete"
             r = model_curve(group, cur.with_values(**_from_x(names, x))) - target
             return np.where(np.isfinite(r), r, 1e6)
 
-        sol = least_squares(resid, x0, bounds=(lo, hi), method="trf", x_scale="jac", xtol=1e-12, ftol=1e-12,
-                            gtol=1e-12, max_nfev=400)
+        with np.errstate(all="ignore"):
+            sol = least_squares(resid, x0, bounds=(lo, hi), method="trf", x_scale="jac", xtol=1e-12, ftol=1e-12,
+                                gtol=1e-12, max_nfev=400)
         span = hi - lo
         at_bound = {n: bool(min(abs(v - a), abs(b - v)) <= 1e-6 * sp) for n, v, a, b, sp in zip(names, sol.x, lo, hi, span)}
         return cur.with_values(**_from_x(names, sol.x)), sol, at_bound, float(np.max(np.abs(resid(sol.x))))
@@ -122,6 +123,10 @@ def calibrate(p, fz: float, targets: dict, grid: dict, carcass: str = "complete"
         info[g].update(evaluations=info[g]["evaluations"] + int(sol.nfev), success=bool(sol.success),
                        status=sol.message, at_bound=ab, stage=gap)
 
+    with np.errstate(all="ignore"):  # a target the Magic Formula cannot evaluate: fail before fitting anything
+        for g in GROUPS:
+            if g in targets and not np.all(np.isfinite(np.asarray(targets[g](kap if g == "fx" else alp), dtype=float))):
+                return p, {g: {"failure": "the Magic Formula target curve is not finite on the calibration grid"}}
     cur = p
     if "fx" in targets:
         cur, *res = fit("fx", cur)
@@ -142,8 +147,9 @@ def calibrate(p, fz: float, targets: dict, grid: dict, carcass: str = "complete"
             continue
         x_in = kap if g == "fx" else alp
         target = np.asarray(targets[g](x_in), dtype=float)
-        before = model_curve(g, p) - target
-        after = model_curve(g, cur) - target
+        with np.errstate(all="ignore"):
+            before = model_curve(g, p) - target
+            after = model_curve(g, cur) - target
         report[g] = {
             "parameters": {n: float(getattr(cur, n)) for n in names},
             "start": {n: float(getattr(p, n)) for n in names},
@@ -156,7 +162,24 @@ def calibrate(p, fz: float, targets: dict, grid: dict, carcass: str = "complete"
             "success": info[g]["success"], "status": info[g]["status"], "evaluations": info[g]["evaluations"],
             "rounds": done if g in lateral else 1,
         }
+        report[g]["failure"] = _failure(g, names, target, after, info[g])
     return cur, report
+
+
+def _failure(group, names, target, after, info) -> str | None:
+    """Why a group's calibration is not a fitted result (None when it is): a target or the final
+    model curve is not finite (the Magic Formula or the belt fixed point fails there), the optimiser
+    did not converge, or every fitted parameter ended on a bound."""
+    if not np.all(np.isfinite(target)):
+        return "the Magic Formula target curve is not finite on the calibration grid"
+    if not np.all(np.isfinite(after)):
+        return "the calibrated model gives no finite value on the grid (the belt fixed point fails)"
+    if not info["success"]:
+        return f"the optimiser stopped without converging ({str(info['status']).rstrip('.')})"
+    ab = info["at_bound"]
+    if len(names) > 1 and ab and all(ab.get(n, False) for n in names):
+        return f"every fitted parameter ended on a bound ({', '.join(names)})"
+    return None
 
 
 __all__ = ["calibrate", "BOUNDS", "GROUPS"]

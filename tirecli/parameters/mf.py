@@ -28,7 +28,7 @@ from dataclasses import dataclass, field
 from importlib import resources
 from pathlib import Path
 
-from tirecli.errors import ConfigError, Problem
+from tirecli.errors import ConfigError, Problem, token
 from tirecli.io import tir as tirio
 from tirecli.models.magic_formula.axes import normalise_side
 from tirecli.models.magic_formula.tire import RANGE_KEYS, MFTire, complete_coefficients, family
@@ -86,6 +86,35 @@ _BASE = {"L": "LENGTH", "F": "FORCE", "M": "MASS", "T": "TIME", "P": "PRESSURE",
 
 _PRESSURE_KEYS = re.compile(r"^(PP[XYZ]\d|PPMX1|PFZ1|QSY8)$")
 
+#: ``FITTYP`` -> equation version (§12.3); any other value is an error naming these.
+FITTYP_VERSIONS = {61: "6.1", 62: "6.2", 6: "5.2", 21: "5.2", 5: "5.2", 60: "6.1"}
+FITTYP_ALLOWED = "61, 62 (MF 6.1/6.2), 6, 21 (MF 5.2), 5 (MF-Tyre 5.x, read as 5.2) or 60 (read as 6.1)"
+#: Accepted ``TYRESIDE`` texts (any case): the side the tyre was measured on.
+TYRESIDES = ("LEFT", "RIGHT", "L", "R")
+
+
+def _fmt(v) -> str:
+    return f"{v:g}" if isinstance(v, (int, float)) and not isinstance(v, bool) else repr(v)[:40]
+
+
+def fittyp_version(value) -> str | None:
+    """The version of a ``FITTYP`` value (None if it is not one of :data:`FITTYP_VERSIONS`)."""
+    if isinstance(value, bool) or not isinstance(value, (int, float)) or not float(value).is_integer():
+        return None
+    return FITTYP_VERSIONS.get(int(value))
+
+
+def used_keys(version: str) -> set:
+    """The ``.tir`` keys tirecli's evaluator reads for ``version`` (its model coefficients, ranges,
+    radius, turn slip, operating conditions): overriding any other key would change nothing."""
+    from tirecli.models.magic_formula.tire import MODEL_KEYS, RADIUS_KEYS, TURNSLIP_DEFAULTS
+
+    keys = set(MODEL_KEYS[version]) | {k for pair in RANGE_KEYS.values() for k in pair} | set(RADIUS_KEYS)
+    keys |= {"FITTYP", "FNOMIN", "UNLOADED_RADIUS", "LONGVL", "VXLOW", "NOMPRES", "INFLPRES"}
+    if version in ("6.1", "6.2"):
+        keys |= set(TURNSLIP_DEFAULTS)
+    return keys
+
 
 @dataclass
 class TireData:
@@ -141,7 +170,7 @@ def _unit_factors(doc: tirio.TirDocument, problems: list) -> tuple[dict, dict]:
         if u not in table:
             hint = difflib.get_close_matches(u, list(table), n=1)
             dym = f"; did you mean {hint[0]!r}?" if hint else ""
-            problems.append(doc.problem(e.line, name, f"unknown unit {e.value!r}{dym} (known: {', '.join(table)})"))
+            problems.append(doc.problem(e.line, name, f"unknown unit {token(e.value)}{dym} (known: {', '.join(table)})"))
             factors[name] = 1.0
         else:
             factors[name] = table[u]
@@ -172,15 +201,14 @@ def detect_version(doc: tirio.TirDocument, flat: dict) -> tuple[str | None, str,
     if found:
         _, e = found[0]
         v = e.value
-        table = {61: "6.1", 62: "6.2", 6: "5.2", 21: "5.2", 5: "5.2", 60: "6.1"}
-        if isinstance(v, (int, float)) and not isinstance(v, bool) and float(v).is_integer() and int(v) in table:
+        version = fittyp_version(v)
+        if version is not None:
             how = f"FITTYP = {int(v)}"
             if int(v) in (5, 60):
                 doc.warnings.append(doc.problem(e.line, "FITTYP", f"FITTYP = {int(v)} is evaluated with the "
-                                                                  f"{table[int(v)]} equations"))
-            return table[int(v)], how, problems
-        problems.append(doc.problem(e.line, "FITTYP", f"unknown Magic Formula version {v!r} "
-                                                      "(expected 61, 62 for MF 6.1/6.2 or 6, 21 for MF 5.2)"))
+                                                                  f"{version} equations"))
+            return version, how, problems
+        problems.append(doc.problem(e.line, "FITTYP", f"unknown Magic Formula version {token(v)} (expected {FITTYP_ALLOWED})"))
         return None, "", problems
     pff = doc.find("PROPERTY_FILE_FORMAT")
     if pff:
@@ -195,10 +223,12 @@ def detect_version(doc: tirio.TirDocument, flat: dict) -> tuple[str | None, str,
 def version_from_keys(flat: dict, problems: list, file: str) -> tuple[str | None, str, list]:
     """Version from the keys present (§12.3): 6.x keys, 5.2 keys, or PAC89 ``A0/B0/C0``."""
     if "FITTYP" in flat:
-        code = int(flat["FITTYP"]) if float(flat["FITTYP"]).is_integer() else None
-        table = {61: "6.1", 62: "6.2", 6: "5.2", 21: "5.2", 5: "5.2", 60: "6.1"}
-        if code in table:
-            return table[code], f"FITTYP = {code}", problems
+        version = fittyp_version(flat["FITTYP"])
+        if version is not None:
+            return version, f"FITTYP = {int(flat['FITTYP'])}", problems
+        problems.append(Problem(file, None, "FITTYP", f"unknown Magic Formula version {_fmt(flat['FITTYP'])} "
+                                                      f"(expected {FITTYP_ALLOWED})"))
+        return None, "", problems
     has = set(flat)
     if {"A0", "B0", "C0"} <= has and "PCX1" not in has:
         return "pac89", "PAC89 coefficients A0, B0, C0", problems
@@ -254,7 +284,7 @@ def tire_data(doc: tirio.TirDocument) -> TireData:
                 text.setdefault(key, e.value)
                 continue
             if not e.is_number:
-                problems.append(doc.problem(e.line, key, f"expected a number [{info.unit}], got the text {e.value!r}"))
+                problems.append(doc.problem(e.line, key, f"expected a number [{info.unit}], got the text {token(e.value)}"))
                 continue
             if key in flat:
                 warnings.append(doc.problem(e.line, key, f"also given in [{lines[key][1]}] (line {lines[key][0]}); "
@@ -276,19 +306,24 @@ def tire_data(doc: tirio.TirDocument) -> TireData:
     ang = units.get("ANGLE")
     if ang is not None and factors["ANGLE"] != 1.0 and fam == "mf":
         e = doc.entry("UNITS", "ANGLE")
-        problems.append(doc.problem(e.line, "ANGLE", f"ANGLE = {ang!r}: MF coefficients are read in radians only; "
+        problems.append(doc.problem(e.line, "ANGLE", f"ANGLE = {token(ang)}: MF coefficients are read in radians only; "
                                                      "the coefficients that multiply angles (PKY*, PHY*, QHZ*, RBY3, ...) "
                                                      "would need converting too (docs/models/magic_formula.md §12.5 item 8)"))
     coef, missing, defaulted = complete_coefficients(flat, version, turn_slip=False)
-    hint = ""
-    if doc.ends_mid_line or missing:
-        hint = (f"; the file may be truncated (it ends in the middle of line {doc.last_line})"
-                if doc.ends_mid_line else "")
+    if doc.ends_mid_line and missing:
+        # a file cut short: one line saying so (the coefficients after the cut are all missing)
+        shown = ", ".join(missing[:6]) + (f" and {len(missing) - 6} more" if len(missing) > 6 else "")
+        cut = " = ".join(x for x in doc.cut_number if x) if doc.cut_number else ""
+        after = f", right after {cut[:60]!r}" if cut else ""
+        problems.append(doc.problem(doc.last_line, "", f"the file may be truncated: it ends in the middle of line "
+                                                       f"{doc.last_line}{after} with no line break, and "
+                                                       f"{len(missing)} required coefficient(s) are not in it ({shown})"))
+        raise ConfigError(problems)
     for key in missing:
         sect = CATALOGUE[key].section
         present = f"[{sect}] is missing" if sect not in doc.sections else f"not in [{sect}]"
         problems.append(Problem(doc.file, None, key, f"missing required coefficient ({CATALOGUE[key].meaning}; "
-                                                     f"{present}){hint}"))
+                                                     f"{present})"))
     if doc.ends_mid_line and not missing and _cut_off(doc, defaulted):
         # a file cut in the middle of a line (no final line break) that also lacks the coefficients
         # of its last section or of the sections after it is a truncated file, not a tyre to
@@ -298,6 +333,16 @@ def tire_data(doc: tirio.TirDocument) -> TireData:
                                                        f"{doc.last_line} and {len(defaulted)} model coefficient(s) "
                                                        f"are not in it ({shown}); if the file is complete, end "
                                                        f"it with a line break"))
+    elif doc.cut_number is not None and not missing:
+        # every coefficient is there, but the last line ends in a number with no line break or
+        # comment after it: a file cut in the middle of that number ("QSY8 = -0." of "-0.4")
+        # would silently evaluate with the shortened value
+        key, number = doc.cut_number
+        what = (f"{key} = {number}" if key and number else key) if key else f"the table row ending in {number}"
+        problems.append(doc.problem(doc.last_line, "", f"the file may be truncated: it ends in the middle of line "
+                                                       f"{doc.last_line}, right after {what[:60]!r} with no line break "
+                                                       "(a file cut inside a line ends so); if the file is "
+                                                       "complete, end it with a line break"))
     _value_checks(doc, coef, fam, version, lines, problems, warnings)
     if problems:
         raise ConfigError(problems)
@@ -317,19 +362,15 @@ def _value_checks(doc, coef, fam, version, lines, problems, warnings):
     def where(key):
         return lines.get(key, (None, ""))[0]
 
+    problems += [doc.problem(where(keys[0]), keys[0], msg) for keys, msg in coefficient_problems(coef, fam)]
     if fam == "mf":
-        for key in ("FNOMIN", "UNLOADED_RADIUS"):
-            if key in coef and not coef[key] > 0:
-                problems.append(doc.problem(where(key), key, f"must be > 0, got {coef[key]:g}"))
-        if coef.get("PKY2") == 0:
-            problems.append(doc.problem(where("PKY2"), "PKY2", "must not be 0 (K_ya divides by it; §12.5 item 9)"))
-        if coef.get("LFZO") == 0:
-            problems.append(doc.problem(where("LFZO"), "LFZO", "must not be 0 (F'z0 = LFZO FNOMIN divides)"))
-        for key in ("LONGVL", "NOMPRES", "INFLPRES"):
-            if key in coef and not coef[key] > 0:
-                problems.append(doc.problem(where(key), key, f"must be > 0, got {coef[key]:g}"))
         if "LONGVL" not in coef:
-            warnings.append(Problem(doc.file, None, "LONGVL", "no reference speed LONGVL: give vx with every evaluation"))
+            speed_terms = [k for k in ("QSY3", "QSY4") if coef.get(k)]
+            if speed_terms:  # My needs V0 (rolling resistance grows with vx / LONGVL)
+                problems.append(Problem(doc.file, None, "LONGVL", f"missing, but {'/'.join(speed_terms)} (rolling "
+                                                                  "resistance with speed) need the reference speed"))
+            else:
+                warnings.append(Problem(doc.file, None, "LONGVL", "no reference speed LONGVL: give vx with every evaluation"))
         if version != "5.2" and "NOMPRES" not in coef:
             used = sorted(k for k, v in coef.items() if _PRESSURE_KEYS.match(k) and v)
             if used:
@@ -339,12 +380,46 @@ def _value_checks(doc, coef, fam, version, lines, problems, warnings):
                 warnings.append(Problem(doc.file, None, "NOMPRES", "no NOMPRES: inflation pressure has no effect"))
         if "VXLOW" not in coef:
             warnings.append(Problem(doc.file, None, "VXLOW", "no VXLOW: no low-speed handling (§11)"))
-    else:
-        if coef.get("A4") == 0:
-            problems.append(doc.problem(where("A4"), "A4", "must not be 0 (BCD of Fy divides by it; §13.2)"))
-    for var, (lo, hi) in RANGE_KEYS.items():
-        if lo in coef and hi in coef and coef[lo] > coef[hi]:
-            problems.append(doc.problem(where(lo), lo, f"range minimum {coef[lo]:g} is above its maximum {hi} = {coef[hi]:g}"))
+    side = doc.find("TYRESIDE")
+    if side:
+        _, e = side[0]
+        if str(e.value).strip().upper() not in TYRESIDES:
+            problems.append(doc.problem(e.line, "TYRESIDE", f"unknown side {str(e.value)[:40]!r} (expected 'LEFT' or "
+                                                            "'RIGHT', the side the tyre was measured on; leave the key "
+                                                            "out when it is not known)"))
+    if fam == "mf":
+        for key in ("WIDTH", "ASPECT_RATIO", "RIM_RADIUS", "RIM_WIDTH"):
+            found = doc.find(key)
+            if found and found[0][1].is_number and not found[0][1].value > 0:
+                warnings.append(doc.problem(found[0][1].line, key, f"must be > 0, got {found[0][1].value:g} "
+                                                                   "(a tyre dimension; not used by the evaluator)"))
+
+
+def coefficient_problems(coef: dict, fam: str) -> list[tuple[tuple, str]]:
+    """``(keys, what is wrong)`` for every coefficient value the evaluator cannot use: loads, radius,
+    speeds and pressures that must be positive, divisors that must not be 0, ranges whose minimum is
+    above their maximum (``keys``: the key at fault first, then the other one involved). The same
+    rules hold for a ``.tir`` file, inline coefficients and overrides."""
+    out = []
+    if fam == "mf":
+        for key in ("FNOMIN", "UNLOADED_RADIUS", "LONGVL", "NOMPRES", "INFLPRES", "FZMAX", "PRESMIN", "PRESMAX",
+                    "VERTICAL_STIFFNESS"):
+            if key in coef and not coef[key] > 0:
+                out.append(((key,), f"must be > 0, got {coef[key]:g}"))
+        for key in ("FZMIN", "VXLOW"):
+            if key in coef and not coef[key] >= 0:
+                out.append(((key,), f"must be >= 0, got {coef[key]:g}"))
+        if coef.get("PKY2") == 0:
+            out.append((("PKY2",), "must not be 0 (K_ya divides by it; §12.5 item 9)"))
+        if coef.get("LFZO") == 0:
+            out.append((("LFZO",), "must not be 0 (F'z0 = LFZO FNOMIN divides)"))
+    elif coef.get("A4") == 0:
+        out.append((("A4",), "must not be 0 (BCD of Fy divides by it; §13.2)"))
+    bad = {k for keys, _ in out for k in keys}
+    for lo, hi in RANGE_KEYS.values():
+        if lo in coef and hi in coef and coef[lo] > coef[hi] and not {lo, hi} & bad:
+            out.append(((lo, hi), f"range minimum {lo} = {coef[lo]:g} is above its maximum {hi} = {coef[hi]:g}"))
+    return out
 
 
 def read_tire_data(path: str | Path) -> TireData:
@@ -451,13 +526,36 @@ def resolve_tire(raw, origins, path: tuple, base_dir: Path | None):
                       for k in defaulted}
         ps.values = coef
         ps.extra = {"version": version, "version_source": how, "side": "unknown", "file": "inline"}
-    fam = family(version)
-    v = ps.values
-    if fam == "mf":
-        for key in ("PKY2", "LFZO"):
-            if v.get(key) == 0:
-                problems.append(origins.problem(path + (key,) if key in (raw or {}) else path,
-                                                f"{key} must not be 0 (division by zero; docs/models/magic_formula.md §12.5)"))
+    over = [k for k in raw if k != "set"] if isinstance(raw, dict) and "set" in raw else []
+    if "FITTYP" in over:  # a changed FITTYP changes the equations (or is refused), never ignored
+        new = fittyp_version(ps.values.get("FITTYP"))
+        if new is None:
+            raise ConfigError(origins.problem(path + ("FITTYP",), f"unknown Magic Formula version "
+                                                                  f"{_fmt(ps.values.get('FITTYP'))} (expected {FITTYP_ALLOWED})"))
+        if new != version:
+            if family(version) != family(new):
+                raise ConfigError(origins.problem(path + ("FITTYP",), f"the tyre {ps.name} is a {version} tyre: "
+                                                                      "its coefficients cannot be read as MF "
+                                                                      f"{new} (FITTYP {int(ps.values['FITTYP'])})"))
+            coef, missing, defaulted = complete_coefficients(ps.values, new, turn_slip=False)
+            if missing:
+                raise ConfigError(origins.problem(path + ("FITTYP",), f"MF {new} needs {', '.join(missing)}, "
+                                                                      f"which the tyre {ps.name} does not give"))
+            ps.values = coef
+            ps.extra = {**(ps.extra or {}), "version": new,
+                        "version_source": f"FITTYP = {int(ps.values['FITTYP'])} (override; the file says {version})"}
+            version = new
+    inert = [k for k in over if k in CATALOGUE and k not in used_keys(version)]
+    for k in inert:
+        problems.append(origins.problem(path + (k,), f"not read by tirecli's {version} Magic Formula evaluator "
+                                                     "(a tyre file key tirecli keeps but does not use): overriding "
+                                                     "it would change nothing"))
+    # the rules of a .tir file hold for inline coefficients and overrides too (never accepted silently)
+    given = {str(k).upper(): k for k in raw} if isinstance(raw, dict) else {}
+    for keys, msg in coefficient_problems(ps.values, family(version)):
+        key = next((k for k in keys if k in given), None)
+        problems.append(origins.problem(path + (given[key],), msg) if key is not None else
+                        origins.problem(path, f"{keys[0]}: {msg}"))
     if problems:
         raise ConfigError(problems)
     return ps, tire_from_set(ps)

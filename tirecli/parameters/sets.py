@@ -31,7 +31,7 @@ from pathlib import Path
 from typing import Any
 
 from tirecli.config.schema import MISSING, Context, Map, Num, Str, check_document
-from tirecli.errors import ConfigError, Problem
+from tirecli.errors import ConfigError, Problem, token
 from tirecli.io.yamlio import Origins, load_yaml, parse_yaml
 from tirecli.parameters.kinds import KINDS, Kind
 
@@ -152,7 +152,7 @@ def builtin_path(name: str):
     if name not in names:
         hint = difflib.get_close_matches(name, names, n=1)
         dym = f"; did you mean {hint[0]!r}?" if hint else ""
-        raise ConfigError(Problem("<built-in sets>", None, "", f"no built-in parameter set {name!r}{dym} "
+        raise ConfigError(Problem("<built-in sets>", None, "", f"no built-in parameter set {token(name)}{dym} "
                                   f"(available: {', '.join(names)})"))
     root = resources.files(__package__).joinpath(_DATA)
     yaml_res = root.joinpath(name + ".yaml")
@@ -188,6 +188,10 @@ def parse_set(data: Any, origins: Origins, label: str) -> ParameterSet:
     """Check a parameter-set document (already parsed) and build the :class:`ParameterSet`."""
     if not isinstance(data, dict):
         raise ConfigError(origins.problem((), "expected a parameter set (a mapping with name, kind, citation, values)"))
+    if not set(map(str, data)) & set(_SET_FILE.fields):
+        # some other file (a config, a list of accounts, ...): say what it is not, without listing its keys
+        raise ConfigError(origins.problem((), f"not a parameter set: none of its {len(data)} top-level key(s) is "
+                                              "name, kind, citation or values"))
     head = {k: v for k, v in data.items() if k != "values"}
     head["values"] = {}
     meta = check_document(head, _SET_FILE, origins)
@@ -195,7 +199,7 @@ def parse_set(data: Any, origins: Origins, label: str) -> ParameterSet:
     if kind is None:
         hint = difflib.get_close_matches(meta["kind"], list(KINDS), n=1)
         dym = f"; did you mean {hint[0]!r}?" if hint else ""
-        raise ConfigError(origins.problem(("kind",), f"unknown kind {meta['kind']!r}{dym} (expected one of: {', '.join(KINDS)})"))
+        raise ConfigError(origins.problem(("kind",), f"unknown kind {token(meta['kind'])}{dym} (expected one of: {', '.join(KINDS)})"))
     raw = data.get("values")
     if not isinstance(raw, dict):
         raise ConfigError(origins.problem(("values",), "expected a mapping of parameter values"))
@@ -251,11 +255,13 @@ def load_set(ref: str, base_dir: Path | None = None) -> ParameterSet:
     """A set by built-in name or by file path (relative to ``base_dir``)."""
     if ref in builtin_names():
         return load_builtin(ref)
+    from tirecli.io.files import exists
+
+    p = Path(ref)
+    if not p.is_absolute() and base_dir is not None:
+        p = base_dir / p
     looks_like_path = ref.lower().endswith((".yaml", ".yml", ".tir")) or "/" in ref or "\\" in ref
-    if looks_like_path:
-        p = Path(ref)
-        if not p.is_absolute() and base_dir is not None:
-            p = base_dir / p
+    if looks_like_path or (ref.strip() and exists(p)):
         return load_set_file(p)
     builtin_path(ref)  # raises with a did-you-mean
     raise AssertionError("unreachable")
@@ -300,7 +306,7 @@ def resolve_group(raw: Any, origins: Origins, path: tuple, kind: str, base_dir: 
             raise ConfigError(problems + [Problem(*origins.of(path + ("set",)), _key(path + ("set",)), p.message)
                                           if p.file == "<built-in sets>" else p for p in err.problems]) from None
         if base.kind != kind:
-            raise ConfigError(problems + [origins.problem(path + ("set",), f"set {raw['set']!r} is of kind {base.kind!r}, expected {kind!r}")])
+            raise ConfigError(problems + [origins.problem(path + ("set",), f"set {token(raw['set'])} is of kind {base.kind!r}, expected {kind!r}")])
         try:
             over_vals, _, _ = _unwrap_values(over, origins, path)
         except ConfigError as err:

@@ -20,6 +20,7 @@ from tirecli import __version__
 from tirecli.figures.registry import PAPERS, Table, load_all
 from tirecli.io import output
 from tirecli.io.atomic import out_path, staged_dir
+from tirecli.io.files import check_output_dir
 from tirecli.report.docs import card_doc, link_sources, write_docs
 from tirecli.studies.base import Check, builtin_config, run_study
 
@@ -77,6 +78,8 @@ def build_report(out: str | Path, only=None, progress=None, campaigns=()) -> dic
 
         for path in campaigns:  # a bad campaign file fails before anything runs
             load_campaign(path)
+    # a bad location fails before the studies run
+    check_output_dir(out, files=("index.html", "summary.json"), dirs=("data", "figures"))
     with staged_dir(out, marker="summary.json") as stage:
         return _write_report(stage, entries, t_start, progress, campaigns)
 

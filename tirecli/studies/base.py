@@ -13,7 +13,7 @@ from typing import Any, Callable
 
 from tirecli.config.loader import Config, config_from_text
 from tirecli.config.schema import Context, Str
-from tirecli.errors import ConfigError
+from tirecli.errors import ConfigError, token
 
 from tirecli.parameters.sets import ParameterSet
 
@@ -190,6 +190,11 @@ def register_study(name: str, check: Callable | None = None):
 def study_name(config: Config, expected: str | None = None) -> str:
     """The ``study:`` of a config (checked against ``expected`` when the command implies one)."""
     raw = config.data.get("study", expected)
+    if "study" not in config.data and not set(map(str, config.data)) & {*common_fields(), "tire", "vehicle", str(expected)}:
+        # some other YAML file (a parameter set, a list of accounts, ...): say so once, without listing its keys
+        raise ConfigError(config.origins.problem((), f"not a study config: no 'study' key, and none of its "
+                                                     f"{len(config.data)} top-level key(s) is a config key "
+                                                     "(study, title, tire, figures, ...)"))
     if raw is None:
         raise ConfigError(config.origins.problem((), f"missing required key 'study' (one of: {', '.join(sorted(STUDY_MODULES))})"))
     ctx = Context(config.origins)
@@ -225,7 +230,7 @@ def builtin_config(name: str, overrides=()) -> Config:
     """A built-in study config by name."""
     res = resources.files("tirecli.studies").joinpath("configs").joinpath(name + ".yaml")
     if not res.is_file():
-        raise ConfigError(_problem(f"no built-in study config {name!r} (available: {', '.join(builtin_config_names())})"))
+        raise ConfigError(_problem(f"no built-in study config {token(name)} (available: {', '.join(builtin_config_names())})"))
     return config_from_text(res.read_text(encoding="utf-8"), label=f"<built-in {name}>", overrides=overrides)
 
 

@@ -41,6 +41,7 @@ command accepts (``tire: {set: fitted.yaml}``), and frames ``parameters`` (colum
 from __future__ import annotations
 
 import json
+import os
 from dataclasses import replace
 from pathlib import Path
 
@@ -49,7 +50,8 @@ import pandas as pd
 
 from tirecli.config.loader import Config, load_config
 from tirecli.config.schema import AnyOf, Bool, ListOf, Map, Num, Raw, Spec, Str, collect
-from tirecli.errors import ConfigError, DataError
+from tirecli.errors import ConfigError, DataError, RunError, token
+from tirecli.io.files import exists
 from tirecli.io.yamlio import dump_yaml
 from tirecli.numerics import identify, runs
 from tirecli.models.profiles import Constant, Table
@@ -60,6 +62,9 @@ from tirecli.studies.sweep import VARIANT, make_variant
 DEFAULT_VEHICLE = "canudas2003-obs-quarter-car"
 #: Fewest samples per fitted parameter.
 MIN_SAMPLES_PER_PARAMETER = 3
+#: Largest residual RMS of a fit, relative to the RMS of the friction data it fits: above it the
+#: model explains next to nothing of the data (the optimum lies outside the bounds), not a fit.
+MAX_UNEXPLAINED = 0.5
 
 
 def _data_post(v, path, ctx):
@@ -192,27 +197,29 @@ def _simulate_frame(d: dict, base_dir: Path):
     if d["cases"]:
         keep = set(d["cases"])
         raw_cases = sim.data.get("cases") or []
-        labels = [c.get("label") if isinstance(c, dict) else None for c in raw_cases]
+        labels = [c.get("label") if isinstance(c, dict) and isinstance(c.get("label"), str) else None
+                  for c in (raw_cases if isinstance(raw_cases, list) else [])]
         missing = keep - set(lab for lab in labels if lab)
         if missing:
-            raise DataError(f"{sim.label}: no case(s) labelled {', '.join(map(repr, sorted(missing)))}")
+            raise DataError(f"{sim.label}: no case(s) labelled {', '.join(map(token, sorted(map(str, missing))))}")
         sim.data["cases"] = [c for c, lab in zip(raw_cases, labels) if lab in keep]
         sim.data.pop("open_loop", None)
         meas = sim.data.get("measurement")
-        if isinstance(meas, dict) and meas.get("cases"):
-            idx = [i for i, lab in enumerate(meas["cases"]) if lab in keep]
+        if isinstance(meas, dict) and isinstance(meas.get("cases"), list):  # (checked by the simulate study)
+            idx = [i for i, lab in enumerate(meas["cases"]) if isinstance(lab, str) and lab in keep]
             meas["cases"] = [meas["cases"][i] for i in idx]
-            if meas.get("record_starts"):
-                meas["record_starts"] = [meas["record_starts"][i] for i in idx]
+            starts = meas.get("record_starts")
+            if isinstance(starts, list) and starts:
+                meas["record_starts"] = [starts[i] for i in idx if i < len(starts)]
     res = run_simulate(sim)
     if d["frame"] not in res.data:
-        raise DataError(f"{sim.label}: no frame {d['frame']!r} (frames: {', '.join(res.data)})")
+        raise DataError(f"{sim.label}: no frame {token(d['frame'])} (frames: {', '.join(res.data)})")
     return res.data[d["frame"]].copy(), res.synthetic, f"{d['frame']} of simulate config {sim.label}"
 
 
 def load_samples(d: dict, base_dir: Path) -> dict:
     """The selected samples: ``t, v, s, mu`` arrays (plus source description and synthetic flag)."""
-    from tirecli.io.data import frame_columns, leading_comments, read_table, rename_columns, select_rows
+    from tirecli.io.data import data_rows, frame_columns, leading_comments, names, read_table, rename_columns, select_rows
     from tirecli.io.output import SYNTHETIC_NOTE
 
     if d["csv"] is not None:
@@ -228,19 +235,23 @@ def load_samples(d: dict, base_dir: Path) -> dict:
     frame = rename_columns(frame, d["map"], where_name)
     frame = select_rows(frame, d["where"], where_name, "data.where")
     has_s = "s" in frame.columns
+    rows = data_rows(frame)  # rows of the file, also after 'where' kept some
     cols = frame_columns(frame, ["t", "v", "mu"] + (["s"] if has_s else []), where_name, increasing="t",
                          optional=() if has_s else ("romega",))
     if not has_s:
         if "romega" not in cols:
             raise DataError(f"{where_name}: missing column 's' (slip) and no 'romega' to compute it "
-                            f"(file has: {', '.join(map(str, frame.columns))}; map names with --map FILE_COLUMN=NAME)")
+                            f"(file has: {names(frame.columns)}; map names with --map FILE_COLUMN=NAME)")
         from tirecli.conventions import slip_from_speeds
 
         cols["s"] = slip_from_speeds(cols["v"], cols["romega"], 1.0)
     if np.any(cols["v"] < 0):
-        raise DataError(f"{where_name}: column 'v' row {int(np.argmax(cols['v'] < 0)) + 1}: negative speed")
+        i = int(np.argmax(cols["v"] < 0))
+        raise DataError(f"{where_name}: column 'v' row {rows[i]}: negative speed {cols['v'][i]:g} (forward motion, >= 0)")
     if np.any(np.abs(cols["s"]) > 1):
-        raise DataError(f"{where_name}: column 's' row {int(np.argmax(np.abs(cols['s']) > 1)) + 1}: |slip| > 1")
+        i = int(np.argmax(np.abs(cols["s"]) > 1))
+        what = "column 's'" if has_s else "slip from columns 'v', 'romega'"
+        raise DataError(f"{where_name}: {what} row {rows[i]}: |slip| = {abs(cols['s'][i]):g} > 1")
     return {"t": cols["t"], "v": cols["v"], "s": cols["s"], "mu": cols["mu"], "source": source,
             "synthetic": synthetic, "note": SYNTHETIC_NOTE if synthetic else ""}
 
@@ -267,9 +278,9 @@ def plan(config: Config):
     d = checked["data"]
     if d["simulate"] is not None and d["simulate"] not in builtin_config_names():
         p = Path(d["simulate"])
-        if not (p if p.is_absolute() else config.base_dir / p).is_file():
+        if not exists(p if p.is_absolute() else config.base_dir / p):
             raise ConfigError(config.origins.problem(("data", "simulate"),
-                                                     f"no built-in simulate config or file {d['simulate']!r} "
+                                                     f"no built-in simulate config or file {token(d['simulate'])} "
                                                      f"(built-in: {', '.join(builtin_config_names())})"))
     return checked, tire, vehicle
 
@@ -356,6 +367,7 @@ def run_fit(config: Config, progress=None) -> StudyResult:
     bounds = {k: tuple(b) for k, b in (fc["bounds"] or {}).items()}
     steady, p_fit = identify.fit_steady_state(s[sel], v[sel], mu[sel], start, free, bounds, fc["initial"],
                                               fc["confidence"])
+    _require(steady, "steady", data, mu[sel])
     from tirecli.models.lugre import mu_ss_uniform
 
     rw = identify.romega_of(s, v)
@@ -380,6 +392,7 @@ def run_fit(config: Config, progress=None) -> StudyResult:
         idx = np.clip(np.searchsorted(tr.t, np.asarray(tab_t) - 1e-12), 0, len(tr.t) - 1)
         z, zd, vr = tr.out["zbar"][idx], tr.out["zdot"][idx], tr.out["vr"][idx]
         s1 = identify.fit_sigma1(mm, z, zd, vr, p_fit, tuple(s1cfg["bounds"]), fc["confidence"])
+        _require(s1, "sigma1", data, mm)
         p_fit = replace(p_fit, sigma1=s1.estimate["sigma1"])
         transient = pd.DataFrame({"t": tt, "v": vv, "s": ss, "mu": mm,
                                   "mu_model": p_fit.sigma0 * z + p_fit.sigma1 * zd + p_fit.sigma2 * vr,
@@ -405,6 +418,7 @@ def run_fit(config: Config, progress=None) -> StudyResult:
         dist, p_fit, dout = identify.fit_distributed(t, v, rw, mu, p_fm, dfree, dbounds, None, fc["confidence"],
                                                      use, red, dopt["substeps"], dopt["interpolation"])
         dist.extra["wall_time_s"] = round(time.perf_counter() - w0, 3)
+        _require(dist, "distributed", data, mu[use])
         frames["distributed"] = pd.DataFrame({"t": t, "v": v, "s": s, "mu": mu, "mu_model": dout["mu_model"],
                                               "residual": dout["mu_model"] - mu, "used": use.astype(int),
                                               "z": dout["zbar"], "zdot": dout["zdot"]})
@@ -460,6 +474,22 @@ def run_fit(config: Config, progress=None) -> StudyResult:
     )
 
 
+def _require(result: identify.FitResult, stage: str, data: dict, mu) -> None:
+    """RunError (exit 1, nothing written: no ``fitted.yaml``) when a stage did not give a fitted result
+    (:meth:`~tirecli.numerics.identify.FitResult.failure`): start values are never written as if fitted."""
+    why = result.failure()
+    with np.errstate(all="ignore"):
+        top = float(np.max(np.abs(mu))) if len(mu) else float("nan")
+        scale = float(np.sqrt(np.mean(np.square(mu)))) if len(mu) else float("nan")
+    if why is None and np.isfinite(scale) and result.residual_rms > MAX_UNEXPLAINED * scale:
+        why = (f"the residual RMS {result.residual_rms:.4g} is {result.residual_rms / scale:.0%} of the data's RMS "
+               f"{scale:.4g}: the model cannot represent the data within the bounds")
+    if why is None:
+        return
+    raise RunError(f"fit: the {STAGES[stage]} fit did not converge: {why} (data {data['source']}, |mu| up to "
+                   f"{top:.4g}); no fitted.yaml was written")
+
+
 def _table2():
     from tirecli.parameters.sets import load_builtin
 
@@ -479,7 +509,7 @@ def overrides_for(data: str | None, maps: list[str] | None) -> list[str]:
     """``--set`` overrides from ``tirecli fit --data CSV --map FILE_COLUMN=NAME``."""
     out = []
     if data:
-        out += [f"data.csv={json.dumps(str(Path(data).resolve()))}", "data.simulate=null"]
+        out += [f"data.csv={json.dumps(os.path.abspath(data))}", "data.simulate=null"]  # as given, from the cwd
     if maps:
         mapping = {}
         for m in maps:

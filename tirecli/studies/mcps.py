@@ -36,7 +36,7 @@ import pandas as pd
 
 from tirecli.config.loader import Config
 from tirecli.config.schema import AnyOf, Bool, Grid, ListOf, Map, Nullable, Num, Raw, Str, collect
-from tirecli.errors import ConfigError, RunError
+from tirecli.errors import ConfigError, RunError, token
 from tirecli.studies.base import StudyResult, common_fields, register_study
 
 DEFAULT_TIRE = "sorine2000-mcps"
@@ -104,6 +104,10 @@ class MFSide:
     ps: Any = None
     model: Any = None
     convention: str = "mfeval"
+    outside: dict = None
+
+    def __post_init__(self):
+        self.outside = {} if self.outside is None else self.outside
 
     @property
     def label(self) -> str:
@@ -125,6 +129,8 @@ class MFSide:
         vx = t.reference_speed if t.family == "mf" and t.reference_speed else 16.7
         r = evaluate(t, kappa, alpha, 0.0, fz, vx, convention=self.convention, limits=False, low_speed=False,
                      outputs=("fx", "fy", "mz"), combined=True)
+        for k, n in r.outside.items():  # extrapolated beyond the file's ranges: flagged in run.json
+            self.outside[k] = self.outside.get(k, 0) + n
         return r.fx, r.fy, r.mz
 
     def record(self) -> dict:
@@ -340,6 +346,11 @@ def run_stationary(config: Config, progress=None) -> StudyResult:
         targets = {"fx": lambda k: mf.evaluate(k, 0.0, fzc)[0], "fy": lambda a: mf.evaluate(0.0, a, fzc)[1],
                    "mz": lambda a: mf.evaluate(0.0, a, fzc)[2]}
         p_cal, report = calibrate(p, fzc, targets, grid, carcass=carcasses[0], rounds=int(cal["rounds"]))
+        failed = [(g, r["failure"]) for g, r in report.items() if r.get("failure")]
+        if failed:  # never a calibrated.yaml holding start values or a fit that did not converge
+            g, why = failed[0]
+            raise RunError(f"calibration of {g} to {mf.name} at {fzc:g} N did not converge: {why}; nothing was "
+                           "written (no calibrated.yaml)")
         calibration = {"load": fzc, "carcass": carcasses[0], "grid": {"kappa": [float(grid["kappa"][0]), float(cal["kappa_max"]), npt],
                                                                        "alpha": [float(grid["alpha"][0]), float(cal["alpha_max"]), npt]},
                        "groups": report, "target": mf.label}
@@ -371,8 +382,17 @@ def run_stationary(config: Config, progress=None) -> StudyResult:
     bad = ~np.isfinite(df[["fx", "fy", "mz"]].to_numpy()).all(axis=1)
     if bad.any():
         row = df[bad].iloc[0]
-        raise RunError(f"non-finite forces for {row['model']} at fz = {row['fz']:g} N, kappa = {row['kappa']:g}, "
-                       f"alpha = {row['alpha']:g} rad; nothing was written")
+        text = (f"non-finite forces for {row['model']} at fz = {row['fz']:g} N, kappa = {row['kappa']:g}, "
+                f"alpha = {row['alpha']:g} rad")
+        if row["model"] == "mf" and mf.kind == "tir":  # a load the tyre cannot evaluate is the config's fault
+            t = mf.model
+            hi, fnom = t.coef.get("FZMAX"), t.coef.get("FNOMIN")
+            if (hi is not None and row["fz"] > hi) or (fnom and row["fz"] > 10 * fnom):
+                limit = f"above FZMAX = {hi:g} N" if hi is not None and row["fz"] > hi else \
+                    f"{row['fz'] / fnom:.3g} x FNOMIN ({fnom:g} N)"
+                raise ConfigError(config.origins.problem(("fz",), f"{text}: the load is {limit} of {mf.name}, beyond "
+                                                                  "what the tyre can evaluate; nothing was written"))
+        raise RunError(f"{text}; nothing was written")
     fam_names = [f[0] for f in fams]
     default_figs = []
     if "kappa" in fam_names:
@@ -387,6 +407,9 @@ def run_stationary(config: Config, progress=None) -> StudyResult:
         default_figs.append("mcps-calibration")
     if mf.ps is not None:
         sets["mf"] = mf.ps
+    from tirecli.app_mf import describe_outside
+
+    flags = [f"{mf.name}: {line}" for line in describe_outside(mf.outside)]
     lines = [f"stiffnesses at {fz}: D_xsigma {v['D_xsigma']:.6g} N, D_yalpha {v['D_yalpha']:.6g} N/rad "
              f"(complete model {v['D_yalphaF']:.6g}), D_zalpha {v['D_zalpha']:.6g} N m/rad (complete {v['D_zalphaF']:.6g})"
              for fz, v in facts.items()]
@@ -409,7 +432,7 @@ def run_stationary(config: Config, progress=None) -> StudyResult:
                     "(alpha > 0 gives Fy < 0, Mz > 0), phi = yaw rate/Vx [1/m]",
             "carcass": carcasses, "families": fam_names, "loads": loads, "frame_term": frame,
             "mf": mf.record(), "stiffnesses": facts, "calibration": calibration,
-            "points": int(len(df)), "summary": lines,
+            "points": int(len(df)), "summary": lines, "mf_outside_ranges": dict(mf.outside), "flags": flags,
         },
         figures=checked["figures"] or default_figs,
         payload={"params": p, "params_calibrated": p_cal, "mf": mf, "checked": checked},
@@ -719,7 +742,7 @@ def plan_relaxation(config: Config):
         n = _cells(p, checked, c)
         steps = checked["distance"] / (p.patch(checked["fz"]).l / n)
         if n * steps > MAX_ELEMENT_STEPS:
-            raise ConfigError(config.origins.problem((), f"case {c.label!r}: the run needs {n} cells x {steps:.3g} steps "
+            raise ConfigError(config.origins.problem((), f"case {token(c.label)}: the run needs {n} cells x {steps:.3g} steps "
                                                          f"(speed {checked['speed']:g} m/s, distance {checked['distance']:g} m), "
                                                          f"over the budget of {MAX_ELEMENT_STEPS:.0e} element-steps (short "
                                                          "relaxation lengths at large slip angles and the belt's fast modes at "
@@ -765,7 +788,7 @@ def run_relaxation(config: Config, progress=None) -> StudyResult:
         n = _cells(p, checked, c)
         st = solve(p, fz, [0.0], [a], [0.0], carcass=c.carcass, locked=c.locked)
         if not st.converged.all():
-            raise RunError(f"case {c.label!r}: the stationary fixed point (MCPS eq. 18) did not converge at alpha = {a:g} "
+            raise RunError(f"case {token(c.label)}: the stationary fixed point (MCPS eq. 18) did not converge at alpha = {a:g} "
                            "rad; nothing was written")
         fy_inf, mz_inf = float(st.fy[0]), float(st.mz[0])
         run = simulate_rolling(p, fz, V, V * math.tan(a), V, 0.0, dist, cells=n, carcass=c.carcass, locked=c.locked,

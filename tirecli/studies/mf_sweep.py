@@ -42,7 +42,7 @@ import pandas as pd
 from tirecli.config.loader import Config
 from tirecli.config.schema import Bool, Grid, Map, Num, Raw, Str, check_document, collect
 from tirecli.conventions import kappa_from_slip, slip_from_kappa
-from tirecli.errors import ConfigError
+from tirecli.errors import ConfigError, RunError, token
 from tirecli.studies.base import StudyResult, common_fields
 
 FAMILIES = ("fx-kappa", "fy-alpha", "camber", "combined-alpha", "combined-kappa", "compare")
@@ -123,18 +123,28 @@ def plan(config: Config):
         raise ConfigError(config.origins.problem(("side",), f"the tyre {ps.name} has no TYRESIDE, so it cannot be mirrored"))
     foreign = [f for f in (checked["figures"] or []) if not f.startswith("mf-")]
     if foreign:
-        raise ConfigError(config.origins.problem(("figures",), f"figure {foreign[0]!r} draws a LuGre sweep; a Magic "
+        raise ConfigError(config.origins.problem(("figures",), f"figure {token(foreign[0])} draws a LuGre sweep; a Magic "
                                                                "Formula sweep draws the mf-* figures (tirecli figures list)"))
     if checked["sweep"]["speed"] is None and t.family == "mf" and t.reference_speed is None:
         raise ConfigError(config.origins.problem(("sweep",), "missing 'speed': the tyre has no LONGVL to default to"))
     return checked, ps, t, lugre
 
 
-def _block(t, family, kappa, alpha, gamma, fz, vx, p, kw) -> pd.DataFrame:
+class NonFinite(Exception):
+    """The Magic Formula gave no finite output in a family: ``(key, text, input_at_fault)``."""
+
+
+def _block(t, family, kappa, alpha, gamma, fz, vx, p, kw, key=("sweep",)) -> pd.DataFrame:
+    from tirecli.app_mf import nonfinite_point
     from tirecli.models.magic_formula import evaluate
 
     k, a, g, f = np.broadcast_arrays(*(np.asarray(x, dtype=float) for x in (kappa, alpha, gamma, fz)))
-    r = evaluate(t, k, a, g, f, vx, p, **kw)
+    r = evaluate(t, k, a, g, f, vx, p, **{n: v for n, v in kw.items() if n != "outside"})
+    found = nonfinite_point(t, r, {"kappa": k, "alpha": a, "gamma": g, "fz": f, "vx": vx, "p": p}, kw["limits"])
+    if found is not None:  # never an empty cell in the frame
+        raise NonFinite(key, f"family {family}: {found[1]}", found[2])
+    for name, n in r.outside.items():
+        kw["outside"][name] = kw["outside"].get(name, 0) + n
     with np.errstate(divide="ignore", invalid="ignore"):
         mux = np.where(f > 0, r.fx / f, 0.0)
         muy = np.where(f > 0, r.fy / f, 0.0)
@@ -148,31 +158,43 @@ def _block(t, family, kappa, alpha, gamma, fz, vx, p, kw) -> pd.DataFrame:
     return df, r.counts
 
 
-def mf_sweep_frame(t, sw: dict, convention="mfeval", side=None, limits=True, compare=None):
-    """Evaluate every family of an MF sweep (see module doc); returns ``(frame, counts)``."""
+def mf_sweep_frame(t, sw: dict, convention="mfeval", side=None, limits=True, compare=None, outside=None):
+    """Evaluate every family of an MF sweep (see module doc); returns ``(frame, counts)``.
+
+    ``outside`` (a dict) receives the counts of points evaluated outside the tyre's ranges
+    (:func:`tirecli.models.magic_formula.inputs.outside_ranges`). :class:`NonFinite` when an output
+    is not finite (the frame never holds an empty cell)."""
     fz0 = t.coef.get("FNOMIN", 4000.0)
     loads = sw["loads"] or [0.5 * fz0, fz0, 1.5 * fz0]
     load = sw["load"] or fz0
     vx = sw["speed"] if sw["speed"] is not None else t.reference_speed
     p = sw["pressure"] if sw["pressure"] is not None else (t.default_pressure if t.nominal_pressure else None)
     kw = {"convention": convention, "side": side, "limits": limits}
+    ev = {**kw, "outside": {}}
     K = np.asarray(sw["kappa"], dtype=float)
     A = np.asarray(sw["alpha"], dtype=float)
     L = np.asarray(loads, dtype=float)[:, None]
+    lkey = ("sweep", "loads") if sw["loads"] else ("sweep",)
+    okey = ("sweep", "load") if sw["load"] else ("sweep",)
     parts = [
-        _block(t, "fx-kappa", K[None, :], 0.0, 0.0, L, vx, p, kw),
-        _block(t, "fy-alpha", 0.0, A[None, :], 0.0, L, vx, p, kw),
-        _block(t, "camber", 0.0, A[None, :], np.asarray(sw["camber"], dtype=float)[:, None], load, vx, p, kw),
-        _block(t, "combined-alpha", K[None, :], np.asarray(sw["combined_alpha"], dtype=float)[:, None], 0.0, load, vx, p, kw),
-        _block(t, "combined-kappa", np.asarray(sw["combined_kappa"], dtype=float)[:, None], A[None, :], 0.0, load, vx, p, kw),
+        _block(t, "fx-kappa", K[None, :], 0.0, 0.0, L, vx, p, ev, lkey),
+        _block(t, "fy-alpha", 0.0, A[None, :], 0.0, L, vx, p, ev, lkey),
+        _block(t, "camber", 0.0, A[None, :], np.asarray(sw["camber"], dtype=float)[:, None], load, vx, p, ev, okey),
+        _block(t, "combined-alpha", K[None, :], np.asarray(sw["combined_alpha"], dtype=float)[:, None], 0.0, load, vx, p,
+               ev, okey),
+        _block(t, "combined-kappa", np.asarray(sw["combined_kappa"], dtype=float)[:, None], A[None, :], 0.0, load, vx, p,
+               ev, okey),
     ]
     if compare is not None:
         s = np.clip(np.asarray(compare["slip"], dtype=float), -0.999, 0.999)
-        parts.append(_block(t, "compare", kappa_from_slip(s), 0.0, 0.0, compare["load"] or fz0, vx, p, kw))
+        parts.append(_block(t, "compare", kappa_from_slip(s), 0.0, 0.0, compare["load"] or fz0, vx, p, ev,
+                            ("compare", "load") if compare["load"] else ("compare",)))
     counts: dict = {}
     for _, c in parts:
         for key, n in c.items():
             counts[key] = counts.get(key, 0) + n
+    if outside is not None:
+        outside.update(ev["outside"])
     return pd.concat([df for df, _ in parts], ignore_index=True), counts
 
 
@@ -194,7 +216,18 @@ def run_mf_sweep(config: Config, progress=None) -> StudyResult:
     sw = checked["sweep"]
     if progress is not None:
         progress.start(1, "mf sweep")
-    df, counts = mf_sweep_frame(t, sw, checked["convention"], checked["side"], checked["limits"], checked["compare"])
+    outside: dict = {}
+    try:
+        df, counts = mf_sweep_frame(t, sw, checked["convention"], checked["side"], checked["limits"], checked["compare"],
+                                    outside)
+    except NonFinite as exc:
+        key, text, at_fault = exc.args
+        if at_fault:
+            raise ConfigError(config.origins.problem(key, f"{text}; nothing was written")) from None
+        raise RunError(f"{config.label}: {text}; nothing was written") from None
+    from tirecli.app_mf import describe_outside
+
+    flags = describe_outside(outside)
     data = {"sweep": df}
     sets = {"tire": ps}
     if lugre is not None:
@@ -217,6 +250,8 @@ def run_mf_sweep(config: Config, progress=None) -> StudyResult:
             "limits": checked["limits"],
             "input_rules": {k: n for k, n in counts.items() if n},
             "input_rules_text": describe_counts(counts),
+            "outside_ranges": outside,
+            "flags": flags,
             "points": int(len(df)),
             "title": checked["title"] or f"Magic Formula sweep: {ps.name}",
         },

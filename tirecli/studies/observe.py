@@ -44,7 +44,7 @@ from tirecli.config.schema import ListOf, Map, Nullable, Num, Raw, Str
 from tirecli.conventions import (THETA_CONVENTIONS, slip_from_speeds, theta_fm_from_obs, theta_obs_from_fm,
                                  to_theta_fm)
 from tirecli.errors import ConfigError
-from tirecli.models.profiles import Table, Transitions, profile_from_checked, profile_spec
+from tirecli.models.profiles import Table, Transitions, profile_from_checked, profile_problems, profile_spec
 from tirecli.observers import lugre_observer as lo
 from tirecli.observers import metrics as om
 from tirecli.observers.measurement import METHODS, Sensor
@@ -253,22 +253,35 @@ def plan(config: Config) -> Plan:
         raise ConfigError(config.origins.problem(("gain_study",), "use either 'cases' or 'gain_study', not both"))
     cases = []
     r = plant.car.r
+    to_check = []
     if gstudy:
         for val in gstudy["values"]:
             g = gains.replace(**{gstudy["gain"]: float(val)})
             cases.append(_make_case(f"{gstudy['gain']} = {val:g}", g, checked, sc["theta"], sc["torque"], est, meas, config, r))
+            to_check += [(cases[-1].theta_profile, THETA_PROFILE, ("scenario", "theta")),
+                         (cases[-1].scenario.torque, TORQUE_PROFILE, ("scenario", "torque"))]
     elif cases_raw:
         labels = [c["label"] for c in cases_raw]
         if len(set(labels)) != len(labels):
             raise ConfigError(config.origins.problem(("cases",), "two cases share a label; give each a distinct 'label'"))
-        for c in cases_raw:
+        for j, c in enumerate(cases_raw):
             g = gains.replace(**{k: v for k, v in (c["observer"] or {}).items() if v is not None})
             e = {**est, **{k: v for k, v in (c["estimate"] or {}).items() if v is not None}}
             cases.append(_make_case(c["label"], g, checked, c["theta"] if c["theta"] is not None else sc["theta"],
                                     c["torque"] if c["torque"] is not None else sc["torque"], e,
                                     c["measurement"] if c["measurement"] is not None else meas, config, r))
+            to_check += [(cases[-1].theta_profile, THETA_PROFILE,
+                          ("cases", j, "theta") if c["theta"] is not None else ("scenario", "theta")),
+                         (cases[-1].scenario.torque, TORQUE_PROFILE,
+                          ("cases", j, "torque") if c["torque"] is not None else ("scenario", "torque"))]
     else:
         cases.append(_make_case("nominal", gains, checked, sc["theta"], sc["torque"], est, meas, config, r))
+        to_check += [(cases[-1].theta_profile, THETA_PROFILE, ("scenario", "theta")),
+                     (cases[-1].scenario.torque, TORQUE_PROFILE, ("scenario", "torque"))]
+    # theta > 0 and a finite torque over the whole run, not only at t = 0
+    problems = profile_problems(to_check, config.origins, sc["duration"], (checked["output"] or {}).get("dt", 0.01))
+    if problems:
+        raise ConfigError(problems)
     solver, deprecated = _solver(checked, config)
     met = checked["metrics"] or {}
     dur = sc["duration"]

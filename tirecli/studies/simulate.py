@@ -46,8 +46,8 @@ import pandas as pd
 from tirecli.config.loader import Config
 from tirecli.config.schema import AnyOf, ListOf, Map, Nullable, Num, Raw, Str, collect
 from tirecli.conventions import THETA_CONVENTIONS, omega_from_slip, slip_from_speeds
-from tirecli.errors import ConfigError, DataError
-from tirecli.models.profiles import Constant, Table, profile_from_checked, profile_spec
+from tirecli.errors import ConfigError, DataError, token
+from tirecli.models.profiles import Constant, Table, profile_from_checked, profile_problems, profile_spec, run_times
 from tirecli.models.variants import MODELS
 from tirecli.numerics import runs
 from tirecli.studies.base import StudyResult, common_fields, register_study
@@ -274,28 +274,31 @@ def _merge_input(base: dict, over: dict | None) -> dict:
 
 
 def _inputs(inp: dict, base_dir):
-    """(signed torque profile, pressure profile or None, theta_fm profile) from a checked input block."""
+    """(signed torque profile, pressure profile or None, theta_fm profile, {key: profile as given})
+    from a checked input block (the profiles as given are checked against their limits over the run)."""
     gain = inp["pressure_gain"]
     pressure = None
+    given = {}
     if inp.get("torque") is not None:
-        torque = profile_from_checked(inp["torque"], base_dir)
+        torque = given["torque"] = profile_from_checked(inp["torque"], base_dir)
     elif inp.get("brake_torque") is not None:
-        torque = _Scaled(profile_from_checked(inp["brake_torque"], base_dir), -1.0, "brake torque (u = -T_b)")
+        given["brake_torque"] = profile_from_checked(inp["brake_torque"], base_dir)
+        torque = _Scaled(given["brake_torque"], -1.0, "brake torque (u = -T_b)")
     elif inp.get("pressure") is not None:
-        pressure = profile_from_checked(inp["pressure"], base_dir)
+        pressure = given["pressure"] = profile_from_checked(inp["pressure"], base_dir)
         torque = _Scaled(pressure, -gain, f"brake pressure (u = -{gain:g} N m/bar * p)")
     else:
         torque = Constant(0.0)
-    theta = profile_from_checked(inp["theta"], base_dir)
+    theta = given["theta"] = profile_from_checked(inp["theta"], base_dir)
     if inp["theta_convention"] == "obs":
         theta = _Reciprocal(theta)
-    return torque, pressure, theta
+    return torque, pressure, theta, given
 
 
 def _drive_profiles(drive: dict, base_dir, r: float, where: str):
     """Kinematics profiles ``(v, omega)`` of an open-loop drive given by CSV or profiles."""
     if drive["csv"] is not None:
-        from tirecli.io.data import frame_columns, read_table, rename_columns, select_rows
+        from tirecli.io.data import data_rows, frame_columns, read_table, rename_columns, select_rows
 
         path = Path(drive["csv"])
         if not path.is_absolute():
@@ -313,19 +316,37 @@ def _drive_profiles(drive: dict, base_dir, r: float, where: str):
         else:
             raise DataError(f"{path}: {where}: needs a slip column 's', or 'romega' [m/s], or 'omega' [rad/s] "
                             "(rename columns with drive.map: {FILE_COLUMN: NAME})")
-        if not np.all(np.isfinite(omega)):
-            raise DataError(f"{path}: {where}: slip of 1 at a positive speed has no finite wheel speed")
-        if np.any(v < 0) or np.any(omega < 0):
-            raise DataError(f"{path}: {where}: speeds must not be negative (forward motion)")
+        rows = data_rows(frame)  # data rows of the file (before 'where' selected some)
+        second = "s" if "s" in data else ("romega" if "romega" in data else "omega")
+        if "s" in data:
+            bad = np.flatnonzero((data["s"] < -1.0) | (data["s"] > 1.0))
+            if bad.size:
+                i = int(bad[0])
+                raise DataError(f"{path}: {where}: column 's' row {rows[i]} (t = {t[i]:g} s): slip {data['s'][i]:g} "
+                                "is out of range: must be >= -1 and <= 1")
+        for name, col in (("v", v), (second, data[second])):
+            bad = np.flatnonzero(col < 0)
+            if bad.size and name != "s":
+                i = int(bad[0])
+                raise DataError(f"{path}: {where}: column {name!r} row {rows[i]} (t = {t[i]:g} s): {col[i]:g} is "
+                                "negative (speeds are forward motion, >= 0)")
+        bad = np.flatnonzero(~np.isfinite(omega))
+        if bad.size:
+            i = int(bad[0])
+            raise DataError(f"{path}: {where}: row {rows[i]} (t = {t[i]:g} s): slip 1 at the speed v = {v[i]:g} m/s "
+                            "has no finite wheel speed")
         src = str(path)
-        return Table(tuple(t), tuple(v), source=src), Table(tuple(t), tuple(omega), source=src)
-    vp = profile_from_checked(drive["v"], base_dir)
+        return Table(tuple(t), tuple(v), source=src), Table(tuple(t), tuple(omega), source=src), {}
+    given = {"v": profile_from_checked(drive["v"], base_dir)}
+    vp = given["v"]
     if drive["omega"] is not None:
-        return vp, profile_from_checked(drive["omega"], base_dir)
+        given["omega"] = profile_from_checked(drive["omega"], base_dir)
+        return vp, given["omega"], given
     if drive["romega"] is not None:
-        return vp, _Scaled(profile_from_checked(drive["romega"], base_dir), 1.0 / r, "romega / r")
-    sp = profile_from_checked(drive["slip"], base_dir)
-    return vp, _SlipOmega(vp, sp, r)
+        given["romega"] = profile_from_checked(drive["romega"], base_dir)
+        return vp, _Scaled(given["romega"], 1.0 / r, "romega / r"), given
+    given["slip"] = profile_from_checked(drive["slip"], base_dir)
+    return vp, _SlipOmega(vp, given["slip"], r), given
 
 
 class _SlipOmega:
@@ -349,6 +370,22 @@ class _SlipOmega:
         return {"kind": "omega from v and slip", "v": self.vp.record(), "slip": self.sp.record()}
 
 
+def _slip_problems(slip_cases, origins, t_end, dt) -> list:
+    """A prescribed slip of 1 while v > 0 has no finite wheel speed: name the time (open-loop drives)."""
+    out = []
+    for case, path in slip_cases:
+        wp = case.drive[1]
+        t = run_times(t_end, dt, wp.breakpoints(t_end))
+        with np.errstate(all="ignore"):
+            w = np.asarray(wp(t), dtype=float)
+        bad = np.flatnonzero(~np.isfinite(w))
+        if bad.size:
+            k = int(bad[0])
+            out.append(origins.problem(path, f"slip {float(wp.sp(t[k])):g} at v = {float(wp.vp(t[k])):g} m/s "
+                                             f"(t = {t[k]:.9g} s) has no finite wheel speed (slip 1 needs v = 0)"))
+    return out
+
+
 def plan(config: Config):
     """Check a simulate config completely; returns ``(checked, tire set, vehicle set, cases)``."""
     checked, tire, vehicle = collect(lambda: config.checked(SPEC), lambda: config.group("tire", "lugre"),
@@ -358,12 +395,18 @@ def plan(config: Config):
     gsolver = checked["solver"]
     cases = []
     problems = []
+    to_check, slip_cases = [], []
     for i, raw in enumerate(checked["cases"]):
         path = ("cases", i)
         variant = make_variant(raw)
         extra = raw if isinstance(raw, dict) else {}
         inp = _merge_input(checked["input"] or DEFAULT_INPUT, extra.get("input"))
-        torque, pressure, theta = _inputs(inp, base_dir)
+        torque, pressure, theta, given = _inputs(inp, base_dir)
+        over_inp = extra.get("input") or {}
+        for key, prof in given.items():
+            own = any(over_inp.get(k) is not None for k in TORQUE_KEYS) if key in TORQUE_KEYS else \
+                over_inp.get(key) is not None
+            to_check.append((prof, INPUT.fields[key], (path + ("input", key)) if own else ("input", key)))
         init = dict(checked["initial"])
         over = extra.get("initial") or {}
         if over.get("v") is not None:
@@ -385,31 +428,41 @@ def plan(config: Config):
                 case.driven_by = drive["case"]
             else:
                 try:
-                    case.drive = _drive_profiles(drive, base_dir, car.r, f"cases[{i}].drive")
+                    vp, wp, dgiven = _drive_profiles(drive, base_dir, car.r, f"cases[{i}].drive")
                 except DataError as err:
                     raise DataError(f"{config.label}: cases[{i}].drive: {err}") from None
+                case.drive = (vp, wp)
+                to_check += [(prof, DRIVE.fields[key], path + ("drive", key)) for key, prof in dgiven.items()]
+                if "slip" in dgiven:
+                    slip_cases.append((case, path + ("drive", "slip")))
                 case.driven_by = "csv" if drive["csv"] is not None else "profiles"
         cases.append(case)
+    # every input profile within its limits over the whole run (the output grid, a fine uniform grid,
+    # and both sides of every breakpoint: a formula's switch times, a table's rows, a transition's ends)
+    t_end, dt = checked["t_end"], checked["output"]["dt"]
+    problems += profile_problems(to_check, config.origins, t_end, dt)
+    if not problems:
+        problems += _slip_problems(slip_cases, config.origins, t_end, dt)
     labels = [c.label for c in cases]
     for i, c in enumerate(cases):
         if labels.count(c.label) > 1:
-            problems.append(config.origins.problem(("cases", i), f"two cases share the label {c.label!r}; give each a distinct 'label'"))
+            problems.append(config.origins.problem(("cases", i), f"two cases share the label {token(c.label)}; give each a distinct 'label'"))
             break
     coupled = [c.label for c in cases if c.mode == "coupled"]
     for i, c in enumerate(cases):
         if c.drive_case is not None and c.drive_case not in coupled:
             problems.append(config.origins.problem(("cases", i, "drive", "case"),
-                                                   f"no coupled case labelled {c.drive_case!r} (coupled cases: {', '.join(coupled) or 'none'})"))
+                                                   f"no coupled case labelled {token(c.drive_case)} (coupled cases: {', '.join(coupled) or 'none'})"))
     ol = checked["open_loop"]
     if ol is not None:
         for j, lab in enumerate(ol["cases"] or []):
             if lab not in coupled:
-                problems.append(config.origins.problem(("open_loop", "cases", j), f"no coupled case labelled {lab!r}"))
+                problems.append(config.origins.problem(("open_loop", "cases", j), f"no coupled case labelled {token(lab)}"))
     meas = checked["measurement"]
     if meas is not None:
         for j, lab in enumerate(meas["cases"] or []):
             if lab not in coupled:
-                problems.append(config.origins.problem(("measurement", "cases", j), f"no coupled case labelled {lab!r}"))
+                problems.append(config.origins.problem(("measurement", "cases", j), f"no coupled case labelled {token(lab)}"))
         n = len(meas["cases"] or coupled)
         if meas["record_starts"] is not None and len(meas["record_starts"]) != n:
             problems.append(config.origins.problem(("measurement", "record_starts"),

@@ -41,7 +41,7 @@ import pandas as pd
 from tirecli.config.loader import Config
 from tirecli.config.schema import AnyOf, Context, Grid, ListOf, Map, Num, Raw, Str, collect
 from tirecli.conventions import THETA_CONVENTIONS, speeds_from_slip, theta_obs_from_fm, to_theta_fm
-from tirecli.errors import ConfigError
+from tirecli.errors import ConfigError, token
 from tirecli.models import lugre
 from tirecli.models.steady_peaks import curve_peaks
 from tirecli.models.variants import LOADS, MODELS, FrictionVariant
@@ -209,7 +209,7 @@ def plan(config: Config):
     labels = [v.label for v in variants]
     if len(set(labels)) != len(labels):
         dup = next(l for l in labels if labels.count(l) > 1)
-        raise ConfigError(config.origins.problem(("sweep", "models"), f"two models share the label {dup!r}; give each a distinct 'label'"))
+        raise ConfigError(config.origins.problem(("sweep", "models"), f"two models share the label {token(dup)}; give each a distinct 'label'"))
     thetas_fm = [float(t) for t in to_theta_fm(sw["theta"], sw["theta_convention"])]
     return checked, tire, variants, thetas_fm
 
@@ -219,6 +219,22 @@ def check_sweep(config: Config):
     from tirecli.studies import mf_sweep
 
     return mf_sweep.plan(config) if mf_sweep.uses_mf_tire(config) else plan(config)
+
+
+def _require_finite(config: Config, df: pd.DataFrame, peaks: pd.DataFrame) -> None:
+    """ConfigError naming the speed and theta where a curve is not finite (never an empty mu cell):
+    speeds or adhesion so far out that the steady state overflows."""
+    for frame, cols in ((df, ["mu"]), (peaks, ["mu_peak", "mu_slide"])):  # (no slip_peak at speed 0)
+        vals = frame[cols].to_numpy(dtype=float)
+        bad = np.flatnonzero(~np.isfinite(vals).all(axis=1))
+        if bad.size:
+            row = frame.iloc[int(bad[0])]
+            at = f"speed = {row['speed']:g} m/s, theta = {row['theta']:g}"
+            if "slip" in frame.columns:
+                at += f", slip = {row['slip']:g}"
+            raise ConfigError(config.origins.problem(("sweep", "speeds"), f"model {row['model']}: mu is not finite at "
+                                                     f"{at} (a speed or adhesion beyond what the steady state can "
+                                                     "evaluate); nothing was written"))
 
 
 @register_study("sweep", check=check_sweep)
@@ -231,8 +247,10 @@ def run_sweep(config: Config, progress=None) -> StudyResult:
     checked, tire, variants, thetas_fm = plan(config)
     p = tire.model()
     sw = checked["sweep"]
-    df = sweep_frame(variants, p, sw["slip"], sw["speeds"], thetas_fm, progress)
-    peaks = peaks_frame(variants, p, sw["slip"], sw["speeds"], thetas_fm, progress)
+    with np.errstate(all="ignore"):  # overflow at absurd speeds/theta: reported below with the point
+        df = sweep_frame(variants, p, sw["slip"], sw["speeds"], thetas_fm, progress)
+        peaks = peaks_frame(variants, p, sw["slip"], sw["speeds"], thetas_fm, progress)
+    _require_finite(config, df, peaks)
     return StudyResult(
         study="sweep",
         config=config,

@@ -83,9 +83,17 @@ def check_coefficients(t: MFTire) -> list[Finding]:
     F, G, P = np.meshgrid(fz, gam, np.asarray([p if p is not None else np.nan for p in pres]), indexing="ij")
     F, G, P = F.ravel(), G.ravel(), P.ravel()
     P = None if pnom is None else P
-    b = mf61.basic(t, cv, 0.0, 0.0, G, F, 1.0, P)
-    fx = mf61.fx0_factors(t, cv, b, F, G)
-    fy = mf61.fy0_factors(t, cv, b, F, b.g_star)
+    with np.errstate(all="ignore"):  # overflow is reported below as a finding, not a numpy warning
+        b = mf61.basic(t, cv, 0.0, 0.0, G, F, 1.0, P)
+        fx = mf61.fx0_factors(t, cv, b, F, G)
+        fy = mf61.fy0_factors(t, cv, b, F, b.g_star)
+    # coefficients so large that the factors overflow: every later comparison with NaN would pass
+    for keys, obj, attrs in (("PCX1..PKX3", fx, ("C", "D", "mu", "K", "E0")),
+                             ("PCY1..PKY7", fy, ("C", "mu", "K", "E0", "Ec", "Ea"))):
+        bad = [a for a in attrs if hasattr(obj, a) and not np.all(np.isfinite(np.asarray(getattr(obj, a), dtype=float)))]
+        if bad:
+            err(keys, f"the factors {', '.join(bad)} are not finite over the load/camber/pressure range "
+                      "(coefficients too large to evaluate)")
     for name, C in (("PCX1", fx.C), ("PCY1", fy.C), ("QCZ1", c["QCZ1"]), ("RCX1", c["RCX1"]), ("RCY1", c["RCY1"])):
         if not C > 0:
             err(name, f"shape factor C = {C:g} must be > 0")

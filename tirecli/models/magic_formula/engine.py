@@ -40,6 +40,10 @@ class MFResult:
         Aligning, overturning and rolling-resistance moments [N m].
     counts : dict
         Counter name -> number of points touched (:data:`~.inputs.COUNTERS`).
+    outside : dict
+        Input -> number of points evaluated outside the tyre's ranges (with ``limits=False``: an
+        extrapolation, :data:`~.inputs.OUTSIDE`), and loads above 10 FNOMIN of a tyre without
+        ``FZMAX`` (far beyond any fit); empty when none is.
     mirrored : bool
         Whether the tyre was mirrored to the other side (§2.4).
     convention : str
@@ -54,6 +58,7 @@ class MFResult:
     counts: dict = field(default_factory=dict)
     mirrored: bool = False
     convention: str = "mfeval"
+    outside: dict = field(default_factory=dict)
 
     def as_dict(self) -> dict:
         return {k: getattr(self, k) for k in OUTPUTS if getattr(self, k) is not None}
@@ -76,12 +81,15 @@ def _as_input(x, shape, n):
 def _block(t, cv, vals, need, limits, low_speed, combined, lo, hi, outs):
     sl = slice(lo, hi)
     kappa, alpha, gamma, fz, vx, p, phit = (v[sl] if isinstance(v, np.ndarray) else v for v in vals)
-    pr = _inputs.prepare(t, kappa, alpha, gamma, fz, vx, p, phit, limits, low_speed, need_my="my" in need)
-    if t.family == "pac89":
-        res = evaluate_pac89(t, pr.kappa, pr.alpha, pr.gamma, pr.fz, need)
-    else:
-        res = evaluate_kernel(t, cv, pr.kappa, pr.alpha, pr.gamma, pr.fz, pr.vx, pr.p, need, phit=pr.phit,
-                              combined=combined, **pr.kernel)
+    # overflow far outside a tyre's ranges gives inf/NaN, reported by the callers with the point
+    # (never as numpy's warnings on stderr); errstate is per thread, so it is set in each block
+    with np.errstate(all="ignore"):
+        pr = _inputs.prepare(t, kappa, alpha, gamma, fz, vx, p, phit, limits, low_speed, need_my="my" in need)
+        if t.family == "pac89":
+            res = evaluate_pac89(t, pr.kappa, pr.alpha, pr.gamma, pr.fz, need)
+        else:
+            res = evaluate_kernel(t, cv, pr.kappa, pr.alpha, pr.gamma, pr.fz, pr.vx, pr.p, need, phit=pr.phit,
+                                  combined=combined, **pr.kernel)
     for k in need:
         outs[k][sl] = res[k]
     return pr.counts
@@ -189,4 +197,5 @@ def evaluate(tire: MFTire, kappa=0.0, alpha=0.0, gamma=0.0, fz=None, vx=None, p=
     res = {k: v.reshape(shape) for k, v in outs.items()}
     if mirrored:
         mirror_outputs(res)
-    return MFResult(**res, counts=counts, mirrored=mirrored, convention=cv.name)
+    outside = _inputs.outside_ranges(tire, vals, limits, n)
+    return MFResult(**res, counts=counts, mirrored=mirrored, convention=cv.name, outside=outside)

@@ -41,6 +41,50 @@ COUNTERS = {
 }
 
 
+#: Names of the counters of :func:`outside_ranges`: inputs evaluated outside the tyre's ranges.
+OUTSIDE = {
+    "fz": "loads outside [FZMIN, FZMAX], evaluated anyway (limits off: extrapolated)",
+    "kappa": "slips outside [KPUMIN, KPUMAX], evaluated anyway (limits off: extrapolated)",
+    "alpha": "slip angles outside [ALPMIN, ALPMAX], evaluated anyway (limits off: extrapolated)",
+    "gamma": "inclinations outside [CAMMIN, CAMMAX], evaluated anyway (limits off: extrapolated)",
+    "p": "pressures outside [PRESMIN, PRESMAX], evaluated anyway (limits off: extrapolated)",
+    "fz_extreme": "loads above 10 x FNOMIN with no FZMAX in the tyre (far beyond any fit: extrapolated)",
+}
+
+
+def outside_ranges(t, vals, limits: bool, n: int = 1) -> dict:
+    """Points evaluated outside the tyre's ranges: ``{name: count}`` of :data:`OUTSIDE` (nonzero only).
+
+    ``vals`` are the inputs ``(kappa, alpha, gamma, fz, vx, p, phit)`` as :func:`evaluate` holds them
+    (floats or 1-D arrays). With ``limits`` on, inputs are clipped (counted by :func:`prepare`), so
+    only the loads of a tyre without ``FZMAX`` can be far out; with limits off every range counts.
+    ``n`` is the number of points (a scalar input counts for all of them).
+    """
+
+    def count(x, mask) -> int:
+        return _count(mask) * (n if np.ndim(x) == 0 else 1)
+
+    kappa, alpha, gamma, fz, _vx, p, _phit = vals
+    out = {}
+    if not limits:
+        for name, x in (("fz", fz), ("kappa", kappa), ("alpha", alpha), ("gamma", gamma), ("p", p)):
+            if x is None or (name == "p" and not t.nominal_pressure):
+                continue
+            lo, hi = t.range(name)
+            if name == "fz":
+                lo = t.coef.get("FZMIN", -math.inf)
+            x = np.asarray(x, dtype=float)
+            k = count(x, (x < lo) | (x > hi))
+            if k:
+                out[name] = k
+    fnom = t.coef.get("FNOMIN")
+    if "FZMAX" not in t.coef and fnom:
+        k = count(fz, np.asarray(fz, dtype=float) > 10.0 * fnom)
+        if k:
+            out["fz_extreme"] = k
+    return out
+
+
 def _count(mask) -> int:
     return int(np.count_nonzero(mask))
 
@@ -93,7 +137,8 @@ def prepare(t, kappa, alpha, gamma, fz, vx, p, phit=None, limits=True, low_speed
         # My near the locked wheel / standstill (mfeval): sine ramp between lo and hi, flip below lo
         counts["my_standstill"] = 0
         if need_my:
-            hi = np.where(avx > 0, vxlow / np.where(avx > 0, avx, 1.0) - 1.0, math.inf)
+            with np.errstate(over="ignore", divide="ignore"):  # |vx| -> 0: the window grows without bound
+                hi = np.where(avx > 0, vxlow / np.where(avx > 0, avx, 1.0) - 1.0, math.inf)
             lo = -1.0 - vxlow - hi
             in_win = (kappa_raw >= lo) & (kappa_raw <= hi) & (avx > 0)
             below = (kappa_raw < lo) & (avx > 0)
