@@ -224,10 +224,12 @@ def _finish(campaign, study, ids, records, root, target, executor, collector, re
     checks = analysis.campaign_checks(results, campaign.checks, n_failed)
     write_parquet(root / "results.parquet", results)
     write_csv(root / "results.csv", results)
-    figure_files = []
-    if campaign.figures:
-        figure_files = _write_figures(campaign, results, ana, root)
     previous = _previous_outputs(root)
+    figure_files = []
+    if campaign.figures and interrupted:  # stop quickly: the figures of the last complete run stay
+        figure_files = sorted(p for p in previous if p.startswith("figures/") and (root / p).is_file())
+    elif campaign.figures:
+        figure_files = _write_figures(campaign, results, ana, root)
     outputs = ["results.parquet", "results.csv", *figure_files]
     for rel in previous - set(outputs) - {"summary.json"}:
         if rel.startswith("figures/"):
