@@ -30,9 +30,9 @@ def show(name: str = typer.Argument(..., metavar="NAME", help="A built-in set na
 
 
 @app.command("validate")
-def validate(file: Path = typer.Argument(..., metavar="FILE", help="A parameter-set file, a study config or a .tir file.",
-                                         show_default=False)) -> None:
-    """Check a parameter-set file or a study config; one line per problem, exit 2 if any."""
+def validate(file: Path = typer.Argument(..., metavar="FILE", help="A parameter-set file, a study config, a campaign "
+                                         "file or a .tir file.", show_default=False)) -> None:
+    """Check a parameter-set file, a study config or a campaign (every point); one line per problem, exit 2 if any."""
     from tirecli.app import validate_file
 
     result_line(validate_file(file))
