@@ -7,6 +7,8 @@ Each ```yaml block is one of:
   smaller grids and shorter times (``REDUCE``, as ``--set`` overrides) to stay fast; the ``slow``
   test runs every config exactly as documented (``pytest -m slow``);
 - a parameter set (``kind:``): ``tirecli params validate`` accepts it;
+- a campaign (``campaign:``): ``tirecli params validate`` accepts it (every point checked; tests/test_campaign.py
+  runs campaigns);
 - a CI pipeline (docs/ci.md): a GitHub Actions workflow (``jobs:`` whose jobs have ``steps:``) or
   GitLab CI jobs (mappings with ``script:``), not a tirecli file: it parses as YAML (as the CI
   system reads it), its ``tirecli`` commands are valid, and it publishes the JUnit file and keeps
@@ -131,6 +133,8 @@ def kind_of(block: Block) -> str:
         return "config"
     if data is not None and "kind" in data:
         return "set"
+    if data is not None and "campaign" in data:
+        return "campaign"
     if ci_pipeline(block) is not None:
         return "ci"
     return "fragment"
@@ -213,10 +217,10 @@ def test_every_fragment_is_checked():
 @pytest.mark.parametrize("block", [b for b in BLOCKS if kind_of(b) != "ci"], ids=lambda b: b.id)
 def test_snippet_validates(cli, snippet_dir, block):
     kind = kind_of(block)
-    if kind in ("config", "set"):
+    if kind in ("config", "set", "campaign"):
         code, out, err = cli("params", "validate", snippet_dir / block.name)
         assert code == 0, f"{block.id}: {err}"
-        assert ("valid " + ("parameter set" if kind == "set" else "config")) in out or "valid" in out
+        assert ("valid " + {"set": "parameter set", "config": "config", "campaign": "campaign"}[kind]) in out or "valid" in out
         return
     wrapper = FRAGMENTS.get((block.file, block.first_line))
     if wrapper is None:

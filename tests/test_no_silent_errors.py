@@ -162,7 +162,7 @@ def test_apostrophes_and_quotes_in_text():
 def test_key_before_the_first_section_and_non_finite_numbers_are_errors():
     with pytest.raises(ConfigError, match=r"x.tir:1: FNOMIN: key before the first \[SECTION\]"):
         tirio.parse_tir(b"FNOMIN = 4000\n[MODEL]\nFITTYP = 61\n", "x.tir")
-    with pytest.raises(ConfigError, match=r"x.tir:3: PDX1: the number '1e999' is beyond the range of a double"):
+    with pytest.raises(ConfigError, match=r"x.tir:3: PDX1: the number '1e999' is too large: beyond the range of a double"):
         tirio.parse_tir(b"[MODEL]\nFITTYP = 61\nPDX1 = 1e999\n", "x.tir")
     with pytest.raises(ConfigError, match=r"x.tir:3: table row of \[SHAPE\]: the number '-1D400'"):
         tirio.parse_tir(b"[SHAPE]\n{radial width}\n 1.0 -1D400\n", "x.tir")

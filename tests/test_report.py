@@ -71,3 +71,31 @@ def test_report_only_takes_papers_in_any_case_and_refuses_unknown_names(cli, tmp
     code, out, err = cli("report", "--out", tmp_path, "--only", "fm-fig1-lef")
     assert code == 2 and "did you mean 'fm-fig1-left'" in err
     assert not (tmp_path / "index.html").exists()
+
+
+def test_report_summary_contents_and_card_links(report_dir):
+    """The summary counts checks per paper, the contents link every card, and each card links its PNG, SVG,
+    its study's data CSVs and run record (studies/STUDY.json), all present in the report."""
+    import re
+    from html import unescape
+
+    html = (report_dir / "index.html").read_text()
+    summary = json.loads((report_dir / "summary.json").read_text())
+    cards = re.findall(r'<article class="card[^"]*" id="([^"]+)"', html)
+    assert len(cards) == summary["n_figures"] and len(set(cards)) == len(cards)
+    toc = html[html.index('<nav class="toc"'):html.index("</nav>")]
+    assert set(re.findall(r'href="#([^"]+)"', toc)) - {"paper-FM", "paper-OBS"} == set(cards)
+    for paper in ("FM", "OBS"):
+        n = sum(c["id"].split("/")[0] in cards and c["id"].startswith(paper.lower()) for c in summary["checks"])
+        assert re.search(rf'href="#paper-{paper}">{paper}</a></td><td class="num">\d+</td>\s*'
+                         rf'<td class="num pass">{n}</td>', html)
+    assert "Failing checks" not in html  # nothing fails here: see tests/test_report_browser.py
+    card = html[html.index('id="fm-fig4"'):]
+    card = card[:card.index("</article>")]
+    files = re.findall(r'class="files">Files: (.*?)</p>', card)[0]
+    links = [unescape(h) for h in re.findall(r'href="([^"#]+)"', files)]
+    assert links[:2] == ["figures/fm-fig4.png", "figures/fm-fig4.svg"]
+    assert "data/fm-fig4/measured.csv" in links and links[-1] == "studies/fm-fig4.json"
+    assert '<a href="figures/fm-fig4.png" title="open the figure at full size">' in card
+    for href in set(re.findall(r'(?:href|src)="([^"#:]+)"', html)):  # every local link resolves
+        assert (report_dir / unescape(href)).is_file(), href

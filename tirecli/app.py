@@ -187,6 +187,12 @@ def validate_file(path: str | Path, max_samples: int | None = None) -> str:
         return (f"{path}: reads as a Magic Formula tyre ({tire.version}); for the coefficients' sanity run "
                 f"'tirecli tir check {path}'")
     data, origins = load_yaml(path)
+    if isinstance(data, dict) and "campaign" in data and "study" not in data:
+        from tirecli.campaign.spec import check_points, load_campaign
+
+        campaign = load_campaign(path)
+        ids, study = check_points(campaign)
+        return f"{path}: valid campaign {campaign.name!r}: {len(ids)} points of the {study} study"
     if isinstance(data, dict) and "kind" in data and "study" not in data:
         ps = parse_set(data, origins, label=str(path))
         return f"{path}: valid {ps.kind} parameter set {ps.name!r} ({len(ps.values)} values)"

@@ -46,8 +46,9 @@ MAX_TIR_BYTES = 500_000
 MAX_YAML_NODES = 20_000
 #: Nesting levels of one YAML document (configs nest 6 levels at most).
 MAX_YAML_DEPTH = 50
-#: Longest key of a YAML mapping [characters].
-MAX_KEY_CHARS = 100
+#: Longest key of a YAML mapping [characters] (YAML's own limit for a plain key is 1024; an explicit
+#: ``? key`` has none).
+MAX_KEY_CHARS = 1000
 #: Longest YAML value of any kind [characters] (texts have their own, smaller caps below).
 MAX_SCALAR_CHARS = 10_000
 #: Longest text of a config or parameter set (description, assumed, citation, file name) [characters].

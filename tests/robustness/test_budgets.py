@@ -135,7 +135,7 @@ def test_yaml_bombs_fail_at_once(tmp_path, name, text, pattern):
     ("chain.yaml", "study: sweep\na0: &a0 [1]\n" + "".join(f"a{i}: &a{i} [*a{i - 1}]\n" for i in range(1, 300)),
      r"nested more than 50"),
     ("big.yaml", "study: sweep\n" + "# padding\n" * 200_000, r"big\.yaml: too large for a YAML file \(2 MB, at most 1 MB\)"),
-    ("digits.yaml", "study: sweep\ntitle: 1" + "0" * 5000 + "\n", r"title: cannot read value .*not a usable value"),
+    ("digits.yaml", "study: sweep\ntitle: 1" + "0" * 5000 + "\n", r"title: cannot read value"),
 ])
 def test_oversized_yaml_is_refused(tmp_path, refused_here, name, text, pattern):
     refused_here(["params", "validate", _write(tmp_path, name, text)], pattern)
@@ -301,7 +301,7 @@ def test_a_huge_title_fails_at_once(tmp_path):
     ("title: " + "T" * 300, r"title: too long: 300 characters \(at most 200\)"),
     ("description: " + "d" * 5000, r"description: too long: 5,000 characters \(at most 2,000\)"),
     ("assumed: [" + "a" * 3000 + "]", r"assumed\[0\]: too long: 3,000 characters"),
-    ("k" * 500 + ": 1", r"a key of 500 characters \(at most 100\)"),
+    ("? " + "k" * 5000 + "\n: 1", r"a key of 5,000 characters \(at most 1,000\)"),   # an explicit key: no YAML limit
 ])
 def test_long_free_text_is_refused(tmp_path, refused_here, text, pattern):
     refused_here(["params", "validate", _write(tmp_path, "t.yaml", SWEEP + text + "\n")], pattern)

@@ -18,7 +18,7 @@ import traceback
 import typer
 
 from tirecli import __version__
-from tirecli.cli import common, compare, figures, fit, mf, observe, params, report, simulate, sweep, tir
+from tirecli.cli import campaign, common, compare, figures, fit, mf, observe, params, report, simulate, sweep, tir
 
 app = typer.Typer(
     name="tirecli",
@@ -54,6 +54,7 @@ app.command("compare")(compare.compare)
 app.command("fit")(fit.fit)
 app.command("observe")(observe.observe)
 app.command("report")(report.report)
+app.command("campaign")(campaign.campaign)
 app.add_typer(params.app, name="params")
 app.add_typer(figures.app, name="figures")
 app.add_typer(tir.app, name="tir")

@@ -31,10 +31,11 @@ def show(name: str = typer.Argument(..., metavar="NAME", help="A built-in set na
 
 
 @app.command("validate")
-def validate(file: Path = typer.Argument(..., metavar="FILE", help="A parameter-set file, a study config or a .tir file.",
-                                         show_default=False),
+def validate(file: Path = typer.Argument(..., metavar="FILE", help="A parameter-set file, a study config, a campaign "
+                                         "file or a .tir file.", show_default=False),
              max_samples_: Optional[str] = MaxSamplesOpt) -> None:
-    """Check a parameter-set file or a study config (its sample budget included); one line per problem, exit 2 if any."""
+    """Check a parameter-set file, a study config or a campaign (every point; its sample budget included); one
+    line per problem, exit 2 if any."""
     from tirecli.app import validate_file
 
     result_line(validate_file(file, max_samples(max_samples_)))

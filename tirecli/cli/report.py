@@ -10,6 +10,9 @@ from tirecli.cli.common import JunitOpt, StrictOpt, echo, progress, result_line,
 
 
 def report(
+    campaign: Optional[Path] = typer.Argument(None, metavar="CAMPAIGN", show_default=False,
+                                              help="A campaign file to report (then only its section, unless "
+                                                   "--only names papers or figures)."),
     out: str = typer.Option("tirecli-out/report", "--out", "-o", metavar="DIR", help="Output directory."),
     strict: bool = StrictOpt,
     only: Optional[List[str]] = typer.Option(None, "--only", metavar="NAME",
@@ -19,6 +22,8 @@ def report(
     """Run the built-in study of every registered figure and write DIR/index.html.
 
     Also writes summary.json (every reference check), the figures as PNG/SVG and the data as CSV.
+    With a campaign file: its section (the campaign runs, or resumes, in its default folder),
+    and its checks in summary.json.
     """
     from tirecli.report.build import build_report
 
@@ -26,7 +31,7 @@ def report(
         from tirecli.io import junit as jx
 
         jx.target(junit)  # a bad --junit fails before the studies run
-    summary = build_report(out, only=only or None, progress=progress())
+    summary = build_report(out, only=only or None, progress=progress(), campaigns=[campaign] if campaign else [])
     failed = [c for c in summary["checks"] if not c["passed"]]
     echo(f"{summary['n_figures']} figure{'' if summary['n_figures'] == 1 else 's'}, {len(summary['checks'])} reference checks, {len(failed)} failed, "
          f"{summary['wall_time_s']:.1f} s")
@@ -48,6 +53,9 @@ def report_suites(summary: dict) -> list:
     groups: dict[str, list] = {}
     for c in summary["checks"]:
         fid = c["id"].split("/", 1)[0]
+        if fid == "campaign":  # campaign/NAME/CHECK: a suite per campaign
+            groups.setdefault(f"campaign {c['id'].split('/')[1]}", []).append(c)
+            continue
         groups.setdefault(reg[fid].paper if fid in reg else "report", []).append(c)
     times = summary.get("study_wall_time_s") or {}
     suites = []

@@ -17,8 +17,8 @@ import yaml
 
 from tirecli import limits
 from tirecli.config.schema import Spec, check_document
-from tirecli.errors import ConfigError, Problem, UsageError, token
-from tirecli.io.yamlio import Origins, load_value, load_yaml, parse_yaml
+from tirecli.errors import ConfigError, Problem, UsageError, clip, token
+from tirecli.io.yamlio import Origins, format_key, load_value, load_yaml, parse_yaml
 from tirecli.parameters.sets import ParameterSet, resolve_group
 
 OVERRIDE_FILE = "<command line --set>"
@@ -91,31 +91,45 @@ def apply_override(data: dict, origins: Origins, text: str) -> None:
     try:
         value = load_value(value_text, OVERRIDE_FILE, path) if value_text.strip() else None
     except (yaml.YAMLError, ValueError, OverflowError, TypeError):  # malformed YAML, a date that does not exist
+        digits = value_text.strip().lstrip("+-")
+        if digits.isdigit() and len(digits) > 1000:  # an integer Python refuses to convert
+            raise UsageError(f"--set {clip(key.strip())}=...: cannot read the value (a number of {len(digits)} "
+                             "digits, beyond the range of a double)") from None
         raise UsageError(f"--set {token(text)}: cannot read the value {token(value_text)}") from None
+    set_value(data, origins, path, value, f"--set {text!r}")
+
+
+def set_value(data: dict, origins: Origins, path: tuple, value: Any, what: str,
+              origin: tuple = (OVERRIDE_FILE, None)) -> None:
+    """Set the value at the key path ``path`` (from :func:`parse_key_path`) in place, as ``--set``
+    does: missing mappings are created, ``tire: NAME`` becomes ``tire: {set: NAME, ...}``, list items
+    must exist. ``what`` starts the error messages (``--set 'KEY=VALUE'``); ``origin`` is the
+    ``(file, line)`` recorded for the value."""
+    key = format_key(path)
     node: Any = data
     for i, part in enumerate(path[:-1]):
         nxt = path[i + 1]
         if isinstance(part, int):
             if not isinstance(node, list) or part >= len(node):
-                raise UsageError(f"--set {text!r}: no list item {part} at {key}")
+                raise UsageError(f"{what}: no list item {part} at {key}")
             node = node[part]
             continue
         if not isinstance(node, dict):
-            raise UsageError(f"--set {text!r}: {part!r} is not inside a mapping")
+            raise UsageError(f"{what}: {part!r} is not inside a mapping")
         if isinstance(node.get(part), str) and not isinstance(nxt, int):
             node[part] = {"set": node[part]}  # tire: NAME -> tire: {set: NAME, ...}
         node = node.setdefault(part, [] if isinstance(nxt, int) else {})
     last = path[-1]
     if isinstance(last, int):
         if not isinstance(node, list) or last >= len(node):
-            raise UsageError(f"--set {text!r}: no list item {last} at {key}")
+            raise UsageError(f"{what}: no list item {last} at {key}")
         node[last] = value
     else:
         if not isinstance(node, dict):
-            raise UsageError(f"--set {text!r}: {key!r} is not inside a mapping")
+            raise UsageError(f"{what}: {key!r} is not inside a mapping")
         node[last] = value
     origins.drop(path)
-    origins.set(path, OVERRIDE_FILE, None)
+    origins.set(path, *origin)
 
 
 def load_config(path: str | Path, overrides: list[str] | tuple = ()) -> Config:

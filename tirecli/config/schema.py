@@ -17,8 +17,6 @@ from tirecli.errors import ConfigError, token
 from tirecli.io.yamlio import KeyPath, Origins
 
 MISSING = object()
-#: Integers beyond this are not numbers a float can hold (``float(10**400)`` overflows).
-_FLOAT_MAX = 2 ** 1023
 #: Memory of one point of a checked grid (a float in a list) [bytes].
 _BYTES_PER_POINT = 32
 
@@ -130,11 +128,12 @@ class Num(Spec):
         if isinstance(value, bool) or not isinstance(value, (int, float)):
             ctx.fail(path, f"expected {kind} [{self.unit}], got {_type_name(value)}{_number_hint(value)}")
             return MISSING
-        if isinstance(value, float) and not math.isfinite(value) or isinstance(value, int) and abs(value) > _FLOAT_MAX:
-            ctx.fail(path, f"expected a finite number [{self.unit}], got {value if isinstance(value, float) else 'a larger one'}")
+        if isinstance(value, float) and not math.isfinite(value):
+            ctx.fail(path, f"expected a finite number [{self.unit}], got {value}")
             return MISSING
-        if isinstance(value, int) and abs(value) > 1e300:  # beyond every range, and float() overflows
-            ctx.fail(path, f"expected {kind} [{self.unit}] of a usable size, got {token(value)}")
+        if isinstance(value, int) and abs(value) > 1e308:  # float() would overflow
+            ctx.fail(path, f"expected a finite number [{self.unit}], got an integer of about "
+                           f"{int(value.bit_length() * 0.30103) + 1} digits (beyond the range of a double)")
             return MISSING
         if self.integer and not float(value).is_integer():
             ctx.fail(path, f"expected a whole number, got {value}")
@@ -170,7 +169,7 @@ class Str(Spec):
         if not isinstance(value, str):
             ctx.fail(path, f"expected text, got {_type_name(value)}")
             return MISSING
-        too_long = limits.text_problem(value, self.max_len)
+        too_long = limits.text_problem(value, self.max_len) if self.choices is None else None
         if too_long is not None:
             ctx.fail(path, too_long)
             return MISSING

@@ -57,7 +57,8 @@ def draw_fx_kappa(ax, result):
 def draw_fy_alpha(ax, result):
     """Fy [N] against alpha [rad], one curve per load (family ``fy-alpha``)."""
     _plot_family(ax, result.data["sweep"], "fy-alpha", "alpha", "fy", "fz", "Fz = {:g} N")
-    finish(ax, "slip angle alpha [rad]", "Fy [N]" + ISO, _title(result, "Fy vs alpha"))
+    # ISO-W: Fy > 0 for alpha < 0, so the lower left stays free of curves
+    finish(ax, "slip angle alpha [rad]", "Fy [N]" + ISO, _title(result, "Fy vs alpha"), loc="lower left")
 
 
 def draw_mz_alpha(ax, result):
@@ -70,9 +71,12 @@ def draw_camber(axes, result):
     """Fy [N] and Mz [N m] against alpha [rad], one curve per camber [rad] (family ``camber``)."""
     df = result.data["sweep"]
     fz = _fam(df, "camber")["fz"].iloc[0] if len(_fam(df, "camber")) else float("nan")
-    for ax, y, lab in zip(axes, ("fy", "mz"), ("Fy [N]", "Mz [N m]")):
+    for k, (ax, y, lab) in enumerate(zip(axes, ("fy", "mz"), ("Fy [N]", "Mz [N m]"))):
         _plot_family(ax, df, "camber", "alpha", y, "gamma", "gamma = {:g} rad")
-        finish(ax, "slip angle alpha [rad]", lab + ISO, f"camber family at Fz = {fz:g} N")
+        # one legend for both panels, in the lower left of Fy (ISO-W: Fy > 0 for alpha < 0; the Mz curves fill
+        # every corner)
+        finish(ax, "slip angle alpha [rad]", lab + ISO,
+               f"camber family at Fz = {fz:g} N" + (" (legend at left)" if k else ""), legend=not k, loc="lower left")
 
 
 def draw_combined(axes, result):
@@ -82,13 +86,13 @@ def draw_combined(axes, result):
     d = _fam(df, "combined-alpha")
     for i, val, g in _by(d, "alpha"):
         g = g.sort_values("kappa")
-        a.plot(g["fx"], g["fy"], color=COLORS[i % len(COLORS)], label=f"alpha = {val:g} rad (kappa swept)")
-    finish(a, "Fx [N]" + ISO, "Fy [N]" + ISO, "combined slip: fixed alpha")
+        a.plot(g["fx"], g["fy"], color=COLORS[i % len(COLORS)], label=f"alpha = {val:g} rad\n(kappa swept)")
+    finish(a, "Fx [N]" + ISO, "Fy [N]" + ISO, "combined slip: fixed alpha", outside=True)
     d = _fam(df, "combined-kappa")
     for i, val, g in _by(d, "kappa"):
         g = g.sort_values("alpha")
-        b.plot(g["fx"], g["fy"], color=COLORS[i % len(COLORS)], label=f"kappa = {val:g} (alpha swept)")
-    finish(b, "Fx [N]" + ISO, "Fy [N]" + ISO, "combined slip: fixed kappa")
+        b.plot(g["fx"], g["fy"], color=COLORS[i % len(COLORS)], label=f"kappa = {val:g}\n(alpha swept)")
+    finish(b, "Fx [N]" + ISO, "Fy [N]" + ISO, "combined slip: fixed kappa", outside=True)
 
 
 def _figure_of(fid, draw, ncols=1):
@@ -240,7 +244,7 @@ def _tire_checks(result):
 def draw_overview(result):
     """Six panels: Fx-kappa, Fy-alpha, Mz-alpha at several loads; camber Fy, Mz; combined Fx-Fy."""
     require_mf(result, "mf-tire-*")
-    fig, axes = new_figure(ncols=3, nrows=2, width=15.0, height=8.4)
+    fig, axes = new_figure(ncols=3, nrows=2, width=12.5, height=7.6)
     draw_fx_kappa(axes[0, 0], result)
     draw_fy_alpha(axes[0, 1], result)
     draw_mz_alpha(axes[0, 2], result)
@@ -250,7 +254,7 @@ def draw_overview(result):
     for i, val, g in _by(d, "alpha"):
         g = g.sort_values("kappa")
         ax.plot(g["fx"], g["fy"], color=COLORS[i % len(COLORS)], label=f"alpha = {val:g} rad")
-    finish(ax, "Fx [N]" + ISO, "Fy [N]" + ISO, "combined slip, kappa swept")
+    finish(ax, "Fx [N]" + ISO, "Fy [N]" + ISO, "combined slip, kappa swept", outside=True)
     for a in axes.ravel():
         a.title.set_fontsize(9)
     return fig
@@ -312,12 +316,12 @@ def _draw_golden(block):
             ax.semilogy(x + (i - 2) * 0.08, np.maximum(r, 1e-16), "o", ms=4, color=COLORS[i % len(COLORS)],
                         label=c.replace("f", "F").replace("m", "M"))
         ax.axhline(TOLERANCE, color="k", ls="--", lw=1, label=f"tolerance {TOLERANCE:g}")
-        ax.set_ylim(1e-17, 1e-4)
+        ax.set_ylim(1e-17, 1e-2)  # two decades above the tolerance line hold the legend, clear of the points
         from matplotlib.ticker import MaxNLocator
 
         ax.xaxis.set_major_locator(MaxNLocator(integer=True))
         finish(ax, f"row of {block}.csv (docs/models/magic_formula.md §15.4)", "|tirecli - golden| [N, N m] (zero shown at 1e-16)",
-               f"golden rows {block}: {result.meta.get('convention')} convention", ncol=3)
+               f"golden rows {block}: {result.meta.get('convention')} convention", ncol=6, loc="upper center")
         return fig
 
     return draw

@@ -10,7 +10,7 @@ import numpy as np
 
 from tirecli.figures.registry import register
 from tirecli.figures.transient import require
-from tirecli.figures.style import COLORS, finish, new_figure, synthetic_mark
+from tirecli.figures.style import COLORS, finish, legend_room, new_figure, synthetic_mark
 from tirecli.observers import lugre_observer as lo
 from tirecli.observers import metrics as om
 from tirecli.studies.base import Check
@@ -259,6 +259,7 @@ def draw_obs_speed_error(result):
     note = _slow_mode_note(result)
     finish(a, "", "|v_hat - v| [m/s]", "(a) speed error" + (f" ({note})" if note else ""))
     finish(b, "", "theta (OBS) [-]", "(b) adhesion estimate, small speed errors", loc="lower right")
+    legend_room(c, 0.35)
     finish(c, "time t [s]", "theta (OBS) [-]", "(c) adhesion estimate, large speed error", loc="lower left")
     _mark_synthetic(result, fig)
     return fig
@@ -326,25 +327,69 @@ def draw_obs_gain_study(result):
             "the alpha y~^2 term of the adaptation law adds gamma alpha D^2/(2 lambda_f) > 0 to theta_hat: the "
             "steps and the noise are rectified into an upward bias of theta_hat (less grip estimated), growing with "
             "the noise variance and the sampling rate. (a) theta_hat; (b) measurement error y_m - omega; "
-            "(c) v_hat - v.",
+            "(c) v_hat - v. Cases whose adhesion error is several times larger than the others' (here the 0.05 "
+            "rad/s noise and the encoder) get a column of their own; the start-up of the sampled measurement (its "
+            "first 1 % of time) is left off the error scale.",
     paper_shows="Not in OBS (the paper assumes a continuous, exact wheel speed).",
 )
 def draw_obs_noise(result):
-    fig, (a, b, c) = new_figure(nrows=3, width=7.2, height=8.4, sharex=True)
     runs = list(_plot_runs(result))
-    # in (b) and (c) the smaller errors are drawn on top of the larger (noisy) ones
-    size = [float(np.sqrt(np.mean(np.square(tr.y - tr.omega)))) for _, tr, _ in runs]
-    on_top = {k: 2.0 + r for r, k in enumerate(sorted(range(len(runs)), key=lambda k: -size[k]))}
-    for k, (case, tr, _) in enumerate(runs):
-        col = COLORS[k % len(COLORS)]
-        if k == 0:
-            a.plot(tr.t, tr.theta, "k", lw=1.6, label="theta (true)")
-        a.plot(tr.t, tr.theta_hat, "--", color=col, label=case.label)
-        b.plot(tr.t, tr.y - tr.omega, color=col, lw=0.6, label=case.label, zorder=on_top[k])
-        c.plot(tr.t, tr.v_hat - tr.v, color=col, label=case.label, zorder=on_top[k])
-    finish(a, "", "theta (OBS) [-]", "(a) adhesion estimate", loc="upper left")
-    finish(b, "", "y_m - omega [rad/s]", "(b) measurement error (colours as in (a); smaller errors drawn on top)",
-           legend=False)
-    finish(c, "time t [s]", "v_hat - v [m/s]", "(c) speed error (colours as in (a))", legend=False)
+    groups = _split_by_size(runs)
+    fig, axes = new_figure(nrows=3, ncols=len(groups), width=7.2 if len(groups) == 1 else 11.0, height=8.4,
+                           sharex=True)
+    axes = np.asarray(axes).reshape(3, len(groups))
+    colour = {id(case): COLORS[k % len(COLORS)] for k, (case, _, _) in enumerate(runs)}
+    for j, group in enumerate(groups):
+        a, b, c = axes[:, j]
+        # in (b) and (c) the smaller errors are drawn on top of the larger (noisy) ones
+        size = [float(np.sqrt(np.mean(np.square(tr.y - tr.omega)))) for _, tr, _ in group]
+        on_top = {k: 2.0 + r for r, k in enumerate(sorted(range(len(group)), key=lambda k: -size[k]))}
+        for k, (case, tr, _) in enumerate(group):
+            col = colour[id(case)]
+            if k == 0:
+                a.plot(tr.t, tr.theta, "k", lw=1.6, label="theta (true)" if j == 0 else None)
+            a.plot(tr.t, tr.theta_hat, "--", color=col, label=case.label)
+            b.plot(tr.t, tr.y - tr.omega, color=col, lw=0.6, zorder=on_top[k])
+            c.plot(tr.t, tr.v_hat - tr.v, color=col, lw=0.9, zorder=on_top[k])
+        _clip_start(b, [(tr.t, tr.y - tr.omega) for _, tr, _ in group], "rad/s")
+        which = "" if len(groups) == 1 else (" (larger errors)" if j else " (smaller errors)")
+        finish(a, "", "theta (OBS) [-]" if j == 0 else "", "(a) adhesion estimate" + which, legend=False)
+        finish(b, "", "y_m - omega [rad/s]" if j == 0 else "", "(b) measurement error" + which, legend=False)
+        finish(c, "time t [s]", "v_hat - v [m/s]" if j == 0 else "", "(c) speed error" + which, legend=False)
+    handles, labels = [], []
+    for ax in axes[0]:
+        h, lab = ax.get_legend_handles_labels()
+        handles, labels = handles + h, labels + lab
+    fig.legend(handles, labels, loc="outside lower center", ncol=3, fontsize=8, frameon=False)
     _mark_synthetic(result, fig)
     return fig
+
+
+def _split_by_size(runs, gap: float = 3.0) -> list:
+    """The runs in one group, or two when their adhesion errors (RMS of theta_hat - theta) fall apart by
+    more than ``gap`` times: the larger ones get panels of their own so the smaller stay readable."""
+    err = [float(np.sqrt(np.mean(np.square(tr.theta_hat - tr.theta)))) for _, tr, _ in runs]
+    floor = 1e-3 * max(err, default=0.0) + 1e-12   # errors below a thousandth of the largest count as equal
+    err = [max(e, floor) for e in err]
+    order = sorted(range(len(runs)), key=lambda k: err[k])
+    ratios = [err[order[i + 1]] / err[order[i]] for i in range(len(order) - 1)]
+    if not ratios or max(ratios) < gap:
+        return [runs]
+    cut = int(np.argmax(ratios)) + 1
+    small = set(order[:cut])
+    return [[r for k, r in enumerate(runs) if k in small], [r for k, r in enumerate(runs) if k not in small]]
+
+
+def _clip_start(ax, curves, unit: str, skip: float = 0.01) -> None:
+    """Scale ``ax`` to the curves after their first ``skip`` fraction of time (the start-up of a sampled
+    measurement can be far larger than what follows) and note the values left off the scale."""
+    lo = min(float(np.min(y[t >= t[0] + skip * (t[-1] - t[0])])) for t, y in curves)
+    hi = max(float(np.max(y[t >= t[0] + skip * (t[-1] - t[0])])) for t, y in curves)
+    full_lo = min(float(np.min(y)) for _, y in curves)
+    full_hi = max(float(np.max(y)) for _, y in curves)
+    pad = 0.08 * (hi - lo or 1.0)
+    if full_lo < lo - pad or full_hi > hi + pad:
+        ax.set_ylim(lo - pad, hi + pad)
+        off = [f"{v:.3g}" for v in (full_lo, full_hi) if v < lo - pad or v > hi + pad]
+        ax.text(0.99, 0.03, f"start-up off scale: {', '.join(off)} {unit}", transform=ax.transAxes, ha="right",
+                va="bottom", fontsize=7, color="0.35")

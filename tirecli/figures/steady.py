@@ -4,7 +4,7 @@ from __future__ import annotations
 import numpy as np
 
 from tirecli.figures.registry import Table, register
-from tirecli.figures.style import COLORS, LINESTYLES, figure, finish, new_figure
+from tirecli.figures.style import COLORS, LINESTYLES, figure, finish, legend_room, new_figure
 from tirecli.studies.base import Check
 
 #: Caption sentence of the peak markers.
@@ -83,10 +83,15 @@ def peak_handle():
                   label="peak of each curve (root-found, data/peaks.csv)")
 
 
-def _with_peak_legend(ax, **kw):
+def _with_peak_legend(ax, below: bool = False, **kw):
+    """The curves' legend with the peak marker's entry; ``below``: under the axes, off the curves."""
     handles, labels = ax.get_legend_handles_labels()
     h = peak_handle()
-    ax.legend(handles + [h], labels + [h.get_label()], fontsize=8, **kw)
+    if below:
+        ax.figure.legend(handles + [h], labels + [h.get_label()], fontsize=8, loc="outside lower center", ncol=2,
+                         frameon=False, **kw)
+    else:
+        ax.legend(handles + [h], labels + [h.get_label()], fontsize=8, **kw)
 
 
 def _tire_label(result) -> str:
@@ -396,7 +401,7 @@ def draw_fm_fig1_right(result):
     _draw_theta_family(ax, result, _first_model(df), 20.0, "fm")
     finish(ax, "slip |s| [-]", "friction |mu| = |F|/F_n [-]",
            f"FM Fig. 1 (right): v = 20 m/s, adhesion theta (FM convention), {_tire_label(result)}", legend=False)
-    _with_peak_legend(ax)
+    _with_peak_legend(ax, below=True)  # the low-adhesion plateaus leave no free corner
     return fig
 
 
@@ -439,7 +444,9 @@ def draw_obs_fig1(result):
     _with_peak_legend(a)
     _draw_theta_family(b, result, models[0], 20.0, "obs")
     finish(b, "slip |s| [-]", "friction |mu| [-]", "(b) several road conditions, v = 20 m/s", legend=False)
-    _with_peak_legend(b)
+    b.set_ylim(bottom=0)
+    legend_room(b, 0.5, "top")  # the plateaus of the road conditions fill the lower right
+    _with_peak_legend(b, loc="upper right")
     fig.suptitle(f"OBS Fig. 1: {_tire_label(result)}", fontsize=10)
     return fig
 

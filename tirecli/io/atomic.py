@@ -476,3 +476,17 @@ def staged_file(out):
                 os.chmod(tmp, _mode(0o666))
                 os.replace(tmp, real)
                 state["committed"] = True
+
+
+@contextlib.contextmanager
+def locked_dir(out):
+    """Hold the lock of the output directory ``out`` (created when missing) for the block; yields
+    ``(target, real path)``. For outputs written as they come (a campaign's finished points, each
+    file through :func:`atomic_write`) rather than staged as one run: an interruption keeps what
+    was written. A second run into ``out`` is refused naming the holder."""
+    with _claimed(out, is_dir=True) as (target, real, home, prefix):
+        try:
+            real.mkdir(exist_ok=True)
+        except OSError as exc:
+            raise UsageError(f"--out {target}: cannot create it ({exc.strerror or exc})") from None
+        yield target, real

@@ -285,7 +285,8 @@ def select_rows(frame, where: dict | None, path, key: str = "where"):
             raise DataError(f"{path}: {key}: no column {token(col)} (columns: {names(frame.columns)})")
         frame = frame[frame[col].astype(str) == str(val)] if isinstance(val, str) else frame[frame[col] == val]
         if frame.empty:
-            raise DataError(f"{path}: {key}: no row has {token(col)} == {token(val)}")
+            shown = col if str(col).isidentifier() and len(str(col)) <= 40 else token(col)
+            raise DataError(f"{path}: {key}: no row has {shown} == {token(val)}")
     return frame
 
 

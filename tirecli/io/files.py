@@ -17,6 +17,7 @@ directory (``run.json`` as a directory) or a device, and names too long are
 """
 from __future__ import annotations
 
+import contextlib
 import errno
 import os
 import stat
@@ -30,14 +31,30 @@ _SHOW_PATH = 160
 
 
 _INPUTS: set[str] = set()
+_TRACKERS: list[set] = []
 
 
 def note_input(path: str | Path) -> None:
     """Record that ``path`` is an input of this run (every reader of :mod:`tirecli.io` calls this)."""
     try:
-        _INPUTS.add(os.path.realpath(path))
+        real = os.path.realpath(path)
     except (OSError, ValueError):  # a NUL byte or an unusable name: the reader reports it
-        pass
+        return
+    _INPUTS.add(real)
+    for seen in _TRACKERS:
+        seen.add(real)
+
+
+@contextlib.contextmanager
+def tracked_inputs():
+    """Yield a set that collects the real paths of the input files read inside the block (a
+    campaign hashes the files its base study reads into the points' identities)."""
+    seen: set = set()
+    _TRACKERS.append(seen)
+    try:
+        yield seen
+    finally:
+        _TRACKERS.remove(seen)
 
 
 def inputs_read() -> frozenset[str]:

@@ -185,7 +185,7 @@ def parse_value(text: str) -> tuple[object, bool]:
             raise ValueError(f"unterminated quoted text {token(text)}")
         return text[1:-1], True
     if _NUMBER.match(text):
-        beyond = ValueError(f"the number {token(text, 40)} is beyond the range of a double (about 1.8e308)")
+        beyond = ValueError(f"the number {token(text)} is too large: beyond the range of a double (about 1.8e308)")
         if _INTEGER.match(text):
             if len(text) > 320:  # (Python refuses to read integers of thousands of digits at all)
                 raise beyond

@@ -124,7 +124,7 @@ _FLOAT_12 = re.compile(r"""^(?:[-+]?(?:[0-9][0-9_]*)(?:\.[0-9_]*)?(?:[eE][-+]?[0
                   |[-+]?\.[0-9][0-9_]*(?:[eE][-+]?[0-9]+)?
                   |[-+]?\.(?:inf|Inf|INF)
                   |\.(?:nan|NaN|NAN))$""", re.X)
-for _cls in (Loader, Dumper) + ((_CLoader,) if _CLoader else ()):
+for _cls in (Loader, Dumper):
     _cls.add_implicit_resolver("tag:yaml.org,2002:float", _FLOAT_12, list("-+0123456789."))
 
 # Numbers the reader takes: decimal integers without a leading zero, 0x/0o/0b integers, and the
@@ -136,11 +136,14 @@ Loader.yaml_implicit_resolvers = {
     for ch, resolvers in Loader.yaml_implicit_resolvers.items()}
 Loader.add_implicit_resolver("tag:yaml.org,2002:int", _INT_12, list("-+0123456789"))
 Loader.add_implicit_resolver("tag:yaml.org,2002:float", _FLOAT_12, list("-+0123456789."))
+if _CLoader is not None:  # the same tags as Loader's (libyaml only scans and composes)
+    _CLoader.yaml_implicit_resolvers = Loader.yaml_implicit_resolvers
 
 
 def load_value(text: str, file: str = "<command line --set>", path: KeyPath = ()) -> Any:
     """One YAML value (e.g. the VALUE of ``--set KEY=VALUE`` at ``path``), read like values in files and
-    within the same limits; malformed YAML raises ``yaml.YAMLError``, a value over a limit ConfigError."""
+    within the same limits; malformed YAML raises ``yaml.YAMLError``, a value that cannot be read (a tag, a
+    date that does not exist) ValueError, a value over a limit ConfigError."""
     try:
         nodes = _compose(text, file)
     except ConfigError as err:  # no line numbers on the command line
@@ -151,7 +154,9 @@ def load_value(text: str, file: str = "<command line --set>", path: KeyPath = ()
         raise yaml.YAMLError("several YAML documents in one value")
     problems: list[Problem] = []
     data = _build(nodes[0], tuple(path), Origins(default_file=file), file, problems)
-    if problems:  # no line numbers on the command line
+    if problems and all(p.message.startswith("cannot read value") for p in problems):
+        raise ValueError(problems[0].message)  # a tag, a date that does not exist: the caller names the value
+    if problems:  # over a limit; no line numbers on the command line
         raise ConfigError([Problem(file, None, p.key, p.message) for p in problems])
     return data
 
@@ -186,7 +191,7 @@ def _build(node, path: KeyPath, origins: Origins, file: str, problems: list[Prob
             key = knode.value
             if len(key) > limits.MAX_KEY_CHARS:
                 problems.append(Problem(file, knode.start_mark.line + 1, format_key(path),
-                                        f"a key of {len(key):,} characters (at most {limits.MAX_KEY_CHARS})"))
+                                        f"a key of {len(key):,} characters (at most {limits.MAX_KEY_CHARS:,})"))
                 continue
             if key in out:
                 problems.append(Problem(file, knode.start_mark.line + 1, format_key(path + (key,)),
@@ -208,7 +213,12 @@ def _build(node, path: KeyPath, origins: Origins, file: str, problems: list[Prob
         return None
     except (ValueError, OverflowError, TypeError, ArithmeticError) as exc:
         # a date that does not exist (2024-13-45), an integer beyond Python's digit limit, ...
-        what = "not a valid date or time" if "timestamp" in str(getattr(node, "tag", "")) else "not a usable value"
+        tag = str(getattr(node, "tag", ""))
+        if tag.endswith(":int") and len(str(getattr(node, "value", ""))) > 1000:  # Python refuses to convert it
+            problems.append(Problem(file, node.start_mark.line + 1, format_key(path),
+                                    "cannot read value: a number of thousands of digits, beyond the range of a double"))
+            return None
+        what = "not a valid date or time" if "timestamp" in tag else "not a usable value"
         problems.append(Problem(file, node.start_mark.line + 1, format_key(path),
                                 f"cannot read value {token(getattr(node, 'value', ''))}: {what} ({clip(exc, 80)})"))
         return None

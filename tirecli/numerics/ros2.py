@@ -35,6 +35,7 @@ and the names ``y_names``/``out_names``.
 """
 from __future__ import annotations
 
+import bisect
 import math
 from dataclasses import dataclass, field
 
@@ -277,6 +278,29 @@ class Trajectory:
             Y[i, :2] = y_eff[:2]
         return Y, {n: outs[:, i] for i, n in enumerate(self.out_names)}
 
+    def _sample_one(self, tt: float) -> tuple:
+        """:meth:`sample` at one time ``tt``, without the array set-up: ``(state, outputs row)``
+        (the same values; the root-finding of :meth:`extremum` calls it many times)."""
+        t = self.t
+        last = len(t) - 1
+        k = min(max(bisect.bisect_right(self._tlist(), tt) - 1, 0), max(last - 1, 0))
+        for j in (k, min(k + 1, last)):
+            if abs(tt - t[j]) <= 1e-12:
+                return self.y[j], self._recorded()[j]
+        yi = self._dense(k, float(tt))
+        y_eff, outs = self.evaluate(float(tt), yi, int(self.modes[k]))
+        y = np.array(yi, dtype=float)
+        y[:2] = y_eff[:2]
+        return y, np.asarray(outs, dtype=float)
+
+    def _tlist(self) -> list:
+        """The times as a list (built once), for bisection."""
+        tl = self.__dict__.get("_tl")
+        if tl is None or len(tl) != len(self.t):
+            tl = self.t.tolist()
+            self.__dict__["_tl"] = tl
+        return tl
+
     def extremum(self, fn, which: str = "max") -> tuple:
         """``(t*, value)`` of the largest (``max``) or smallest (``min``) value of ``fn(t, y, outputs)``
         over the run, root-found on the dense output (bounded Brent search in the steps around the
@@ -291,8 +315,8 @@ class Trajectory:
         best_t, best_v = float(self.t[i]), float(vals[i])
 
         def at(tt):
-            Y, o = self.sample([tt])
-            return float(sign * fn(np.array([tt]), Y, o)[0])
+            y, o = self._sample_one(tt)
+            return float(sign * fn(np.array([tt]), y[None, :], {n: o[j:j + 1] for j, n in enumerate(self.out_names)})[0])
 
         for k in (i - 1, i):  # the steps on each side of the best recorded point
             if k < 0 or k >= len(self.t) - 1:

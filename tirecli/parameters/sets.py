@@ -21,7 +21,10 @@ replaces the value and clears its *assumed* flag.
 """
 from __future__ import annotations
 
+import copy
+import dataclasses
 import difflib
+import functools
 from dataclasses import dataclass, field
 from importlib import resources
 from pathlib import Path
@@ -135,8 +138,13 @@ _SET_FILE = Map(fields={
 
 def builtin_names() -> list[str]:
     """Names of the built-in parameter sets (package data: YAML sets and ``.tir`` tyres)."""
+    return list(_builtin_names())
+
+
+@functools.lru_cache(maxsize=1)
+def _builtin_names() -> tuple:
     root = resources.files(__package__).joinpath(_DATA)
-    return sorted(p.name.rsplit(".", 1)[0] for p in root.iterdir() if p.name.endswith((".yaml", ".tir")))
+    return tuple(sorted(p.name.rsplit(".", 1)[0] for p in root.iterdir() if p.name.endswith((".yaml", ".tir"))))
 
 
 def builtin_path(name: str):
@@ -209,7 +217,16 @@ def parse_set(data: Any, origins: Origins, label: str) -> ParameterSet:
 
 
 def load_builtin(name: str) -> ParameterSet:
-    """A built-in parameter set by name."""
+    """A built-in parameter set by name (a fresh copy: the caller may change it)."""
+    ps = _parsed_builtin(name)
+    return dataclasses.replace(ps, values=dict(ps.values), source=dict(ps.source), assumed=dict(ps.assumed),
+                               notes=dict(ps.notes), extra=copy.deepcopy(ps.extra))
+
+
+@functools.lru_cache(maxsize=None)
+def _parsed_builtin(name: str) -> ParameterSet:
+    """A built-in set, read and checked once per process (the files are package data: they do not
+    change while it runs; a campaign resolves them for every point)."""
     res = builtin_path(name)
     if res.name.endswith(".tir"):
         from tirecli.parameters.mf import builtin_tire_set

@@ -21,6 +21,7 @@ from tirecli.figures.registry import PAPERS, Table, load_all
 from tirecli.io import output
 from tirecli.io.atomic import out_path, staged_dir
 from tirecli.io.files import check_output_dir
+from tirecli.report.cards import card_files
 from tirecli.report.docs import card_doc, link_sources, write_docs
 from tirecli.studies.base import Check, builtin_config, run_study
 
@@ -61,23 +62,30 @@ def _select(reg: dict, only) -> list:
     return sorted(entries, key=lambda f: (PAPER_ORDER.index(f.paper) if f.paper in PAPER_ORDER else 99, f.order, f.id))
 
 
-def build_report(out: str | Path, only=None, progress=None) -> dict:
+def build_report(out: str | Path, only=None, progress=None, campaigns=()) -> dict:
     """Build the report into ``out``; returns the summary (also written as ``summary.json``).
 
     A study that fails is shown as an error card and recorded as a failed check, so the report
-    is always written and ``--strict`` fails.
+    is always written and ``--strict`` fails. ``campaigns``: campaign files whose sections the
+    report shows (:mod:`tirecli.report.campaign`); with campaigns and no ``only``, the report has
+    only their sections.
     """
     t_start = time.perf_counter()
     out = out_path(out)
     reg = load_all()
-    entries = _select(reg, only)
+    entries = _select(reg, only) if only or not campaigns else []
+    if campaigns:
+        from tirecli.campaign.spec import load_campaign
+
+        for path in campaigns:  # a bad campaign file fails before anything runs
+            load_campaign(path)
     # a bad location fails before the studies run
     check_output_dir(out, files=("index.html", "summary.json"), dirs=("data", "figures"))
     with staged_dir(out, marker="summary.json") as stage:
-        return _write_report(stage, entries, t_start, progress)
+        return _write_report(stage, entries, t_start, progress, campaigns)
 
 
-def _write_report(stage, entries: list, t_start: float, progress) -> dict:
+def _write_report(stage, entries: list, t_start: float, progress, campaigns=()) -> dict:
     """Run the studies of ``entries`` and write the report under ``stage.root``; the summary."""
     out = stage.root
     (out / "data").mkdir()
@@ -158,6 +166,10 @@ def _write_report(stage, entries: list, t_start: float, progress) -> dict:
             "wall_time_s": round(timings[name], 4),
         })
 
+    for card in cards:  # the card's links (PNG, SVG, data CSVs, run record) and display size
+        res = results.get(card["study"])
+        card.update(card_files(out, card["files"], card["study"], list(res.data) if res else [], res is not None))
+
     sections = []
     for paper in PAPER_ORDER + sorted({c["paper"] for c in cards} - set(PAPER_ORDER)):
         pc = [c for c in cards if c["paper"] == paper]
@@ -166,6 +178,15 @@ def _write_report(stage, entries: list, t_start: float, progress) -> dict:
             ntot = sum(len(c["checks"]) for c in pc)
             sections.append({"paper": paper, "title": PAPERS.get(paper, paper), "cards": pc,
                              "passed": npass, "total": ntot})
+    campaign_html = ""
+    if campaigns:
+        from markupsafe import Markup
+
+        from tirecli.report.campaign import campaign_sections
+
+        campaign_html, campaign_checks = campaign_sections(campaigns, out, _env(), progress)
+        campaign_html = Markup(campaign_html)
+        all_checks += campaign_checks
     failed = [c for c in all_checks if not c["passed"]]
     wall = time.perf_counter() - t_start
     summary = {
@@ -179,6 +200,7 @@ def _write_report(stage, entries: list, t_start: float, progress) -> dict:
         version=__version__, sections=sections, n_checks=len(all_checks), n_failed=len(failed),
         n_figures=len(cards), wall=wall, environment=summary["environment"],
         doclinks=lambda text: link_sources(text, docs), docs_index=docs.get("models/README"),
+        campaign_html=campaign_html,
     )
     output.write_text(out / "index.html", html)
     summary["outputs"] = stage.files() + ["summary.json"]

@@ -137,6 +137,7 @@ STUDY_MODULES: dict[str, str] = {
     "mcps-slider": "tirecli.studies.mcps",
     "mcps-standstill": "tirecli.studies.mcps",
     "mcps-relaxation": "tirecli.studies.mcps",
+    "mf-eval": "tirecli.studies.mf_eval",
 }
 
 #: The studies each run command accepts (a command runs the studies of its name unless listed here).
@@ -150,6 +151,8 @@ def command_of(study: str) -> str:
     """The ``tirecli`` command that runs ``study``."""
     if study == "mf-golden":
         return "report"  # the golden-data cards have no command of their own
+    if study == "mf-eval":
+        return "campaign"  # the base of a campaign (tirecli mf eval reads CSVs)
     for command, studies in COMMAND_STUDIES.items():
         if study in studies:
             return command

@@ -526,14 +526,27 @@ def _sample_times(meas, t_end):
     return tuple(np.round(np.arange(n + 1) * dt, 12))
 
 
-def _events(tr, case: Case, r: float) -> dict:
-    """Facts of one run: events (lock intervals, stop) and extrema, root-found on the dense output."""
+#: The facts of one run (``_events``), with the extremum each needs root-found (the costly part).
+EVENT_FACTS = ("case", "mode", "model", "t_final", "end", "peak_abs_slip", "t_peak_abs_slip", "min_slip", "t_min_slip",
+               "peak_abs_mu", "t_peak_abs_mu", "wheel_lock", "locked_at_end", "stop_time", "stopping_distance",
+               "distance", "v_final", "steps", "rejected_steps")
+
+
+def _events(tr, case: Case, r: float, which=None) -> dict:
+    """Facts of one run: events (lock intervals, stop) and extrema, root-found on the dense output.
+
+    ``which``: the names wanted (default all, :data:`EVENT_FACTS`); an extremum no wanted fact needs
+    is not searched (a campaign asks for a few facts of thousands of runs)."""
     def slip(t, Y, O):
         return slip_from_speeds(Y[:, 0], Y[:, 1], r)
 
-    t_s, s_pk = tr.extremum(lambda t, Y, O: np.abs(slip(t, Y, O)), "max")
-    t_smin, s_min = tr.extremum(slip, "min")
-    t_mu, mu_pk = tr.extremum(lambda t, Y, O: np.abs(O["mu"]), "max")
+    def wanted(*names):
+        return which is None or any(n in which for n in names)
+
+    nan = (float("nan"), float("nan"))
+    t_s, s_pk = tr.extremum(lambda t, Y, O: np.abs(slip(t, Y, O)), "max") if wanted("peak_abs_slip", "t_peak_abs_slip") else nan
+    t_smin, s_min = tr.extremum(slip, "min") if wanted("min_slip", "t_min_slip") else nan
+    t_mu, mu_pk = tr.extremum(lambda t, Y, O: np.abs(O["mu"]), "max") if wanted("peak_abs_mu", "t_peak_abs_mu") else nan
     stop = tr.events["stop"]
     locks = [[a, b] for a, b in tr.events["lock"]]
     ev = {
@@ -547,7 +560,7 @@ def _events(tr, case: Case, r: float) -> dict:
         "distance": float(tr.out["distance"][-1]), "v_final": float(tr.y[-1, 0]),
         "steps": tr.stats["steps"], "rejected_steps": tr.stats["rejected"],
     }
-    return ev
+    return ev if which is None else {k: v for k, v in ev.items() if k in which}
 
 
 def _event_rows(ev: dict) -> list:

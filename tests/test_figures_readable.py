@@ -1,0 +1,91 @@
+"""Figures stay readable: many cases on a colour scale, no empty panels, legends off the curves,
+a case far larger than the others on panels of its own."""
+from types import SimpleNamespace
+
+import numpy as np
+import pytest
+
+MANY = """\
+study: simulate
+title: many brakings
+tire: canudas2003-table2
+t_end: 0.3
+cases:
+{cases}
+"""
+
+
+@pytest.fixture(scope="module")
+def many_cases(tmp_path_factory):
+    """14 short lumped brakings that differ only in their torque (more than a legend can tell apart)."""
+    from tirecli.config.loader import load_config
+    from tirecli.studies.simulate import run_simulate
+
+    cases = "\n".join(f'  - {{model: lumped, kappa0: Z, label: "T_max = {600 + 50 * k} N m", '
+                      f'input: {{brake_torque: {{table: {{t: [0, 0.3], value: [0, {600 + 50 * k}]}}}}}}}}'
+                      for k in range(14))
+    cfg = tmp_path_factory.mktemp("many") / "many.yaml"
+    cfg.write_text(MANY.format(cases=cases))
+    return run_simulate(load_config(cfg))
+
+
+@pytest.mark.parametrize("fid", ["transient-histories", "transient-mu-slip", "transient-overlay"])
+def test_many_cases_get_a_colour_scale_instead_of_a_legend(many_cases, fid):
+    from tirecli.figures.registry import get
+
+    fig = get(fid).draw(many_cases)
+    bars = [ax for ax in fig.axes if ax.get_label() == "<colorbar>"]
+    assert len(bars) == 1 and bars[0].get_ylabel() == "T_max [N m]"
+    assert bars[0].get_ylim() == pytest.approx((600, 1250))
+    entries = [t.get_text() for leg in fig.legends for t in leg.get_texts()]
+    assert not any(e.startswith("T_max") for e in entries)  # no legend entry per case
+    if fid == "transient-overlay":  # no two cases share inputs: the friction panel alone, no empty panels
+        assert len([ax for ax in fig.axes if ax not in bars]) == 1
+
+
+def test_colour_scale_reads_the_number_that_changes():
+    from tirecli.figures.style import CaseScale, _numbered
+
+    assert _numbered(["T_max = 950 N m", "T_max = 1000 N m"]) == ([950.0, 1000.0], "T_max [N m]")
+    assert _numbered(["a, T = 1 [s], v = 20 m/s", "a, T = 2 [s], v = 20 m/s"]) == ([1.0, 2.0], "T [s]")
+    assert _numbered(["braking #1", "braking #2"]) == ([1.0, 2.0], "braking")
+    assert _numbered(["dry", "wet"]) == (None, None)
+    assert _numbered(["v = 1, T = 2", "v = 2, T = 3"]) == (None, None)  # two numbers change: no single scale
+    scale = CaseScale(["dry", "wet", "snow"])
+    assert scale.label.startswith("case number") and scale.colors[0] != scale.colors[-1]
+
+
+def test_a_few_cases_keep_their_legend():
+    from tirecli.figures.style import MAX_LEGEND
+    from tirecli.figures.transient import _case_styles
+
+    cases = [SimpleNamespace(mode="coupled", label=f"case {k}") for k in range(MAX_LEGEND)]
+    styles, scale = _case_styles(cases)
+    assert scale is None and len({(s["color"], s["ls"]) for s in styles}) == MAX_LEGEND
+
+
+def test_runs_far_apart_in_error_get_panels_of_their_own():
+    from tirecli.figures.observer import _split_by_size
+
+    t = np.linspace(0, 1, 50)
+
+    def run(err):
+        return (SimpleNamespace(label=str(err)), SimpleNamespace(theta=np.ones_like(t), theta_hat=1 + err * t), None)
+
+    runs = [run(0.0), run(0.01), run(0.02), run(1.0), run(2.0)]
+    small, large = _split_by_size(runs)
+    assert [r[0].label for r in small] == ["0.0", "0.01", "0.02"] and [r[0].label for r in large] == ["1.0", "2.0"]
+    assert _split_by_size(runs[1:3]) == [runs[1:3]]
+
+
+def test_legends_outside_stay_off_the_axes():
+    """An ``outside`` legend (style.finish) sits right of its axes, never over the curves."""
+    from tirecli.figures.style import finish, new_figure
+
+    fig, ax = new_figure()
+    for k in range(5):
+        ax.plot(np.cos(np.linspace(0, 6, 50)) * (k + 1), np.sin(np.linspace(0, 6, 50)) * (k + 1), label=f"c{k}")
+    finish(ax, "x", "y", outside=True)
+    fig.canvas.draw()
+    leg = ax.get_legend().get_window_extent()
+    assert leg.x0 >= ax.get_window_extent().x1

@@ -1,0 +1,112 @@
+"""The Magic Formula at a few operating points, from a config: the ``mf eval`` of a campaign.
+
+``tirecli mf eval TIRE --points P.csv`` evaluates a tyre at the rows of a CSV; this study does the
+same for points written in a config, so that a campaign (``tirecli campaign``) can vary the tyre's
+coefficients and the operating point like any other key::
+
+    study: mf-eval
+    tire: pacejka2006-205-60r15          # a built-in tyre, a .tir path, or {set: ..., LMUY: 0.9}
+    convention: mfeval                   # or teasit (docs/models/magic_formula.md §10)
+    side: null                           # optional mount side (mirroring)
+    limits: true                         # input clipping and low-speed rules (§11)
+    points:                              # numbers, or lists of equal length (one point per item)
+      kappa: 0                           # [-] ISO-W
+      alpha: 0.04                        # [rad]
+      gamma: 0                           # [rad] (default 0)
+      fz: 4000                           # [N]
+      # p [Pa] (default INFLPRES, else NOMPRES) and vx [m/s] (default LONGVL)
+
+Frame ``points``: ``kappa, alpha, gamma, fz, p, vx, fx, fy, mz, mx, my`` (ISO-W, SI). Facts
+(``meta["facts"]``): ``fx, fy, mz, mx, my`` at a single point, ``fx[i]`` ... at point ``i`` of
+several. Its command is ``tirecli campaign`` (a base study); ``tirecli mf eval`` reads CSVs.
+"""
+from __future__ import annotations
+
+import numpy as np
+import pandas as pd
+
+from tirecli.config.loader import Config
+from tirecli.config.schema import Bool, ListOf, Map, Num, Raw, Str, collect
+from tirecli.studies.base import StudyResult, common_fields, register_study
+
+OUTPUTS = ("fx", "fy", "mz", "mx", "my")
+
+
+def _values(unit, doc, default=..., **bounds):
+    num = Num(unit=unit, **bounds)
+    spec = ListOf(item=num, doc=doc)
+    if default is not ...:
+        spec.default = default
+    return spec
+
+
+POINTS = Map(fields={
+    "kappa": _values("-", "longitudinal slip (ISO-W, > 0 driving)", ge=-1.0, le=10.0),
+    "alpha": _values("rad", "slip angle", ge=-1.5, le=1.5),
+    "gamma": _values("rad", "camber angle", [0.0], ge=-0.5, le=0.5),
+    "fz": _values("N", "vertical load", gt=0),
+    "p": _values("Pa", "inflation pressure (default INFLPRES, else NOMPRES)", None, gt=0),
+    "vx": _values("m/s", "forward speed (default LONGVL)", None),
+})
+
+SPEC = Map(fields=common_fields() | {
+    "tire": Raw(doc="Magic Formula tyre: a built-in name, a .tir path, or {set: ..., overrides}"),
+    "convention": Str(choices=("mfeval", "teasit"), default="mfeval", doc="variant of docs/models/magic_formula.md §10"),
+    "side": Str(choices=("left", "right"), default=None, doc="mount side (mirroring)"),
+    "limits": Bool(default=True, doc="input clipping and low-speed rules"),
+    "points": POINTS,
+})
+
+
+def plan(config: Config):
+    """Check an mf-eval config completely: ``(checked, tyre set, MFTire, {column: array})``."""
+    from tirecli.errors import ConfigError
+    from tirecli.parameters.mf import resolve_tire
+
+    checked, tire = collect(lambda: config.checked(SPEC),
+                            lambda: resolve_tire(config.data.get("tire"), config.origins, ("tire",), config.base_dir))
+    ps, t = tire
+    pts = checked["points"]
+    given = {k: v for k, v in pts.items() if v is not None}
+    n = max(len(v) for v in given.values())
+    problems = [config.origins.problem(("points", k), f"expected one value or {n} (as many as the longest list), got {len(v)}")
+                for k, v in given.items() if len(v) not in (1, n)]
+    if pts["vx"] is None and t.family == "mf" and t.reference_speed is None:
+        problems.append(config.origins.problem(("points",), "no vx and the tyre has no LONGVL to default to"))
+    if problems:
+        raise ConfigError(problems)
+    cols = {k: np.broadcast_to(np.asarray(v, dtype=float), (n,)).copy() for k, v in given.items()}
+    return checked, ps, t, cols
+
+
+@register_study("mf-eval", check=plan)
+def run_mf_eval(config: Config, progress=None) -> StudyResult:
+    """Evaluate the tyre at the config's points (see module doc)."""
+    from tirecli.models.magic_formula import evaluate
+
+    checked, ps, t, cols = plan(config)
+    p_def = t.default_pressure if t.nominal_pressure else None
+    p = cols.get("p", None if p_def is None else np.full(cols["fz"].size, float(p_def)))
+    vx = cols.get("vx", np.full(cols["fz"].size, float(t.reference_speed)) if t.reference_speed is not None else None)
+    res = evaluate(t, cols["kappa"], cols["alpha"], cols["gamma"], cols["fz"], vx, p,
+                   convention=checked["convention"], side=checked["side"], limits=checked["limits"])
+    n = cols["fz"].size
+    frame = pd.DataFrame({"kappa": cols["kappa"], "alpha": cols["alpha"], "gamma": cols["gamma"], "fz": cols["fz"],
+                          "p": p if p is not None else np.full(n, np.nan), "vx": vx if vx is not None else np.full(n, np.nan),
+                          **{k: np.asarray(getattr(res, k), dtype=float) for k in OUTPUTS}})
+    facts = {}
+    for k in OUTPUTS:
+        vals = frame[k].to_numpy()
+        if n == 1:
+            facts[k] = float(vals[0])
+        else:
+            facts.update({f"{k}[{i}]": float(v) for i, v in enumerate(vals)})
+    return StudyResult(
+        study="mf-eval", config=config, parameter_sets={"tire": ps}, data={"points": frame},
+        meta={"title": checked["title"] or f"Magic Formula at {n} point(s): {ps.name}", "convention": res.convention,
+              "limits": checked["limits"], "input_rules": {k: v for k, v in res.counts.items() if v}, "facts": facts},
+        figures=[],
+    )
+
+
+__all__ = ["SPEC", "plan", "run_mf_eval", "OUTPUTS"]
