@@ -284,11 +284,12 @@ def plan(config: Config) -> Plan:
         cases.append(_make_case("nominal", gains, checked, sc["theta"], sc["torque"], est, meas, config, r))
         to_check += [(cases[-1].theta_profile, THETA_PROFILE, ("scenario", "theta")),
                      (cases[-1].scenario.torque, TORQUE_PROFILE, ("scenario", "torque"))]
+    solver, deprecated = _solver(checked, config)
+    _sample_estimate(checked, cases, solver).check(config.origins)   # before the checks over the run: they cost time
     # theta > 0 and a finite torque over the whole run, not only at t = 0
     problems = profile_problems(to_check, config.origins, sc["duration"], (checked["output"] or {}).get("dt", 0.01))
     if problems:
         raise ConfigError(problems)
-    solver, deprecated = _solver(checked, config)
     met = checked["metrics"] or {}
     dur = sc["duration"]
     metrics = {
@@ -302,7 +303,6 @@ def plan(config: Config) -> Plan:
     if any(b <= a for a, b in zip(ph, ph[1:])) or ph[-1] > dur + 1e-9:
         raise ConfigError(config.origins.problem(("metrics", "phases"),
                                                  f"phase boundaries must increase and end by the duration ({dur:g} s)"))
-    _sample_estimate(checked, cases, solver).check(config.origins)
     return Plan(checked, tire, vehicle, gain_set, plant, cases, solver, metrics, deprecated)
 
 

@@ -444,6 +444,8 @@ def plan(config: Config):
     # every input profile within its limits over the whole run (the output grid, a fine uniform grid,
     # and both sides of every breakpoint: a formula's switch times, a table's rows, a transition's ends)
     t_end, dt = checked["t_end"], checked["output"]["dt"]
+    if not problems:  # the sample budget first (the open-loop cases come below): the checks over the run cost time
+        _estimate(checked, cases).check(config.origins)
     problems += profile_problems(to_check, config.origins, t_end, dt)
     if not problems:
         problems += _slip_problems(slip_cases, config.origins, t_end, dt)
