@@ -1,7 +1,7 @@
 """Benchmark: a 5 s quarter-car braking with the lumped and the distributed LuGre tire.
 
 Run: ``python benchmarks/bench_transient.py`` (after ``pip install .``). Prints a Markdown table;
-the README quotes its numbers. Scenario (docs/models/lugre.md §7): Table 2 tire, OBS quarter car, v0 = 20 m/s,
+the README quotes its numbers. Scenario (docs/models/lugre_friction.md §7): Table 2 tire, OBS quarter car, v0 = 20 m/s,
 brake torque ramp 0 -> 1000 N m over 0.5-2.0 s, linear release over 2.0-2.6 s, 5 s simulated.
 
 Goals (issue 3): lumped model under 20 ms, distributed model at default resolution under 0.5 s;

@@ -9,7 +9,7 @@ from dataclasses import dataclass
 from conftest import ROOT
 
 DOCS = [ROOT / "README.md", *sorted((ROOT / "docs").rglob("*.md"))]
-SHELL = ("sh", "bash", "shell", "console", "")  # an untyped block too (docs/observer.md has one)
+SHELL = ("sh", "bash", "shell", "console", "")  # an untyped block too (docs/observe.md has one)
 GLOBAL_FLAGS = ("--debug", "--quiet", "-q")
 
 

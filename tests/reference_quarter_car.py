@@ -1,6 +1,6 @@
 """An independent reference of the quarter car with the lumped LuGre tire: scipy's Radau at rtol 1e-10 on
 the model's right-hand side (tirecli.models.quarter_car.rhs, not the ROS2 stepper), split at the input
-breakpoints, with wheel lock, unlock and stop located by solve_ivp's event detection (docs/models/lugre.md §7)."""
+breakpoints, with wheel lock, unlock and stop located by solve_ivp's event detection (docs/models/lugre_friction.md §7)."""
 from __future__ import annotations
 
 import numpy as np

@@ -161,11 +161,16 @@ def test_bad_vary_key_fails_before_any_run(cli, tmp_path):
     assert not (tmp_path / "o").exists()
 
 
-def test_bad_value_names_the_key_and_the_points(cli, tmp_path):
-    c = write(tmp_path, "c.yaml", "campaign: b\nbase: base.yaml\nvary:\n  tire.mu_s: [1.5, 0.5]\n"
-                                  "outputs: [v_final]\nfigures: false\n")
+def run_braking_campaign(cli, tmp_path, mu_s: str, outputs: str):
+    """``tirecli campaign`` over BRAKING with ``vary: {tire.mu_s: MU_S}`` and ``outputs: OUTPUTS``."""
+    c = write(tmp_path, "c.yaml", f"campaign: b\nbase: base.yaml\nvary:\n  tire.mu_s: {mu_s}\n"
+                                  f"outputs: {outputs}\nfigures: false\n")
     write(tmp_path, "base.yaml", BRAKING)
-    code, out, err = cli("campaign", c, "--out", tmp_path / "o")
+    return cli("campaign", c, "--out", tmp_path / "o")
+
+
+def test_bad_value_names_the_key_and_the_points(cli, tmp_path):
+    code, out, err = run_braking_campaign(cli, tmp_path, "[1.5, 0.5]", "[v_final]")
     assert code == 2
     line = err.strip().splitlines()[0]
     # the problem as --set tire.mu_s=0.5 reports it, with the point that has it
@@ -175,10 +180,7 @@ def test_bad_value_names_the_key_and_the_points(cli, tmp_path):
 
 
 def test_unknown_output_fails_naming_it(cli, tmp_path):
-    c = write(tmp_path, "c.yaml", "campaign: b\nbase: base.yaml\nvary:\n  tire.mu_s: [1.4, 1.6]\n"
-                                  "outputs: [v_final, stoping_distance]\nfigures: false\n")
-    write(tmp_path, "base.yaml", BRAKING)
-    code, out, err = cli("campaign", c, "--out", tmp_path / "o")
+    code, out, err = run_braking_campaign(cli, tmp_path, "[1.4, 1.6]", "[v_final, stoping_distance]")
     assert code == 2
     assert "outputs[1]" in err and "stoping_distance" in err and "did you mean 'stopping_distance'" in err
 

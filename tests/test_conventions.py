@@ -1,4 +1,4 @@
-"""Slip, speed and theta conventions (docs/models/lugre.md §1, §5)."""
+"""Slip, speed and theta conventions (docs/models/lugre_friction.md §1, §5)."""
 import numpy as np
 
 from tirecli import conventions as c

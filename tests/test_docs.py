@@ -43,7 +43,7 @@ FENCE = re.compile(r"^```yaml[ \t]*\n(.*?)^```", re.S | re.M)
 FRAGMENTS = {
     ("README.md", "tire: canudas2003-table1                         # a built-in set"): "study: sweep",
     ("README.md", "tire: chrono-185-80r14                    # a built-in tyre (tirecli params list)"): "study: sweep",
-    ("docs/observer.md", "solver:"): ("study: observe\ntire: canudas2003-table1\nestimate: {v_error: 0}\n"
+    ("docs/observe.md", "solver:"): ("study: observe\ntire: canudas2003-table1\nestimate: {v_error: 0}\n"
                                       "scenario: {duration: 5, theta: 1, torque: 0, v0: 20}"),
 }
 
@@ -201,7 +201,7 @@ def snippet_dir(tmp_path_factory) -> Path:
 def test_docs_have_yaml_snippets():
     """The extraction finds the documented examples (a broken pattern must not pass silently)."""
     files = {b.file for b in BLOCKS}
-    assert {"README.md", "docs/transient.md", "docs/observer.md", "docs/models/mcps.md"} <= files
+    assert {"README.md", "docs/transient.md", "docs/observe.md", "docs/models/mcps_tire.md"} <= files
     assert len(CONFIGS) >= 10
     assert {parse(b)["study"] for b in CONFIGS} >= {"sweep", "simulate", "observe", "fit", "mcps-stationary",
                                                     "mcps-slider", "mcps-standstill", "mcps-relaxation"}

@@ -1,4 +1,4 @@
-"""LuGre steady states against analytic facts and the reference values (docs/models/lugre.md §3-§5, §9)."""
+"""LuGre steady states against analytic facts and the reference values (docs/models/lugre_friction.md §3-§5, §9)."""
 import numpy as np
 import pytest
 
@@ -62,7 +62,7 @@ def test_exponential_load_tends_to_uniform_as_lambda_vanishes(table1):
 
 
 def test_exponential_reference_values_with_corrected_sign(table1):
-    # docs/models/lugre.md §3.3: Table 1, alpha = 1, braking, v = 20, lambda = 2
+    # docs/models/lugre_friction.md §3.3: Table 1, alpha = 1, braking, v = 20, lambda = 2
     s = np.array([0.02, 0.1, 0.3, 0.8])
     mu = mu_ss_exponential(*braking(20.0, s), table1, 2.0)
     assert np.allclose(mu, [-0.22454, -0.73275, -0.95389, -0.88268], atol=1e-5)
@@ -102,7 +102,7 @@ def test_h_and_kappa0_series_match_closed_forms_at_switch():
 
 
 def test_kappa0_range_and_monotonicity():
-    # docs/models/lugre.md §4.2
+    # docs/models/lugre_friction.md §4.2
     k = kappa0_of_x(np.logspace(-6, 3, 2000))
     assert k.min() == pytest.approx(1.0010, abs=1e-4) and k.max() == pytest.approx(1.9999997, abs=1e-7)
     assert np.all(np.diff(k) < 0)
@@ -119,7 +119,7 @@ def test_reference_table_section_9(table1, v):
     s_pk, mu_pk = peak(lambda vr, rw: mu_ss_uniform(vr, rw, table1), v)
     assert mu_pk == pytest.approx(pk, abs=6e-5)
     assert s_pk == pytest.approx(sp, abs=6e-4)
-    # docs/models/lugre.md prints this column truncated (not rounded) to 4 decimals
+    # docs/models/lugre_friction.md prints this column truncated (not rounded) to 4 decimals
     assert abs(mu_ss_uniform(*braking(v, 0.05), table1)) == pytest.approx(m05, abs=1e-4)
     assert abs(mu_ss_uniform(*braking(v, 1.0), table1)) == pytest.approx(m1, abs=6e-5)
 
@@ -134,7 +134,7 @@ def test_driving_reference(table1):
 
 
 def test_theta_family_references(table1):
-    # docs/models/lugre.md §5
+    # docs/models/lugre_friction.md §5
     for th, (pk, sp, m1) in {1.0: (1.0552, 0.212, 0.8717), 0.8: (0.8714, 0.187, 0.7046),
                              0.6: (0.6795, 0.159, 0.5374), 0.4: (0.4764, 0.128, 0.3703)}.items():
         s_pk, mu_pk = peak(lambda vr, rw: mu_ss_uniform(vr, rw, table1, th), 20.0)
@@ -143,14 +143,14 @@ def test_theta_family_references(table1):
 
 
 def test_lumped_constant_kappa0_references(table1):
-    # docs/models/lugre.md §4.2
+    # docs/models/lugre_friction.md §4.2
     for k0, (pk, sp) in {2: (0.9767, 0.272), 1: (1.0748, 0.182)}.items():
         s_pk, mu_pk = peak(lambda vr, rw: mu_ss_lumped(vr, rw, table1, k0), 20.0)
         assert (mu_pk, s_pk) == (pytest.approx(pk, abs=6e-5), pytest.approx(sp, abs=6e-4))
 
 
 def test_lumped_exponential_vs_eq6_gap_shrinks_with_lambda(table1):
-    # docs/models/lugre.md §4.2: 0.270, 0.100, 0.006, < 1e-4 for lambda = 1, 2, 5, 10
+    # docs/models/lugre_friction.md §4.2: 0.270, 0.100, 0.006, < 1e-4 for lambda = 1, 2, 5, 10
     vr, rw = braking(20.0, np.linspace(0, 1, 2001))
     gaps = [np.max(np.abs(mu_ss_lumped(vr, rw, table1, lam) - mu_ss_exponential(vr, rw, table1, lam)))
             for lam in (1, 2, 5, 10)]
@@ -159,7 +159,7 @@ def test_lumped_exponential_vs_eq6_gap_shrinks_with_lambda(table1):
 
 
 def test_stribeck_exponent_sensitivity(table1, table2):
-    # docs/models/lugre.md §9: braking at v = 20 for alpha = 1/2, 1, 2
+    # docs/models/lugre_friction.md §9: braking at v = 20 for alpha = 1/2, 1, 2
     from dataclasses import replace
 
     for p, refs in ((table1, {0.5: (1.0231, 0.302), 1.0: (1.0552, 0.212), 2.0: (1.1343, 0.194)}),
@@ -181,7 +181,7 @@ def test_fast_uniform_path_equals_reference_formula(table1):
 
 
 def test_exponential_load_with_zero_lambda_is_the_uniform_load(cli, tmp_path):
-    """docs/models/lugre.md §3.2 allows lambda >= 0: lambda = 0 is the uniform load (eq. 6 -> eq. 4 exactly)."""
+    """docs/models/lugre_friction.md §3.2 allows lambda >= 0: lambda = 0 is the uniform load (eq. 6 -> eq. 4 exactly)."""
     import pandas as pd
 
     cfg = tmp_path / "s.yaml"

@@ -1,5 +1,5 @@
 """MCPS tire model (Sorine & Szymanski 2000): friction laws, slider, standstill, rolling tire, complete
-model. Reference values: docs/models/mcps.md (§3-§7, §11)."""
+model. Reference values: docs/models/mcps_tire.md (§3-§7, §11)."""
 import math
 
 import numpy as np

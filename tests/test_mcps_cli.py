@@ -194,7 +194,7 @@ def test_report_mcps_section_strict(cli, tmp_path):
     for fid in ("mcps-fig3", "mcps-fig4", "mcps-fig5", "mcps-fig7", "mcps-fig8", "mcps-fig9", "mcps-fig10", "mcps-fig11",
                 "mcps-relaxation", "mcps-calibration", "mcps-table", "mcps-fig1-2", "mcps-fig6"):
         assert f'id="{fid}"' in html
-    assert "../shared" not in html and "mcps.md" in html
+    assert "../shared" not in html and "mcps_tire.md" in html
     ids = {c["id"] for c in summary["checks"]}
     for cid in ("mcps-relaxation/rigid-63", "mcps-relaxation/rigid-99", "mcps-relaxation/complete-hump",
                 "mcps-relaxation/complete-dip", "mcps-relaxation/complete-steady", "mcps-relaxation/complete, twist locked-63",
@@ -207,11 +207,11 @@ def test_report_mcps_section_strict(cli, tmp_path):
 
 
 def test_yaml_blocks_of_the_mcps_guide_validate(cli, tmp_path):
-    """Every config or parameter-set block of docs/models/mcps.md passes 'tirecli params validate'."""
+    """Every config or parameter-set block of docs/models/mcps_tire.md passes 'tirecli params validate'."""
     import re
     from pathlib import Path
 
-    text = (Path(__file__).resolve().parents[1] / "docs" / "models" / "mcps.md").read_text()
+    text = (Path(__file__).resolve().parents[1] / "docs" / "models" / "mcps_tire.md").read_text()
     blocks = [b for b in re.findall(r"```yaml\n(.*?)```", text, re.S) if "study:" in b or "kind:" in b]
     assert len(blocks) >= 5
     for i, b in enumerate(blocks):

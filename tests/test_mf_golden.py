@@ -1,4 +1,4 @@
-"""Magic Formula against published numbers: the golden rows of docs/models/magic_formula.md §15.4 (to 1e-6
+"""Magic Formula against published numbers: the golden rows of docs/models/magic_formula_tyre.md §15.4 (to 1e-6
 with the ``teasit`` convention) and the derived checks of §15.5 (with the default convention)."""
 import numpy as np
 import pytest
@@ -6,7 +6,7 @@ import pytest
 from tirecli.models.magic_formula import evaluate
 from tirecli.models.magic_formula.mf61 import pure_slip_factors
 from tirecli.parameters.mf import load_builtin_tire_data
-# the rows of docs/models/magic_formula.md §15.4, copied verbatim (the report's golden study uses the same rows)
+# the rows of docs/models/magic_formula_tyre.md §15.4, copied verbatim (the report's golden study uses the same rows)
 from tirecli.studies.mf_golden import GOLDEN, TOLERANCE as TOL, golden_rows as rows
 
 
@@ -25,7 +25,7 @@ def test_golden_rows_teasit(book, block):
 
 
 def test_golden_rows_are_convention_sensitive(book):
-    """The default convention departs from the teasit data by the amounts of docs/models/magic_formula.md §10 (so the
+    """The default convention departs from the teasit data by the amounts of docs/models/magic_formula_tyre.md §10 (so the
     golden test above checks the convention switches, not only the core equations)."""
     g = np.vstack([rows(b) for b in GOLDEN])
     r = evaluate(book, g[:, 0], g[:, 1], g[:, 2], g[:, 3], g[:, 5], g[:, 4])
@@ -59,7 +59,7 @@ def test_nominal_load_identities(book):
 
 
 def test_pure_slip_mz0_matches_the_kappa0_golden_rows(book):
-    """teasit's kappa = 0 path is the pure-slip Mz0 (docs/models/magic_formula.md §15.4): the uncombined evaluation gives the
+    """teasit's kappa = 0 path is the pure-slip Mz0 (docs/models/magic_formula_tyre.md §15.4): the uncombined evaluation gives the
     same Mz for every fy0_mz row, whatever kappa is passed with it."""
     g = rows("fy0_mz")
     r = evaluate(book, 0.3, g[:, 1], g[:, 2], g[:, 3], g[:, 5], g[:, 4], convention="teasit", combined=False)

@@ -1,4 +1,4 @@
-"""Magic Formula identities (docs/models/magic_formula.md §5, §6, §13.1, §15.5, §2.4, §11) and robustness."""
+"""Magic Formula identities (docs/models/magic_formula_tyre.md §5, §6, §13.1, §15.5, §2.4, §11) and robustness."""
 from dataclasses import replace
 
 import numpy as np
@@ -189,7 +189,7 @@ def test_turn_slip_camber_sign_matches_the_plain_model():
     d_plain, d_ts = plain[1] - plain[0], ts[1] - ts[0]
     assert np.sign(d_plain) == np.sign(d_ts) == -1
     assert 0.5 < d_ts / d_plain < 2.0
-    # a curvature response: Fy changes with phi_t at zero slip and camber (MCPS fig., docs/models/magic_formula.md §16)
+    # a curvature response: Fy changes with phi_t at zero slip and camber (MCPS fig., docs/models/magic_formula_tyre.md §16)
     r = evaluate(t, 0.0, 0.0, 0.0, phit=np.array([-0.1, 0.1]), limits=False)
     assert np.isfinite(r.fy).all() and r.fy[0] != r.fy[1]
 

@@ -1,4 +1,4 @@
-"""The .tir reader and writer: every quirk of docs/models/magic_formula.md §12.5, units, versions, required keys,
+"""The .tir reader and writer: every quirk of docs/models/magic_formula_tyre.md §12.5, units, versions, required keys,
 the malformed-file corpus, and the lossless YAML round trip."""
 import math
 

@@ -101,7 +101,7 @@ def fig2():
 
 
 def test_fig2_reference_values_within_2_percent(fig2):
-    """docs/models/lugre.md §10 (OBS Fig. 2): theta_hat = 1.6669 (8 s), 2.498 (16 s), 2.4978 (20 s)."""
+    """docs/models/lugre_friction.md §10 (OBS Fig. 2): theta_hat = 1.6669 (8 s), 2.498 (16 s), 2.4978 (20 s)."""
     tr = fig2.payload["trajectories"][0]
     for t, ref in ((8.0, 1.6669), (16.0, 2.498), (20.0, 2.4978)):
         assert float(np.interp(t, tr.t, tr.theta_hat)) == pytest.approx(ref, rel=0.02)
@@ -114,7 +114,7 @@ def test_fig2_checks_pass_and_features(fig2):
     assert len(checks) > 30 and all(c.passed for c in checks), [c.id for c in checks if not c.passed]
     m = fig2.meta["runs"][0]["metrics"]
     assert len(m["crossings_s"]) == 2
-    # theta_hat flat around the crossing at 12.5 s while theta keeps rising (docs/models/observer.md §8)
+    # theta_hat flat around the crossing at 12.5 s while theta keeps rising (docs/models/observer_model.md §8)
     tr = fig2.payload["trajectories"][0]
     near = (tr.t > 12.3) & (tr.t < 12.7)
     assert np.ptp(tr.theta_hat[near]) < 0.3 * np.ptp(tr.theta[near])
@@ -128,7 +128,7 @@ def test_fig2_frame_and_conventions(fig2):
     np.testing.assert_allclose(df["theta_fm"] * df["theta"], 1.0)
     assert df["theta"].max() == pytest.approx(2.5) and df["theta"].min() == pytest.approx(1.0)
     assert "OBS convention" in fig2.meta["theta_convention"]
-    assert fig2.meta["assumed"] and "docs/models/observer.md §7" in fig2.meta["assumed"][0]
+    assert fig2.meta["assumed"] and "docs/models/observer_model.md §7" in fig2.meta["assumed"][0]
 
 
 def test_speed_error_study_reproduces_section_8():

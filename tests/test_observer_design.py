@@ -1,4 +1,4 @@
-"""Observer design (docs/models/observer.md §1-§6): coordinates, plant form, observability, G(s), gain checks."""
+"""Observer design (docs/models/observer_model.md §1-§6): coordinates, plant form, observability, G(s), gain checks."""
 import numpy as np
 import pytest
 
@@ -47,7 +47,7 @@ def test_observability_matches_closed_form(plant):
     o = lo.observability(plant)
     assert o["rank"] == 3
     assert o["det"] == pytest.approx(o["det_closed_form"], rel=1e-9)
-    assert o["det"] == pytest.approx(-2.24e10, rel=3e-3)          # docs/models/observer.md §4
+    assert o["det"] == pytest.approx(-2.24e10, rel=3e-3)          # docs/models/observer_model.md §4
     assert o["factor"] == pytest.approx(-63532.7, abs=0.05)
 
 
@@ -62,7 +62,7 @@ def test_observability_lost_when_factor_vanishes(plant):
 
 
 def test_error_poles_match_spec(plant, gains):
-    """Linearised error dynamics A - K C: eig = -3.733e6, -181.55, -0.0294 1/s (docs/models/observer.md §6)."""
+    """Linearised error dynamics A - K C: eig = -3.733e6, -181.55, -0.0294 1/s (docs/models/observer_model.md §6)."""
     p = np.sort(lo.error_poles(plant, gains).real)
     assert p[0] == pytest.approx(-3.733e6, rel=2e-4)
     assert p[1] == pytest.approx(-181.55, abs=0.01)
@@ -71,7 +71,7 @@ def test_error_poles_match_spec(plant, gains):
 
 
 def test_transfer_function_closed_forms(plant):
-    """G(s) coefficients of docs/models/observer.md §6 for k2 = 0 and several (k1, k3)."""
+    """G(s) coefficients of docs/models/observer_model.md §6 for k2 = 0 and several (k1, k3)."""
     t, c = plant.tire, plant.car
     Fn, m, J, r, s0, s1, s2 = c.F_n, c.m, c.J, c.r, t.sigma0, t.sigma1, t.sigma2
     for k1, k3 in ((1000.0, -1000.0), (250.0, -40.0), (5e4, -3e3)):
@@ -106,7 +106,7 @@ def test_gain_checks_flag_wrong_signs(plant, gains, change, failing):
 
 
 def test_passivity_margin_is_tiny(plant, gains):
-    """Among P with P B = C', lambda_min(Q) stays about 1.1e-6 (docs/models/observer.md §6): (17) needs a huge alpha."""
+    """Among P with P B = C', lambda_min(Q) stays about 1.1e-6 (docs/models/observer_model.md §6): (17) needs a huge alpha."""
     pm = lo.passivity_margin(plant, gains)
     assert 0 < pm["lambda_min_q"] <= 1.1e-6
     P = pm["P"]

@@ -89,7 +89,7 @@ def test_wrong_theta_hat_converges_when_braking(plant, gains):
 
 
 def test_small_slip_convergence_is_slow(plant, gains):
-    """docs/models/observer.md §8: theta_hat(0) = 1.5 on a dry road at slip about 0.01 decays only to 1.23 in 5 s."""
+    """docs/models/observer_model.md §8: theta_hat(0) = 1.5 on a dry road at slip about 0.01 decays only to 1.23 in 5 s."""
     u = Transitions(250.0, (Change(7.0, -250.0, 1.0, "half-cosine"),))
     tr = oi.simulate_fast(plant, gains, scenario(5.0, u, 1.0, theta_hat0=1.5))
     assert float(np.interp(5.0, tr.t, tr.theta_hat)) == pytest.approx(1.23, abs=0.01)
@@ -174,7 +174,7 @@ def test_fig2_fast_scheme_matches_radau(plant, gains):
 
 def spec_rhs(plant, gains, sc, y_held):
     """Plant OBS (3)-(5) in (v, omega, z) and observer OBS (14) in (eta_hat, chi_hat, z_hat, theta_hat), written
-    here from docs/models/observer.md §1-§3 independently of tirecli's integrators (numpy, vector form)."""
+    here from docs/models/observer_model.md §1-§3 independently of tirecli's integrators (numpy, vector form)."""
     t_, c, g = plant.tire, plant.car, gains
     kappa = t_.kappa0 / t_.L
     P = c.r * c.F_n * t_.sigma1
@@ -263,7 +263,7 @@ ALL = ("auto", "fixed", "lsoda", "radau", "bdf")
 
 
 def fig2_start(plant, duration, **kw):
-    """The OBS Fig. 2 scenario (docs/models/observer.md §7), shortened to ``duration``."""
+    """The OBS Fig. 2 scenario (docs/models/observer_model.md §7), shortened to ``duration``."""
     from tirecli.studies.base import builtin_config
     from tirecli.studies.observe import plan
 
@@ -310,7 +310,7 @@ def test_auto_choice_follows_gains_and_measurement(plant, gains):
     assert m == "lsoda" and "slow-mode rate" in why
     m, why = oi.choose_method(plant, gains.replace(k3=-1.0, alpha=0.0), sc, held, opts)
     assert m == "lsoda" and "lambda_f" in why
-    # h rho_slow: the closed form of the slow pole (docs/models/observer.md §6) for alpha = 0
+    # h rho_slow: the closed form of the slow pole (docs/models/observer_model.md §6) for alpha = 0
     g0 = gains.replace(alpha=0.0)
     assert oi.slow_rate(plant, g0) == pytest.approx(-lo.slow_pole_estimate(plant, g0), rel=1e-9)
 
@@ -328,7 +328,7 @@ def test_auto_hands_over_when_the_block_rate_grows(plant, gains):
 def test_sampled_measurement_every_method(plant, gains, method):
     """1 kHz zero-order hold, with and without noise: each sample is a breakpoint of every method. Compared at
     mid-sample times (the held value is unambiguous there); the fixed scheme's closed-form fast layers carry an
-    error of about 0.2 % of the theta_hat jump they take (docs/observer.md, Numerics)."""
+    error of about 0.2 % of the theta_hat jump they take (docs/observe.md, Numerics)."""
     sc = fig2_start(plant, 0.02)
     t_eval = np.arange(0.0, 0.02, 0.001) + 0.0005
     for sensor in (Sensor(rate=1000.0), Sensor(rate=1000.0, noise_std=0.02, seed=3)):

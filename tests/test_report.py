@@ -49,7 +49,7 @@ def test_strict_fails_when_a_check_drifts(cli, tmp_path, monkeypatch):
 
 @pytest.mark.parametrize("fid", ["fm-fig4", "fm-fig7"])
 def test_strict_fails_when_a_transient_study_drifts(cli, tmp_path, monkeypatch, fid):
-    """FM Figs. 4-8 carry the braking references of docs/models/lugre.md §7: a drifted scenario (brake torque per bar
+    """FM Figs. 4-8 carry the braking references of docs/models/lugre_friction.md §7: a drifted scenario (brake torque per bar
     5 % off) must fail them, and --strict must exit 1."""
     from tirecli.report import build
 

@@ -67,7 +67,7 @@ def test_synthetic_measurement_noise_is_seeded(braking_run):
     meas = pd.read_csv(braking_run / "data" / "measured.csv", comment="#")
     clean = pd.read_csv(braking_run / "data" / "measured_clean.csv", comment="#")
     dv = meas["v"] - clean["v"]
-    assert 0.04 < dv.std() < 0.06                      # 0.05 m/s on speeds (docs/models/lugre.md §10)
+    assert 0.04 < dv.std() < 0.06                      # 0.05 m/s on speeds (docs/models/lugre_friction.md §10)
     assert 0.4 < (meas["pressure"] - clean["pressure"]).std() < 0.6   # 0.5 bar on pressure
     # torque = -20 N m/bar * pressure while the wheel turns; while it is locked the brake transmits the
     # (smaller) reaction torque r F that holds the wheel
@@ -242,7 +242,7 @@ def test_fit_command_writes_a_usable_parameter_set(cli, tmp_path, braking_csv):
     for rec in st["parameters"].values():
         assert rec["ci"][0] <= rec["estimate"] <= rec["ci"][1]
     assert len(st["correlation"]["matrix"]) == 5 and st["residual_rms"] < 0.01
-    # sigma0 and mu_s are well determined by the braking (docs/models/lugre.md §10 (FM Fig. 6))
+    # sigma0 and mu_s are well determined by the braking (docs/models/lugre_friction.md §10 (FM Fig. 6))
     assert st["parameters"]["sigma0"]["estimate"] == pytest.approx(178.0, rel=0.02)
     assert st["parameters"]["mu_s"]["estimate"] == pytest.approx(1.5, rel=0.02)
     # with the lumped kappa0(Z) truth, stage 2 recovers sigma1

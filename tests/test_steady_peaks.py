@@ -37,7 +37,7 @@ def _shape(kind, x, k=None):
 
 
 def ref_abs_mu(sig, p, speed, theta, braking, kind, k=None):
-    """|mu| at |s| = sig (complex allowed): theta g S(x) + sigma2 |vr| (docs/models/lugre.md §3.3, §4.2)."""
+    """|mu| at |s| = sig (complex allowed): theta g S(x) + sigma2 |vr| (docs/models/lugre_friction.md §3.3, §4.2)."""
     a = speed * sig
     g = theta * (p.mu_c + (p.mu_s - p.mu_c) * np.exp(-(a / p.v_s) ** p.alpha))
     romega = speed * (1 - sig) if braking else speed
@@ -124,7 +124,7 @@ def test_h_slope_series_and_closed_form_agree():
     (20, 1.0552, 0.212, 0.8717), (25, 1.0137, 0.196, 0.8617), (30, 0.9795, 0.184, 0.8618),
 ])
 def test_reference_values_of_the_spec(table1, v, peak, slip, mu1):
-    """docs/models/lugre.md §9 (printed to 4 and 3 decimals)."""
+    """docs/models/lugre_friction.md §9 (printed to 4 and 3 decimals)."""
     pk = curve_peaks(FV(), table1, [v])
     assert pk.mu[0] == pytest.approx(peak, abs=5e-5)
     assert pk.slip[0] == pytest.approx(slip, abs=5e-4)
@@ -132,7 +132,7 @@ def test_reference_values_of_the_spec(table1, v, peak, slip, mu1):
 
 
 def test_reference_values_driving_theta_and_table2(table1, table2):
-    """docs/models/lugre.md §5 and §9: driving, adhesion, Table 2 with alpha = 2, lumped kappa0 = 1, 2."""
+    """docs/models/lugre_friction.md §5 and §9: driving, adhesion, Table 2 with alpha = 2, lumped kappa0 = 1, 2."""
     pk = curve_peaks(FV(), table1, [20.0], braking=False)
     assert (pk.mu[0], pk.slip[0], pk.mu_slide[0]) == pytest.approx((1.0166, 0.220, 0.8525), abs=5e-4)
     for th, (mu, s, m1) in {0.8: (0.8714, 0.187, 0.7046), 0.6: (0.6795, 0.159, 0.5374), 0.4: (0.4764, 0.128, 0.3703)}.items():
@@ -140,7 +140,7 @@ def test_reference_values_driving_theta_and_table2(table1, table2):
         assert (pk.mu[0], pk.slip[0], pk.mu_slide[0]) == pytest.approx((mu, s, m1), abs=5e-4)
     t2 = replace(table2, alpha=2.0)
     assert curve_peaks(FV(), t2, [15, 20, 25]).mu == pytest.approx([1.1247, 1.0549, 0.9970], abs=5e-5)
-    # docs/models/lugre.md prints 0.155 at 25 m/s; the root-found peak is 0.15448 (a grid value rounded up)
+    # docs/models/lugre_friction.md prints 0.155 at 25 m/s; the root-found peak is 0.15448 (a grid value rounded up)
     assert curve_peaks(FV(), t2, [15, 20, 25]).slip == pytest.approx([0.206, 0.175, 0.1545], abs=5e-4)
     # sensitivity to the Stribeck exponent at 20 m/s (Table 1 alpha = 2: the reference 0.194 is 0.19347)
     for p, ref in ((replace(table1, alpha=0.5), (1.0231, 0.302)), (replace(table1, alpha=2.0), (1.1343, 0.1935)),

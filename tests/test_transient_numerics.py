@@ -1,6 +1,6 @@
 """Transient numerics: exactness along characteristics, convergence orders, lock, stop, conservation.
 
-Facts from docs/models/lugre.md §3.3-§4.2, §7 and closed forms; no timing assertions.
+Facts from docs/models/lugre_friction.md §3.3-§4.2, §7 and closed forms; no timing assertions.
 """
 import math
 
@@ -10,7 +10,7 @@ import pytest
 from tirecli.models.lugre import (lumped_decay_rate, mu_ss_density, mu_ss_exponential, mu_ss_uniform,
                                   kappa0_of_x, parabolic_density, patch_ratio, tabulated_density)
 from tirecli.models.lugre_pde import patch_reduction, upwind_steady_mu
-from tirecli.models.profiles import Change, Constant, Expression, Table, Transitions
+from tirecli.models.profiles import Change, Constant, Expression, Transitions
 from tirecli.models.variants import FrictionVariant
 from tirecli.numerics import runs
 from tirecli.numerics.lumped import kappa0_and_slope
@@ -24,7 +24,7 @@ def car():
 
 
 def fm_torque(tmax=1000.0, step_release=False):
-    """The reference braking (docs/models/lugre.md §7): ramp 0 -> T_max over 0.5-2.0 s, release to 0 over 2.0-2.6 s."""
+    """The reference braking (docs/models/lugre_friction.md §7): ramp 0 -> T_max over 0.5-2.0 s, release to 0 over 2.0-2.6 s."""
     release = Change(2.6, 0.0, 0.0, "step") if step_release else Change(2.0, 0.0, 0.6, "linear")
     return Transitions(0.0, (Change(0.5, -tmax, 1.5, "linear"), release))
 
@@ -40,7 +40,7 @@ def constant_slip(variant, p, car, s=-0.1, v=20.0, t_end=0.05, tol=None):
 
 
 def test_pde_equals_eq4_exactly_from_transit_time_on(table1, car):
-    """docs/models/lugre.md §3.4: from z = 0 at constant speeds the PDE reaches (4) exactly at t = L/|r omega|."""
+    """docs/models/lugre_friction.md §3.4: from z = 0 at constant speeds the PDE reaches (4) exactly at t = L/|r omega|."""
     v, s = 20.0, -0.1
     tr = constant_slip(FrictionVariant("distributed"), table1, car, s, v, t_end=0.05, tol=1e-5)
     ref = float(mu_ss_uniform(v * s, v * (1 + s), table1))
@@ -58,7 +58,7 @@ def test_pde_constant_slip_settles_within_1e4_at_default_resolution(table1, car)
     ref = float(mu_ss_uniform(v * s, v * (1 + s), table1))
     assert abs(tr.out["mu"][-1] - ref) < 1e-4
     assert np.max(np.abs(tr.out["mu"][tr.t >= 0.02] - ref)) < 1e-4
-    # docs/models/lugre.md §4.2: the (200-400 cell) reference PDE settles at -0.92616 after 0.0111 s
+    # docs/models/lugre_friction.md §4.2: the (200-400 cell) reference PDE settles at -0.92616 after 0.0111 s
     assert abs(tr.out["mu"][-1] - (-0.92616)) < 1e-3
 
 
@@ -88,7 +88,7 @@ def test_patch_reduction_weights_integrate_the_density():
 
 
 def test_force_jump_at_zero_deflection(table1, car):
-    """docs/models/lugre.md §3.4: with z = 0 the force is (sigma1 + sigma2) vr F_n: mu = -2.0036 at vr = -2 m/s."""
+    """docs/models/lugre_friction.md §3.4: with z = 0 the force is (sigma1 + sigma2) vr F_n: mu = -2.0036 at vr = -2 m/s."""
     for var in (FrictionVariant("distributed"), FrictionVariant("lumped", kappa0="Z"),
                 FrictionVariant("lumped", kappa0=1.0)):
         tr = constant_slip(var, table1, car, -0.1, 20.0, t_end=0.001)
@@ -104,7 +104,7 @@ def upwind_order(table1):
 
 
 def test_upwind_reference_converges_at_first_order(table1):
-    """docs/models/lugre.md §3.3: -0.927964, -0.926421, -0.926036 for N = 50, 200, 800 versus -0.925908."""
+    """docs/models/lugre_friction.md §3.3: -0.927964, -0.926421, -0.926036 for N = 50, 200, 800 versus -0.925908."""
     v, s = 20.0, -0.1
     vals = [upwind_steady_mu(v * s, v * (1 + s), table1, n) for n in (50, 200, 800)]
     assert vals == pytest.approx([-0.927964, -0.926421, -0.926036], abs=1e-6)
@@ -157,7 +157,7 @@ def test_lumped_kappa0_z_matches_the_pde_steady_state(table1, car):
 
 
 def test_lumped_decay_rate_of_the_spec(table1, car):
-    """docs/models/lugre.md §4.2: kappa0(Z) = 1.3927, decay 393.7 1/s, limit -0.92591."""
+    """docs/models/lugre_friction.md §4.2: kappa0(Z) = 1.3927, decay 393.7 1/s, limit -0.92591."""
     v, s = 20.0, -0.1
     vr, rw = v * s, v * (1 + s)
     assert float(kappa0_of_x(patch_ratio(vr, rw, table1))) == pytest.approx(1.3927, abs=1e-4)
@@ -198,7 +198,7 @@ def test_momentum_identity(table2, car):
 
 
 def test_spec_braking_references(table2, car):
-    """docs/models/lugre.md §7: PDE s_min -0.1777 at 2.00 s, |mu|max 1.1663, v(3 s) = 6.33 m/s; lumped kappa0(Z) close."""
+    """docs/models/lugre_friction.md §7: PDE s_min -0.1777 at 2.00 s, |mu|max 1.1663, v(3 s) = 6.33 m/s; lumped kappa0(Z) close."""
     pde = runs.quarter_car(FrictionVariant("distributed"), table2, car, fm_torque(), Constant(1.0), 20.0, 80.0, 3.5)
     i = int(np.argmin(pde.out["slip"]))
     assert pde.out["slip"][i] == pytest.approx(-0.1777, abs=2e-4)
@@ -229,7 +229,7 @@ def test_wheel_lock_holds_and_releases(table2, car):
 
 
 def test_plain_negative_torque_would_reverse_the_wheel_but_the_brake_does_not(table2, car):
-    """docs/models/lugre.md §7: brake torque never drives the wheel backwards, even held far above the grip limit."""
+    """docs/models/lugre_friction.md §7: brake torque never drives the wheel backwards, even held far above the grip limit."""
     tq = Transitions(0.0, (Change(0.1, -2500.0, 0.2, "linear"),))
     tr = runs.quarter_car(FrictionVariant("lumped", kappa0=2.0), table2, car, tq, Constant(1.0), 20.0, 80.0, 3.0)
     assert np.all(tr.y[:, 1] >= 0.0) and np.all(tr.out["slip"] >= -1.0)

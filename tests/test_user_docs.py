@@ -4,7 +4,7 @@ and the report links it.
 Users get the repository's README, ``docs/``, ``examples/`` and the installed package (its sources,
 templates, built-in configs and parameter sets, whose texts end up in captions, check sources,
 run.json, warnings and ``--help``). Every reference there must point inside the repository: to a
-page of ``docs/models/`` with its section (``docs/models/lugre.md §7``) or to a paper (``FM eq. (9)``),
+page of ``docs/models/`` with its section (``docs/models/lugre_friction.md §7``) or to a paper (``FM eq. (9)``),
 never to the development specification or other folders outside the repository.
 """
 from __future__ import annotations
@@ -31,8 +31,10 @@ OUTSIDE = re.compile(r"\.\./shared|\bshared/(?:spec|papers|data)\b|/work/|\.\./\
 #: specification by name.
 SPEC_PROSE = re.compile(r"(?i)\bthe spec\b|\bspec's\b|\bspec\s*§|\(spec\b|\bspec(?: value)?:|\bproject spec"
                         r"|\bspec\s+`?\w+\.md|\bspecification\b")
-#: A bare ``observer.md §N`` outside docs/models/ is the specification's page, not a file users have.
-BARE_OBSERVER = re.compile(r"(?<![\w/])observer\.md\s*§")
+#: The file names of the development specification's pages. The user's pages are named otherwise
+#: (docs/models/lugre_friction.md, ...), so that no user-facing text can be read as citing a page
+#: users do not have, whatever folder precedes the name.
+SPEC_PAGE = re.compile(r"(?<![\w-])(?:figures|lugre|magic_formula|mcps|observer)\.md\b")
 #: Any Markdown file named in the text.
 MD_NAME = re.compile(r"(?<![\w.-])((?:\.\./|\./)?[\w./-]*[\w-]\.md)\b")
 #: A section of a model page: docs/models/NAME.md §N or §N.M.
@@ -67,8 +69,8 @@ def _resolves(name: str, path: Path) -> bool:
 
 def test_user_files_found():
     names = {_rel(p) for p in USER_FILES}
-    assert {"README.md", "docs/models/lugre.md", "docs/models/observer.md", "docs/models/magic_formula.md",
-            "docs/models/mcps.md", "docs/models/README.md", "tirecli/templates/report.html.j2"} <= names
+    assert {"README.md", "docs/models/lugre_friction.md", "docs/models/observer_model.md", "docs/models/magic_formula_tyre.md",
+            "docs/models/mcps_tire.md", "docs/models/README.md", "tirecli/templates/report.html.j2"} <= names
     assert any(n.startswith("tirecli/studies/configs/") for n in names)
     assert any(n.startswith("tirecli/parameters/data/") for n in names)
 
@@ -83,9 +85,8 @@ def test_no_reference_outside_the_repository():
                 bad.append(f"{_rel(path)}:{lineno}: {m.group(0)!r} (a path outside the repository)")
         for m in SPEC_PROSE.finditer(prose):
             bad.append(f"{_rel(path)}: {m.group(0)!r} (the development specification; cite docs/models/ or the paper)")
-        if not _rel(path).startswith("docs/models/"):
-            for m in BARE_OBSERVER.finditer(prose):
-                bad.append(f"{_rel(path)}: {m.group(0)!r} (write docs/models/observer.md §N)")
+        for m in SPEC_PAGE.finditer(prose):
+            bad.append(f"{_rel(path)}: {m.group(0)!r} (the name of a specification page; cite docs/models/NAME.md)")
         for m in MD_NAME.finditer(prose):
             if not _resolves(m.group(1), path):
                 bad.append(f"{_rel(path)}: {m.group(1)!r} names no file of the repository")
@@ -106,7 +107,7 @@ def test_cited_sections_exist():
     assert not bad, "cited sections that do not exist:\n" + "\n".join(sorted(set(bad)))
 
 
-@pytest.mark.parametrize("page", ["lugre", "observer", "magic_formula", "mcps"])
+@pytest.mark.parametrize("page", ["lugre_friction", "observer_model", "magic_formula_tyre", "mcps_tire"])
 def test_model_pages_are_numbered(page):
     text = (ROOT / "docs" / "models" / f"{page}.md").read_text(encoding="utf-8")
     numbers = [int(n) for n in re.findall(r"(?m)^## (\d+)\. ", text)]
@@ -120,11 +121,11 @@ def test_report_cards_link_their_model_page(tmp_path):
     out = tmp_path / "report"
     build_report(out, only=["fm-fig1-right", "fm-table2"])
     html = (out / "index.html").read_text(encoding="utf-8")
-    assert 'href="docs/models/lugre.html"' in html
-    assert 'href="docs/models/lugre.html#s5"' in html  # a check source linked to its section
-    page = (out / "docs" / "models" / "lugre.html").read_text(encoding="utf-8")
+    assert 'href="docs/models/lugre_friction.html"' in html
+    assert 'href="docs/models/lugre_friction.html#s5"' in html  # a check source linked to its section
+    page = (out / "docs" / "models" / "lugre_friction.html").read_text(encoding="utf-8")
     assert 'id="s5"' in page and 'id="s10"' in page and "<table>" in page
-    assert (out / "docs" / "models" / "observer.html").is_file()
+    assert (out / "docs" / "models" / "observer_model.html").is_file()
     for doc in [html, page]:
         assert not OUTSIDE.search(doc) and not SPEC_PROSE.search(doc)
     assert "scenario: scenario:" not in html and "ASSUMED</span> scenario: scenario" not in html

@@ -11,7 +11,7 @@ Quantities (SI units throughout)
 - ``F``       longitudinal tire/road force on the wheel, **positive when it accelerates
   the vehicle** [N]; ``mu = F / F_n`` [-]
 
-Signs (docs/models/lugre.md §1)
+Signs (docs/models/lugre_friction.md §1)
 -------------------
 - ``vr > 0`` (tread faster than the ground, ``r*omega > v``): driving / traction, ``F > 0``.
 - ``vr < 0`` (``v > r*omega``): braking, ``F < 0``.
@@ -30,9 +30,9 @@ second coordinate fixed: the vehicle speed ``v`` for braking, the wheel circumfe
 ``r*omega`` for driving (see :func:`speeds_from_slip`).
 
 The Magic Formula uses the ISO-W practical slip ``kappa = (r_e*Omega - V_cx)/|V_cx|`` instead
-(docs/models/magic_formula.md §2.2); :func:`kappa_from_slip` converts between the two.
+(docs/models/magic_formula_tyre.md §2.2); :func:`kappa_from_slip` converts between the two.
 
-Road adhesion theta (docs/models/lugre.md §5)
+Road adhesion theta (docs/models/lugre_friction.md §5)
 ---------------------------------
 - FM convention ``theta_fm``: the Stribeck level is scaled, ``g -> theta_fm * g``;
   1 = nominal (dry), < 1 = less grip. **This is the canonical stored value.**
@@ -52,7 +52,7 @@ DIRECTIONS = ("braking", "driving")
 
 
 def relative_velocity(v, omega, r):
-    """Relative (slip) velocity ``vr = r*omega - v`` [m/s] (docs/models/lugre.md §1).
+    """Relative (slip) velocity ``vr = r*omega - v`` [m/s] (docs/models/lugre_friction.md §1).
 
     Parameters
     ----------
@@ -93,7 +93,7 @@ def slip_from_speeds(v, omega, r):
 def speeds_from_slip(s, speed):
     """Vehicle and wheel speeds ``(v, r*omega)`` [m/s] for a slip ``s`` at a held speed.
 
-    The held coordinate follows the papers' steady-state curves (docs/models/lugre.md §1): for braking
+    The held coordinate follows the papers' steady-state curves (docs/models/lugre_friction.md §1): for braking
     (``s <= 0``) ``speed`` is the vehicle speed ``v`` and ``r*omega = v (1 + s)``; for
     driving (``s > 0``) ``speed`` is the wheel speed ``r*omega`` and ``v = r*omega (1 - s)``.
 
@@ -147,12 +147,12 @@ def slip_from_kappa(kappa):
 
 
 def theta_obs_from_fm(theta_fm):
-    """Adhesion in the OBS convention from the FM one: ``theta_obs = 1/theta_fm`` (docs/models/lugre.md §5)."""
+    """Adhesion in the OBS convention from the FM one: ``theta_obs = 1/theta_fm`` (docs/models/lugre_friction.md §5)."""
     return 1.0 / np.asarray(theta_fm, dtype=float)
 
 
 def theta_fm_from_obs(theta_obs):
-    """Adhesion in the FM convention from the OBS one: ``theta_fm = 1/theta_obs`` (docs/models/lugre.md §5)."""
+    """Adhesion in the FM convention from the OBS one: ``theta_fm = 1/theta_obs`` (docs/models/lugre_friction.md §5)."""
     return 1.0 / np.asarray(theta_obs, dtype=float)
 
 

@@ -74,7 +74,7 @@ class Distribution(Spec):
             import difflib
 
             hint = difflib.get_close_matches(str(kind), list(DISTRIBUTIONS), n=1)
-            ctx.fail(path + (kind,), f"unknown distribution" + (f"; did you mean {hint[0]!r}?" if hint else "")
+            ctx.fail(path + (kind,), "unknown distribution" + (f"; did you mean {hint[0]!r}?" if hint else "")
                      + f" (expected one of: {', '.join(DISTRIBUTIONS)})")
             return MISSING
         n, what = DISTRIBUTIONS[kind]

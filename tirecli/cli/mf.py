@@ -32,12 +32,12 @@ def eval_(
     out: str = typer.Option(..., "--out", "-o", metavar="FILE", help="Result CSV: the input columns, then fx, fy, mz, mx, my.",
                              show_default=False),
     convention: str = typer.Option("mfeval", "--convention", metavar="mfeval|teasit", help="Where public implementations differ "
-                                   "(docs/models/magic_formula.md §10): mfeval (default) or teasit (reproduces the "
+                                   "(docs/models/magic_formula_tyre.md §10): mfeval (default) or teasit (reproduces the "
                                    "public golden data)."),
     side: Optional[str] = typer.Option(None, "--side", metavar="left|right", help="Mount the tyre on this side (left or right); "
                                                             "mirrored when the file was measured on the other."),
     no_limits: bool = typer.Option(False, "--no-limits", help="No input clipping to the file's ranges and no "
-                                                              "low-speed handling (docs/models/magic_formula.md §11)."),
+                                                              "low-speed handling (docs/models/magic_formula_tyre.md §11)."),
     map_: Optional[List[str]] = typer.Option(None, "--map", metavar="FILE_COLUMN=NAME",
                                              help="Use a differently named column, e.g. --map slip=kappa (repeatable)."),
     max_samples_: Optional[str] = typer.Option(None, "--max-samples", metavar="N",

@@ -16,9 +16,9 @@ def _fmt(x, spec=".4g") -> str:
 def metrics_table(result) -> list[str]:
     """Lines of the metrics table of an observe result (per case: phases, settling, speed, excitation)."""
     lines = []
-    for run in result.meta["runs"]:
-        m = run["metrics"]
-        lines.append(f"case {run['label']!r} ({run['integrator']}):")
+    for rec in result.meta["runs"]:
+        m = rec["metrics"]
+        lines.append(f"case {rec['label']!r} ({rec['integrator']}):")
         lines.append(f"  {'phase [s]':<14}{'rms':>10}{'max':>10}{'rms excl':>10}{'max excl':>10}   |theta_hat - theta|, OBS convention")
         for k, ph in enumerate(m["phases"] + [m["all_excl_crossings"]]):
             name = f"{ph['start']:g}-{ph['end']:g}"

@@ -8,7 +8,7 @@ from tirecli.figures.style import COLORS, figure, finish, new_figure, synthetic_
 from tirecli.figures.transient import SYN, require
 from tirecli.studies.base import Check
 
-#: FM Table 2 (docs/models/lugre.md §6): the paper's identified values.
+#: FM Table 2 (docs/models/lugre_friction.md §6): the paper's identified values.
 TABLE2 = {"sigma0": 178.0, "sigma1": 1.0, "sigma2": 0.0, "mu_c": 0.8, "mu_s": 1.5, "v_s": 5.5, "L": 0.2, "alpha": 2.0}
 
 
@@ -104,7 +104,7 @@ DIST_TOLERANCE = {"sigma0": 0.15, "sigma1": 0.01, "mu_s": 0.001}
 
 def _fig6_checks(result):
     st = result.payload["steady"]
-    src = "docs/models/lugre.md §10, FM Fig. 6 (fit on the noise-free synthetic braking #2, t <= 2.6 s, |s| > 0.005)"
+    src = "docs/models/lugre_friction.md §10, FM Fig. 6 (fit on the noise-free synthetic braking #2, t <= 2.6 s, |s| > 0.005)"
     out = []
     if "sigma0" in st.names:
         out.append(Check("sigma0", "fitted sigma0 [1/m] (well determined)", float(st.estimate["sigma0"]), 178.8, 1.0,
@@ -141,7 +141,7 @@ def _caption_fig6(result):
             "(alpha = 2, L = 0.2 m) fitted to them by bounded least squares from Table 1 starting values (FM procedure"
             + (", middle" if f is not None else "") + "). sigma0 and mu_s are well determined; mu_c and v_s are poorly determined (correlated, and the "
             "samples stop at the force peak), so the transient bias of ~2e-3 RMS moves them far from Table 2 - an "
-            "independent fit reports the same effect (mu_c 1.17, v_s 3.7 on its data, docs/models/lugre.md §10); beyond the sampled slips the fitted surface is an "
+            "independent fit reports the same effect (mu_c 1.17, v_s 3.7 on its data, docs/models/lugre_friction.md §10); beyond the sampled slips the fitted surface is an "
             "extrapolation.")
     if f is None:
         return base + " See Table 2 for the estimates with 95% intervals (which cover the residual scatter, not the bias)."
@@ -213,7 +213,7 @@ def draw_fm_fig6(result):
 
 
 def _table2_checks(result):
-    """A fit on exact steady-state samples of Table 2 returns Table 2 (docs/models/lugre.md §10, FM Table 2, Fig. 6)."""
+    """A fit on exact steady-state samples of Table 2 returns Table 2 (docs/models/lugre_friction.md §10, FM Table 2, Fig. 6)."""
     from dataclasses import replace
 
     from tirecli.models.lugre import mu_ss_uniform
@@ -229,10 +229,10 @@ def _table2_checks(result):
         ref = TABLE2[k]
         if ref == 0.0:
             out.append(Check(f"exact-{k}", f"{k} fitted to exact Table 2 steady-state samples (absolute)",
-                             float(res.estimate[k]), 0.0, 1e-6, "s/m", "docs/models/lugre.md §10 (FM Fig. 6)"))
+                             float(res.estimate[k]), 0.0, 1e-6, "s/m", "docs/models/lugre_friction.md §10 (FM Fig. 6)"))
         else:
             out.append(Check(f"exact-{k}", f"{k} fitted to exact Table 2 steady-state samples, relative to Table 2",
-                             float(res.estimate[k]) / ref, 1.0, 1e-4, "-", "docs/models/lugre.md §10 (FM Fig. 6)"))
+                             float(res.estimate[k]) / ref, 1.0, 1e-4, "-", "docs/models/lugre_friction.md §10 (FM Fig. 6)"))
     return out
 
 
@@ -324,5 +324,5 @@ def draw_fm_table2(result):
                      f"data/correlation_distributed.csv{corr}." + (" On synthetic data its residual is the data's own "
                      "numerical error rather than noise, so its intervals are indicative only." if result.synthetic
                                                                   else ""))
-    notes.append("FM Table 2 prints the unit of sigma1 as 1/m; it is s/m (docs/models/lugre.md §6).")
+    notes.append("FM Table 2 prints the unit of sigma1 as 1/m; it is s/m (docs/models/lugre_friction.md §6).")
     return Table(columns=columns, rows=rows, notes=notes)

@@ -1,5 +1,5 @@
 """Magic Formula figures: pure-slip families, camber, combined slip, the LuGre comparison, one
-overview card per built-in tyre and one card per golden-data block (docs/models/magic_formula.md).
+overview card per built-in tyre and one card per golden-data block (docs/models/magic_formula_tyre.md).
 
 Curves are drawn in ISO-W (§2.2): a positive slip angle gives a negative side force and, at
 small angles, a positive aligning moment. The comparison with LuGre uses ``|mu|`` against
@@ -115,13 +115,13 @@ for _id, _title_text, _caption, _draw, _ncols in (
      "Lateral force against the slip angle at kappa = gamma = 0, one curve per load; ISO-W signs (alpha > 0 gives "
      "Fy < 0).", draw_fy_alpha, 1),
     ("mf-mz-alpha", "Magic Formula Mz vs alpha at several loads",
-     "Aligning moment (combined-slip formula of docs/models/magic_formula.md §6.3 at kappa = 0) against the slip angle, one curve per load; "
+     "Aligning moment (combined-slip formula of docs/models/magic_formula_tyre.md §6.3 at kappa = 0) against the slip angle, one curve per load; "
      "ISO-W signs.", draw_mz_alpha, 1),
     ("mf-camber", "Magic Formula camber family",
      "Fy and Mz against the slip angle for several inclination angles at one load (kappa = 0).", draw_camber, 2),
     ("mf-combined", "Magic Formula combined slip (Fx-Fy)",
      "Fy against Fx under combined slip at one load: kappa swept at fixed slip angles (left) and alpha swept at "
-     "fixed slips (right); the weighting functions G_xa, G_yk of docs/models/magic_formula.md §6.", draw_combined, 2),
+     "fixed slips (right); the weighting functions G_xa, G_yk of docs/models/magic_formula_tyre.md §6.", draw_combined, 2),
 ):
     register(_id, paper="generic", label="MF sweep", title=_title_text, caption=_caption)(_figure_of(_id, _draw, _ncols))
 
@@ -131,7 +131,7 @@ for _id, _title_text, _caption, _draw, _ncols in (
 
 def _compare_checks(result):
     """Both curves start at the origin and stay finite; the Magic Formula curve's initial slope
-    d|mu|/d|s| is K_xk / Fz (docs/models/magic_formula.md §5.1: slope at zero slip equals the stiffness)."""
+    d|mu|/d|s| is K_xk / Fz (docs/models/magic_formula_tyre.md §5.1: slope at zero slip equals the stiffness)."""
     from tirecli.models.magic_formula.mf61 import pure_slip_factors
 
     d = _fam(result.data["sweep"], "compare")
@@ -148,7 +148,7 @@ def _compare_checks(result):
             s0 = g.iloc[:2]
             slope = float(np.diff(s0["mu_x"])[0] / np.diff(s0["kappa"])[0])
             out.append(Check("mf-slope", "Magic Formula d(Fx/Fz)/dkappa near zero slip over K_xk/Fz", slope / (f["fx"]["K"] / fz),
-                             1.0, 0.05, "-", "docs/models/magic_formula.md §5.1"))
+                             1.0, 0.05, "-", "docs/models/magic_formula_tyre.md §5.1"))
     return out
 
 
@@ -162,7 +162,7 @@ def _compare_checks(result):
             "file's KPUMAX would flatten the driving branch; with limits on, the title says so. "
             "The Magic Formula curve does not depend on speed; LuGre's falls with speed (Stribeck).",
     paper_shows="No paper figure: the comparison the MCPS paper makes between a dynamic friction model and the "
-                "Magic Formula, drawn with the tyres available here (docs/models/magic_formula.md §16).",
+                "Magic Formula, drawn with the tyres available here (docs/models/magic_formula_tyre.md §16).",
     checks=_compare_checks,
 )
 def fig_lugre_compare(result):
@@ -196,7 +196,7 @@ def fig_lugre_compare(result):
 
 
 def _tire_checks(result):
-    """Facts every Magic Formula curve of a sweep must satisfy (docs/models/magic_formula.md §5, §13.1, §15.5)."""
+    """Facts every Magic Formula curve of a sweep must satisfy (docs/models/magic_formula_tyre.md §5, §13.1, §15.5)."""
     from tirecli.models.magic_formula import evaluate
     from tirecli.models.magic_formula.mf61 import pure_slip_factors
 
@@ -215,28 +215,28 @@ def _tire_checks(result):
     fx = evaluate(t, np.array([-sh - h, -sh + h, -sh]), 0.0, 0.0, fz0, convention=conv, limits=False).fx
     slope = (fx[1] - fx[0]) / (2 * h)
     out += [
-        Check("kxk-slope", "dFx0/dkappa at kappa_x = 0 over K_xk (docs/models/magic_formula.md §13.1: slope BCD = K)", float(slope / f["fx"]["K"]),
-              1.0, 1e-5, "-", "docs/models/magic_formula.md §5.1, §13.1"),
-        Check("fx-shift", "Fx0(kappa = -S_Hx) - S_Vx [N] (docs/models/magic_formula.md §15.5)", float(fx[2] - f["fx"]["SV"]), 0.0,
-              1e-9 * fz0, "N", "docs/models/magic_formula.md §15.5"),
+        Check("kxk-slope", "dFx0/dkappa at kappa_x = 0 over K_xk (docs/models/magic_formula_tyre.md §13.1: slope BCD = K)", float(slope / f["fx"]["K"]),
+              1.0, 1e-5, "-", "docs/models/magic_formula_tyre.md §5.1, §13.1"),
+        Check("fx-shift", "Fx0(kappa = -S_Hx) - S_Vx [N] (docs/models/magic_formula_tyre.md §15.5)", float(fx[2] - f["fx"]["SV"]), 0.0,
+              1e-9 * fz0, "N", "docs/models/magic_formula_tyre.md §15.5"),
     ]
     shy = f["fy"]["SH"]
     fy = evaluate(t, 0.0, np.array([-shy - h, -shy + h, -shy]), 0.0, fz0, convention=conv, limits=False).fy
     out += [
         Check("kya-slope", "dFy0/dalpha at alpha_y = 0 over K_ya", float((fy[1] - fy[0]) / (2 * h) / f["fy"]["K"]),
-              1.0, 1e-5, "-", "docs/models/magic_formula.md §5.2, §13.1"),
-        Check("fy-shift", "Fy0(alpha = -S_Hy) - S_Vy [N] (docs/models/magic_formula.md §15.5)", float(fy[2] - f["fy"]["SV"]), 0.0,
-              1e-9 * fz0, "N", "docs/models/magic_formula.md §15.5"),
+              1.0, 1e-5, "-", "docs/models/magic_formula_tyre.md §5.2, §13.1"),
+        Check("fy-shift", "Fy0(alpha = -S_Hy) - S_Vy [N] (docs/models/magic_formula_tyre.md §15.5)", float(fy[2] - f["fy"]["SV"]), 0.0,
+              1e-9 * fz0, "N", "docs/models/magic_formula_tyre.md §15.5"),
     ]
     if result.parameter_sets["tire"].name == "pacejka2006-205-60r15":
         for fz, mux, kxk, muy, kya in ((2000.0, 1.2285, 38204.2551, -1.0625, -26608.8700),
                                        (4000.0, 1.2100, 86040.0, -0.9900, -46009.1387)):
             g = pure_slip_factors(t, fz, convention=conv)
             out += [
-                Check(f"mux-{fz:g}", f"mu_x at Fz = {fz:g} N", float(g["fx"]["mu"]), mux, 5e-5, "-", "docs/models/magic_formula.md §15.5"),
-                Check(f"kxk-{fz:g}", f"K_xk at Fz = {fz:g} N", float(g["fx"]["K"]), kxk, 5e-5, "N", "docs/models/magic_formula.md §15.5"),
-                Check(f"muy-{fz:g}", f"mu_y at Fz = {fz:g} N", float(g["fy"]["mu"]), muy, 5e-5, "-", "docs/models/magic_formula.md §15.5"),
-                Check(f"kya-{fz:g}", f"K_ya at Fz = {fz:g} N", float(g["fy"]["K"]), kya, 5e-5, "N/rad", "docs/models/magic_formula.md §15.5"),
+                Check(f"mux-{fz:g}", f"mu_x at Fz = {fz:g} N", float(g["fx"]["mu"]), mux, 5e-5, "-", "docs/models/magic_formula_tyre.md §15.5"),
+                Check(f"kxk-{fz:g}", f"K_xk at Fz = {fz:g} N", float(g["fx"]["K"]), kxk, 5e-5, "N", "docs/models/magic_formula_tyre.md §15.5"),
+                Check(f"muy-{fz:g}", f"mu_y at Fz = {fz:g} N", float(g["fy"]["mu"]), muy, 5e-5, "-", "docs/models/magic_formula_tyre.md §15.5"),
+                Check(f"kya-{fz:g}", f"K_ya at Fz = {fz:g} N", float(g["fy"]["K"]), kya, 5e-5, "N/rad", "docs/models/magic_formula_tyre.md §15.5"),
             ]
     return out
 
@@ -272,7 +272,7 @@ def _register_tire_cards():
                     f"Source: {meta['citation']}; licence {meta['licence']}.",
             paper_shows="Reference facts instead of a paper figure: the slopes at zero slip equal the stiffnesses "
                         "K_xk and K_ya, the curves pass through (-S_H, S_V), outputs are finite"
-                        + (", and the derived values of docs/models/magic_formula.md §15.5." if name == "pacejka2006-205-60r15" else "."),
+                        + (", and the derived values of docs/models/magic_formula_tyre.md §15.5." if name == "pacejka2006-205-60r15" else "."),
             checks=_tire_checks,
         )(draw_overview)
 
@@ -298,7 +298,7 @@ def _golden_checks_for(block):
         which = max(per, key=per.get)
         return [Check("largest-residual", f"largest |tirecli - golden| over the {len(d)} rows of {block}.csv "
                                           f"(Fx, Fy, Mz, Mx, My; largest in {which})", worst, 0.0, TOLERANCE,
-                      "N or N m", "docs/models/magic_formula.md §15.4")]
+                      "N or N m", "docs/models/magic_formula_tyre.md §15.4")]
 
     return checks
 
@@ -320,7 +320,7 @@ def _draw_golden(block):
         from matplotlib.ticker import MaxNLocator
 
         ax.xaxis.set_major_locator(MaxNLocator(integer=True))
-        finish(ax, f"row of {block}.csv (docs/models/magic_formula.md §15.4)", "|tirecli - golden| [N, N m] (zero shown at 1e-16)",
+        finish(ax, f"row of {block}.csv (docs/models/magic_formula_tyre.md §15.4)", "|tirecli - golden| [N, N m] (zero shown at 1e-16)",
                f"golden rows {block}: {result.meta.get('convention')} convention", ncol=6, loc="upper center")
         return fig
 
@@ -334,10 +334,10 @@ def _register_golden_cards():
         register(
             f"mf-golden-{block.replace('_', '-')}", paper="MF", label=f"golden data {block}", study="mf-golden",
             order=10 + i, title=f"Golden rows, {BLOCK_TITLES[block]}",
-            caption=f"The rows of {block}.csv quoted in docs/models/magic_formula.md §15.4 (Pacejka 2006 Table A3.1 tyre, teasit "
+            caption=f"The rows of {block}.csv quoted in docs/models/magic_formula_tyre.md §15.4 (Pacejka 2006 Table A3.1 tyre, teasit "
                     "magic-formula-tyre-library under GNU Octave, via KMoula30/outlap), evaluated with the teasit "
                     "convention: absolute residual of every output per row against the 1e-6 print precision.",
-            paper_shows="The public MF 6.1 golden values (docs/models/magic_formula.md §15.1-15.4): Fx, Fy, Mz, Mx, My printed to 1e-6.",
+            paper_shows="The public MF 6.1 golden values (docs/models/magic_formula_tyre.md §15.1-15.4): Fx, Fy, Mz, Mx, My printed to 1e-6.",
             checks=_golden_checks_for(block),
         )(_draw_golden(block))
 

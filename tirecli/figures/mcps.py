@@ -1,15 +1,15 @@
 """MCPS figures (Sorine & Szymanski 2000): Figs. 3-5 and 7-11, the relaxation run, the calibration
-and the parameter table, with the reference checks of ``docs/models/mcps.md``.
+and the parameter table, with the reference checks of ``docs/models/mcps_tire.md``.
 
 Forces are computed in ISO-W, road on tire (:mod:`tirecli.models.mcps.tire`). The paper-style signs
-are applied here, at the plotting step only (docs/models/mcps.md §1): side force ``-Fy`` and
+are applied here, at the plotting step only (docs/models/mcps_tire.md §1): side force ``-Fy`` and
 aligning torque ``+Mz`` against the slip angle ``alpha_s`` (equivalently ``Fy`` against
 ``-alpha_s``, the paper's "-delta" axis of Fig. 8); Fig. 10 draws the same ordinates against
 ``Fx``; Fig. 11 draws magnitudes. Slip angles are drawn in degrees, slips in percent.
 
 Reference checks come in two kinds: *model* checks (the computed curves against the closed forms and
 linear stiffnesses of the same parameters: valid for any parameter set) and *reference* checks (the
-reference numbers of docs/models/mcps.md §11 for the default set ``sorine2000-mcps`` and the paper's scenario; skipped when the
+reference numbers of docs/models/mcps_tire.md §11 for the default set ``sorine2000-mcps`` and the paper's scenario; skipped when the
 set or the scenario differs).
 """
 from __future__ import annotations
@@ -22,7 +22,7 @@ from tirecli.figures.registry import Table, register
 from tirecli.figures.style import COLORS, LINESTYLES, finish, new_figure
 from tirecli.studies.base import Check
 
-DOC = "docs/models/mcps.md"
+DOC = "docs/models/mcps_tire.md"
 DEG = math.pi / 180.0
 
 
@@ -175,7 +175,7 @@ def _models_text(result) -> str:
     if "rigid" in carc:
         parts.append("the solid carcass (eq. 14)")
     if cal:
-        parts.append("MCPS with its rubber parameters calibrated to the Magic Formula curves (docs/models/mcps.md §8)")
+        parts.append("MCPS with its rubber parameters calibrated to the Magic Formula curves (docs/models/mcps_tire.md §8)")
     return ", ".join(parts)
 
 
@@ -190,7 +190,7 @@ def _caption_fig7(result):
             f"{_tire_text(result)}, {_models_text(result)}; and {_mf_text(result)}. In pure longitudinal slip the complete "
             "model and the solid carcass coincide exactly. With the default tire MCPS rises more slowly than a Magic "
             "Formula and is still rising at 12 %; calibration narrows the gap but cannot close it (a patch mean of a Dahl "
-            "response bends over more slowly). Equations and choices: docs/models/mcps.md.")
+            "response bends over more slowly). Equations and choices: docs/models/mcps_tire.md.")
 
 
 def _caption_fig8(result):
@@ -559,7 +559,7 @@ def _calibration_checks(result):
     "mcps-calibration", paper="MCPS", label="calibration", study="mcps-calibration", order=120,
     checks=_calibration_checks,
     title="Calibration of the MCPS rubber parameters to a Magic Formula tyre",
-    caption="Bounded least squares (docs/models/mcps.md §8, procedure assumed): (r_x, mu_x, alpha_x, beta_x) on the Magic "
+    caption="Bounded least squares (docs/models/mcps_tire.md §8, procedure assumed): (r_x, mu_x, alpha_x, beta_x) on the Magic "
             "Formula Fx(kappa) at 40 slips in (0, 0.12], then (r_y, mu_y, alpha_y, beta_y) on Fy(alpha) over (0, 12 deg] "
             "(complete model), then c_Mz on Mz. The built-in study calibrates against the simple-form Magic Formula "
             "fallback (assumed B, C, D, E): mu_x and alpha_x end at their bounds and a gap of about 120 N (3 % of Fz) "
@@ -592,7 +592,7 @@ def draw_calibration(result):
     "mcps-table", paper="MCPS", label="parameters", study="mcps-fig7-9", order=1,
     title="Default MCPS tire (all values assumed)",
     caption="The built-in set sorine2000-mcps: the paper gives the model's structure but no parameter values, so every "
-            "value is a documented default (a 165/65R14-like passenger tire, docs/models/mcps.md §9), overridable with "
+            "value is a documented default (a 165/65R14-like passenger tire, docs/models/mcps_tire.md §9), overridable with "
             "--set tire.NAME=VALUE.",
     paper_shows="No parameter table: the MCPS paper prints no values.",
 )
@@ -902,7 +902,7 @@ __all__ = ["require"]
     caption="The paper's Figs. 1 and 2 are drawings (a slider of area U with its frame R_D; the patch of length l and "
             "width w in the tire frame R_W with the rim's translation V and yaw rate). tirecli lists what they define, "
             "with the values of the run's tire at its load: patch, pressure, the slider of Fig. 3 and the per-length "
-            "constants of the blocked-wheel model (docs/models/mcps.md §1, §4, §5).",
+            "constants of the blocked-wheel model (docs/models/mcps_tire.md §1, §4, §5).",
     paper_shows="Fig. 1: rubber slider geometry and referential; Fig. 2: contact patch geometry and tire referential "
                 "(schematics, no data).",
 )
@@ -936,7 +936,7 @@ def draw_geometry(result):
     caption="The paper's Fig. 6 is a drawing of the belt on the rim: translations x, y and twist delta, each on a spring "
             "and a damper (MCPS eqs. 16-17). tirecli lists them with the run's values, the belt's natural frequencies "
             "on its springs alone and with the tread elements acting as springs to the road, and the damping ratios "
-            "(docs/models/mcps.md §7).",
+            "(docs/models/mcps_tire.md §7).",
     paper_shows="Fig. 6: the system with carcass flexibility (schematic, no data).",
 )
 def draw_belt(result):
@@ -958,4 +958,4 @@ def draw_belt(result):
     return Table(columns=["DOF", "mass / inertia", "stiffness", "damping", "damping ratio",
                           "natural rate on the rim [rad/s]", "with the patch as a spring [rad/s]"], rows=rows,
                  notes=[f"Tire {_tire_name(result)} at {fz:g} N; the fastest rate ({coupling_rate(p, fz):.0f} rad/s) sets the "
-                        "transport step of the relaxation runs (docs/models/mcps.md §7)."])
+                        "transport step of the relaxation runs (docs/models/mcps_tire.md §7)."])

@@ -1,8 +1,8 @@
 """Observer figures: OBS Fig. 2, the initial speed-error study, the gain study, sensor effects.
 
 All adhesion values are plotted in the OBS convention (theta_obs = 1/theta_fm: 1 dry, larger =
-less grip). Checks compare computed values with the reference values of docs/models/observer.md §6-§8 and
-docs/models/observer.md §9 (OBS Fig. 2).
+less grip). Checks compare computed values with the reference values of docs/models/observer_model.md §6-§8 and
+docs/models/observer_model.md §9 (OBS Fig. 2).
 """
 from __future__ import annotations
 
@@ -15,9 +15,9 @@ from tirecli.observers import lugre_observer as lo
 from tirecli.observers import metrics as om
 from tirecli.studies.base import Check
 
-OBS7 = "docs/models/observer.md §7"
+OBS7 = "docs/models/observer_model.md §7"
 
-#: theta_hat(t) of the Fig. 2 scenario: t [s] -> (reference, tolerance) (docs/models/observer.md §7; 3-decimal values
+#: theta_hat(t) of the Fig. 2 scenario: t [s] -> (reference, tolerance) (docs/models/observer_model.md §7; 3-decimal values
 #: +-1e-3, 4-decimal ones +-3e-4).
 FIG2_THETA_HAT = {5.5: (1.413, 1e-3), 6.0: (1.565, 1e-3), 7.0: (1.646, 1e-3), 8.0: (1.6669, 3e-4),
                   10.0: (1.6672, 3e-4), 12.5: (1.974, 1e-3), 15.0: (2.487, 1e-3), 16.0: (2.498, 1e-3),
@@ -91,8 +91,8 @@ def _fig2_checks(result):
 
 
 def _design_checks(plant, gains, tr):
-    """docs/models/observer.md §4-§6 numbers of the OBS gains."""
-    s4, s5, s6 = "docs/models/observer.md §4", "docs/models/observer.md §5", "docs/models/observer.md §6"
+    """docs/models/observer_model.md §4-§6 numbers of the OBS gains."""
+    s4, s5, s6 = "docs/models/observer_model.md §4", "docs/models/observer_model.md §5", "docs/models/observer_model.md §6"
     obs = lo.observability(plant)
     tf = lo.transfer_function(plant, gains)
     poles = np.sort(lo.error_poles(plant, gains).real)
@@ -135,7 +135,7 @@ def _design_checks(plant, gains, tr):
             "measuring the wheel speed only. (a) theta (solid) and theta_hat (dashed), OBS convention, with the v_r "
             "zero crossings dotted; (b) slip; (c) v (solid) and v_hat (dashed). The scenario (theta = 1 -> 5/3 step at "
             "5 s -> half-cosine to 2.5 over 10-15 s; torque +350/-250/+350 N m switched over 7-8 s and 12-13 s; "
-            "v(0) = 20 m/s, v_hat(0) = v(0), theta_hat(0) = 1) is [assumed] (docs/models/observer.md §7): OBS does not print it. "
+            "v(0) = 20 m/s, v_hat(0) = v(0), theta_hat(0) = 1) is [assumed] (docs/models/observer_model.md §7): OBS does not print it. "
             "theta_hat stops moving near the crossing at 12.5 s, where v_r = 0 carries no information on theta, "
             "and re-converges once |v_r| grows.",
     paper_shows="(a) theta and its estimate over 20 s: dry, a sudden change to wet, a smooth change to snow, snow; "
@@ -175,7 +175,7 @@ def _by_label(result):
 
 def _speed_error_checks(result):
     runs = _by_label(result)
-    s8 = "docs/models/observer.md §8"
+    s8 = "docs/models/observer_model.md §8"
     out = []
     if "exact start" in runs:
         _, tr, run = runs["exact start"]
@@ -204,7 +204,7 @@ def _speed_error_checks(result):
         rate = om.decay_rate(tr.t, tr.v_hat - tr.v, 2.0, tr.t[-1])
         out.append(Check("slow-mode-rate", "theta known: fitted decay rate of the speed error vs the slow pole of "
                          "A - K C (the friction terms, left out of A - K C, shift it by a few %)", rate, -0.0294, 0.004,
-                         "1/s", "docs/models/observer.md §6"))
+                         "1/s", "docs/models/observer_model.md §6"))
     return out
 
 
@@ -225,7 +225,7 @@ def _slow_mode_note(result) -> str:
     "obs-speed-error", paper="OBS", label="§8: initial speed error", study="obs-speed-error", order=21,
     checks=_speed_error_checks,
     title="An initial speed error: the slow speed mode and the theta bias",
-    caption="Fig. 2 scenario with Ua = Ub = 250 N m (less slip, docs/models/observer.md §8) started with v_hat(0) = v(0), "
+    caption="Fig. 2 scenario with Ua = Ub = 250 N m (less slip, docs/models/observer_model.md §8) started with v_hat(0) = v(0), "
             "v(0) + 0.1 m/s and v(0) + 2 m/s, and with theta known (gamma = 0, dry road). (a) |v_hat - v|: the speed "
             "estimate is essentially dead reckoning of eta = r m v + J omega, so the error decays with the slow pole "
             "-(F_n sigma2/m + k1/(r m |k3|)) = -0.0294 1/s of A - K C (dotted: e^(-0.0294 t); time constant 34 s) and "
@@ -233,7 +233,7 @@ def _slow_mode_note(result) -> str:
             "velocity v_r, which the observer compensates with a wrong theta_hat (weak joint observability): -0.17 at "
             "4.9 s instead of 1 and 1.34 instead of 2.5 at 20 s for +0.1 m/s; about -11 for +2 m/s. Raising k1 speeds "
             "up the slow mode but does not remove the ambiguity. Shown as computed, not tuned away.",
-    paper_shows="Not a figure of OBS: the paper's Fig. 2 starts from the exact speed. docs/models/observer.md §8 documents this "
+    paper_shows="Not a figure of OBS: the paper's Fig. 2 starts from the exact speed. docs/models/observer_model.md §8 documents this "
                 "sensitivity of its scheme.",
 )
 def draw_obs_speed_error(result):
@@ -275,7 +275,7 @@ def _gain_checks(result):
     st = gs["settle_time_s"].to_numpy()
     bad = int(np.sum(~(np.diff(st) < 0))) if np.all(np.isfinite(st)) else len(st)
     return [Check("monotone", "settling time falls as gamma grows (number of exceptions)", float(bad), 0.0, 0.0, "-",
-                  "docs/models/observer.md §8 (convergence speed grows with excitation and gain)")]
+                  "docs/models/observer_model.md §8 (convergence speed grows with excitation and gain)")]
 
 
 @register(
@@ -285,7 +285,7 @@ def _gain_checks(result):
             "one gain (the others as OBS). (a) theta_hat; (b) time after the step until |theta_hat - theta| stays "
             "below the settling band, against the gain. Small gains leave theta_hat short of theta until braking "
             "raises |v_r| after the zero crossing near 7.4 s (convergence speed grows with excitation). Scenario "
-            "values are [assumed] (docs/models/observer.md §7).",
+            "values are [assumed] (docs/models/observer_model.md §7).",
     paper_shows="Not in OBS (the paper shows one gain set).",
 )
 def draw_obs_gain_study(result):

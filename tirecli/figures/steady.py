@@ -264,7 +264,7 @@ def draw_sweep_surface(result):
 
 # --------------------------------------------------------------------------- FM Fig. 1
 
-_REF_SPEEDS = {  # docs/models/lugre.md §9: v -> (peak |mu|, at |s|, |mu(0.05)|, |mu(1)|)
+_REF_SPEEDS = {  # docs/models/lugre_friction.md §9: v -> (peak |mu|, at |s|, |mu(0.05)|, |mu(1)|)
     5: (1.2818, 0.374, 0.6556, 1.1594),
     10: (1.1770, 0.279, 0.6520, 0.9817),
     15: (1.1074, 0.237, 0.6486, 0.9035),
@@ -272,7 +272,7 @@ _REF_SPEEDS = {  # docs/models/lugre.md §9: v -> (peak |mu|, at |s|, |mu(0.05)|
     25: (1.0137, 0.196, 0.6417, 0.8617),
     30: (0.9795, 0.184, 0.6384, 0.8618),
 }
-_REF_THETA = {  # docs/models/lugre.md §5: theta_fm -> (peak, at |s|, |mu(1)|) at v = 20 m/s
+_REF_THETA = {  # docs/models/lugre_friction.md §5: theta_fm -> (peak, at |s|, |mu(1)|) at v = 20 m/s
     1.0: (1.0552, 0.212, 0.8717),
     0.8: (0.8714, 0.187, 0.7046),
     0.6: (0.6795, 0.159, 0.5374),
@@ -280,7 +280,7 @@ _REF_THETA = {  # docs/models/lugre.md §5: theta_fm -> (peak, at |s|, |mu(1)|) 
 }
 
 
-def _speed_checks(result, model, theta=1.0, source="docs/models/lugre.md §9"):
+def _speed_checks(result, model, theta=1.0, source="docs/models/lugre_friction.md §9"):
     df = result.data["sweep"]
     out = []
     for v, (pk, sp, m05, m1) in _REF_SPEEDS.items():
@@ -301,7 +301,7 @@ def _slope_check(result, v=20.0):
     ds = 1e-7
     slope = abs(float(var.mu_ss(-v * ds, v * (1 - ds), p))) / ds
     return Check("slope-v20", "initial slope d|mu|/d|s| at v = 20 m/s (sigma0 L/2 + sigma2 v)", slope, 18.19, 0.005,
-                 "-", "docs/models/lugre.md §9")
+                 "-", "docs/models/lugre_friction.md §9")
 
 
 def _fig1_left_checks(result):
@@ -378,8 +378,8 @@ def _fig1_right_checks(result):
         peak_ = curve_peak(result, model, 20.0, th)
         if peak_ is None:
             continue
-        out += peak_checks(peak_, pk, sp, f"th{th:g}", f"for theta_fm = {th:g}, v = 20 m/s", "docs/models/lugre.md §5") + [
-            Check(f"mu1-th{th:g}", f"|mu(1)| for theta_fm = {th:g}", peak_[2], m1, MU_TOL, "-", "docs/models/lugre.md §5"),
+        out += peak_checks(peak_, pk, sp, f"th{th:g}", f"for theta_fm = {th:g}, v = 20 m/s", "docs/models/lugre_friction.md §5") + [
+            Check(f"mu1-th{th:g}", f"|mu(1)| for theta_fm = {th:g}", peak_[2], m1, MU_TOL, "-", "docs/models/lugre_friction.md §5"),
         ]
     return out + [_slope_check(result)]
 
@@ -416,11 +416,11 @@ def _obs_fig1_checks(result):
     pk = curve_peak(result, dist, 20.0, 0.4)
     if pk is not None:
         out += peak_checks(pk, 0.4764, 0.128, "thobs2.5", "for theta_obs = 2.5 at v = 20 m/s",
-                           "docs/models/lugre.md §10 (OBS Fig. 1)")
+                           "docs/models/lugre_friction.md §10 (OBS Fig. 1)")
     pk = curve_peak(result, models[1], 20.0, 1.0) if len(models) > 1 else None
     if pk is not None:
         out += peak_checks(pk, 0.9767, 0.272, "lumped-k2", "of the lumped model, kappa0 = 2 (kappa = 10 1/m), "
-                           "v = 20 m/s", "docs/models/lugre.md §4.2")
+                           "v = 20 m/s", "docs/models/lugre_friction.md §4.2")
     return out
 
 
@@ -464,7 +464,7 @@ def _fig6_surface_checks(result):
         peak_ = curve_peak(result, model, v, 1.0)
         if peak_ is None:
             continue
-        out += peak_checks(peak_, pk, sp, f"v{v}", f"of the Table 2 surface at v = {v} m/s", "docs/models/lugre.md §10 (FM Fig. 6)")
+        out += peak_checks(peak_, pk, sp, f"v{v}", f"of the Table 2 surface at v = {v} m/s", "docs/models/lugre_friction.md §10 (FM Fig. 6)")
     return out
 
 

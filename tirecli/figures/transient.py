@@ -277,7 +277,7 @@ def _min_slip(tr):
 
 def _fig4_checks(result):
     out = []
-    src = "docs/models/lugre.md §7, §10 (FM Fig. 4)"
+    src = "docs/models/lugre_friction.md §7, §10 (FM Fig. 4)"
     tr = run_of(result, BRAKINGS[1])
     if tr is not None:
         smin, ts = _min_slip(tr)
@@ -285,7 +285,7 @@ def _fig4_checks(result):
             Check("smin-1000", "min slip, PDE, T_max = 1000 N m (braking #2)", smin, -0.1777, 3e-4, "-", src),
             Check("t-smin-1000", "time of the min slip (after the window start)", ts, 2.00, 0.01, "s", src),
             Check("mumax-1000", "max |mu|, PDE, T_max = 1000 N m", float(np.max(np.abs(tr.out["mu"]))), 1.1663, 3e-4,
-                  "-", "docs/models/lugre.md §7"),
+                  "-", "docs/models/lugre_friction.md §7"),
             Check("v3-1000", "vehicle speed at 3 s, T_max = 1000 N m", float(np.interp(3.0, tr.t, tr.y[:, 0])), 6.33,
                   0.01, "m/s", src),
         ]
@@ -299,13 +299,13 @@ def _fig4_checks(result):
     tr = run_of(result, LOCK_1100)
     if tr is not None:
         t_lock = tr.events["lock"][0][0] if tr.events["lock"] else float("nan")
-        out.append(Check("lock-1100", "time the wheel locks, T_max = 1100 N m", t_lock, 1.99, 0.01, "s", "docs/models/lugre.md §7"))
+        out.append(Check("lock-1100", "time the wheel locks, T_max = 1100 N m", t_lock, 1.99, 0.01, "s", "docs/models/lugre_friction.md §7"))
     tr = run_of(result, STEP_RELEASE)
     if tr is not None:
         out += [Check("smin-step", "min slip, torque held to 2.6 s then released in one step (PDE)", _min_slip(tr)[0],
-                      -0.1796, 3e-4, "-", "docs/models/lugre.md §7"),
+                      -0.1796, 3e-4, "-", "docs/models/lugre_friction.md §7"),
                 Check("v3-step", "vehicle speed at 3 s, step release", float(np.interp(3.0, tr.t, tr.y[:, 0])), 3.05,
-                      0.01, "m/s", "docs/models/lugre.md §7")]
+                      0.01, "m/s", "docs/models/lugre_friction.md §7")]
     return out
 
 
@@ -317,7 +317,7 @@ def _measured(result):
     "fm-fig4", paper="FM", label="Fig. 4", study="fm-fig4", order=40, checks=_fig4_checks,
     title="Braking experiments: brake pressure, vehicle speed, wheel speed (synthetic)",
     caption="SYNTHETIC substitute for FM's measured record: three brakings from 20 m/s simulated with the distributed "
-            "LuGre model (Table 2, alpha = 2, sigma1 = 1 s/m) on the quarter car of docs/models/lugre.md §7 [assumed vehicle]; brake "
+            "LuGre model (Table 2, alpha = 2, sigma1 = 1 s/m) on the quarter car of docs/models/lugre_friction.md §7 [assumed vehicle]; brake "
             "torque ramp 0 -> T_max over 0.5-2.0 s after each window start, linear release to 0 over 2.0-2.6 s, "
             "T_max = 950, 1000, 1050 N m; pressure = torque / 20 N m/bar [assumed]; sampled at 100 Hz with seeded noise "
             "(0.05 m/s on speeds, 0.5 bar on pressure). Windows placed at 80, 97 and 115 s of one record as in FM.",
@@ -396,7 +396,7 @@ def _variant_tag(case) -> str:
 def _ol_checks(result, refs: dict, fig: str):
     """Checks of the open-loop model errors on braking #2 (T_max = 1000 N m)."""
     out = []
-    src = f"docs/models/lugre.md §7, §10 (FM {fig})"
+    src = f"docs/models/lugre_friction.md §7, §10 (FM {fig})"
     drv = BRAKINGS[1]
     if run_of(result, drv) is None:
         return out
@@ -423,16 +423,16 @@ def _fig8_checks(result):
     for case in open_loop_of(result, drv):
         if _variant_tag(case) == "Z":
             out.append(Check("max100-kZ", "max |mu - mu_PDE| at the 100 Hz samples, kappa0(Z)",
-                             open_loop_errors(result, drv, case)["max100"], 0.009, 0.001, "-", "docs/models/lugre.md §10 (FM Fig. 8)"))
+                             open_loop_errors(result, drv, case)["max100"], 0.009, 0.001, "-", "docs/models/lugre_friction.md §10 (FM Fig. 8)"))
     pde, lum = run_of(result, drv), run_of(result, LUMPED_Z_COUPLED)
     if pde is not None and lum is not None:
         t = pde.t
         dmu = np.abs(np.interp(t, lum.t, lum.out["mu"]) - pde.out["mu"]).max()
         ds = np.abs(np.interp(t, lum.t, lum.out["slip"]) - pde.out["slip"]).max()
         out += [Check("coupled-dmu", "coupled quarter car: max |mu_lumped(Z) - mu_PDE|", float(dmu), 0.0046, 0.0005, "-",
-                      "docs/models/lugre.md §7"),
+                      "docs/models/lugre_friction.md §7"),
                 Check("coupled-ds", "coupled quarter car: max |s_lumped(Z) - s_PDE|", float(ds), 0.0009, 0.0002, "-",
-                      "docs/models/lugre.md §7")]
+                      "docs/models/lugre_friction.md §7")]
     return out
 
 

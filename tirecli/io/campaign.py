@@ -110,8 +110,6 @@ class PointStore:
         parts = self.parts()
         if len(parts) <= 1 and keep_ids is None:
             return
-        import pandas as pd
-
         recs = self.load()
         if keep_ids is not None:
             recs = {k: v for k, v in recs.items() if k in keep_ids}

@@ -1,4 +1,4 @@
-"""Reading and writing ``.tir`` tyre property files and their YAML form (docs/models/magic_formula.md §12).
+"""Reading and writing ``.tir`` tyre property files and their YAML form (docs/models/magic_formula_tyre.md §12).
 
 A ``.tir`` file is a TeimOrbit property file: ``[SECTION]`` headers, ``KEY = value`` lines,
 ``$`` / ``!`` comments, optional tables. :func:`parse_tir` copes with every quirk of §12.5:
@@ -220,7 +220,7 @@ def _check_binary(data: bytes, file: str) -> None:
                                                   f"{len(head)}), expected a .tir text file"))
 
 
-#: Sections every kind of .tir file has at least one of (docs/models/magic_formula.md §12).
+#: Sections every kind of .tir file has at least one of (docs/models/magic_formula_tyre.md §12).
 _TIR_SECTIONS = {"MDI_HEADER", "UNITS", "MODEL", "DIMENSION", "VERTICAL", "SCALING_COEFFICIENTS",
                  "LONGITUDINAL_COEFFICIENTS", "LATERAL_COEFFICIENTS", "ALIGNING_COEFFICIENTS", "SHAPE"}
 

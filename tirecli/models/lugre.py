@@ -3,7 +3,7 @@
 Implements, from Canudas-de-Wit, Tsiotras, Velenis, Basset, Gissinger, *Dynamic friction
 models for road/tire longitudinal interaction* ([FM]) and Canudas-de-Wit, Petersen,
 Shiriaev, *A new nonlinear observer for tire/road distributed contact friction* ([OBS]),
-restated in ``docs/models/lugre.md``:
+restated in ``docs/models/lugre_friction.md``:
 
 - the Stribeck level ``g(vr)`` (FM, after eq. (1));
 - the distributed steady state for a uniform load (FM eq. (4)), an exponential load
@@ -27,7 +27,7 @@ _X_SERIES = 1e-4
 
 @dataclass(frozen=True)
 class LuGreParams:
-    """Parameters of the LuGre tire friction model (docs/models/lugre.md §1, §6).
+    """Parameters of the LuGre tire friction model (docs/models/lugre_friction.md §1, §6).
 
     Attributes
     ----------
@@ -70,7 +70,7 @@ class LuGreParams:
 
 
 def stribeck(vr, p: LuGreParams, theta=1.0):
-    """Stribeck friction level ``theta*g(vr)`` [-] (FM, after eq. (1); docs/models/lugre.md §2).
+    """Stribeck friction level ``theta*g(vr)`` [-] (FM, after eq. (1); docs/models/lugre_friction.md §2).
 
     ``g(vr) = mu_c + (mu_s - mu_c) exp(-|vr/v_s|^alpha)``, so ``mu_c <= g <= mu_s``.
 
@@ -109,7 +109,7 @@ def patch_ratio(vr, romega, p: LuGreParams, theta=1.0):
     """Dimensionless patch length ``x = L/Z = sigma0 |vr| L / (theta g |r omega|)`` [-].
 
     ``Z = |r omega| theta g / (sigma0 |vr|)`` [m] is the distance a tread element travels
-    before its deflection approaches the sliding value (docs/models/lugre.md §3.3). ``x = inf`` for a
+    before its deflection approaches the sliding value (docs/models/lugre_friction.md §3.3). ``x = inf`` for a
     locked wheel (``romega = 0``, ``vr != 0``) and 0 at ``vr = 0``.
     """
     vr = np.asarray(vr, dtype=float)
@@ -122,7 +122,7 @@ def patch_ratio(vr, romega, p: LuGreParams, theta=1.0):
 
 
 def h_uniform(x):
-    """Shape function ``h(x) = 1 - (1 - exp(-x))/x`` [-] of FM eq. (4) (docs/models/lugre.md §3.3).
+    """Shape function ``h(x) = 1 - (1 - exp(-x))/x`` [-] of FM eq. (4) (docs/models/lugre_friction.md §3.3).
 
     Evaluated with ``expm1`` and the series ``x/2 - x^2/6 + x^3/24`` below ``x = 1e-4``;
     ``h(0) = 0`` and ``h(inf) = 1``.
@@ -166,7 +166,7 @@ def h_uniform_slope(x):
 
 
 def kappa0_of_x(x):
-    """Uniform-load lumped coefficient ``kappa0(Z)`` [-] of FM eq. (10) (docs/models/lugre.md §4.2).
+    """Uniform-load lumped coefficient ``kappa0(Z)`` [-] of FM eq. (10) (docs/models/lugre_friction.md §4.2).
 
     ``kappa0 = (1 - exp(-x)) / h(x)`` with ``x = L/Z``; decreases from 2 (``x -> 0``) to 1
     (``x -> inf``). Series ``2 - x/3 + x^2/18 - x^3/270`` below ``x = 1e-4``.
@@ -235,7 +235,7 @@ def mu_ss_exponential(vr, romega, p: LuGreParams, lam, theta=1.0):
     """Distributed steady state, exponential load ``f_n ~ exp(-lam zeta/L)``: FM eq. (6) [-].
 
     FM eq. (6) with the sign of its ``k2 exp(-lam + c1 L)`` term corrected to minus
-    (docs/models/lugre.md §3.3, **[reconstructed]**). Written with ``x = L/Z`` it is
+    (docs/models/lugre_friction.md §3.3, **[reconstructed]**). Written with ``x = L/Z`` it is
 
     ``mu = sgn(vr) theta g [1 - lam (1 - e^-(lam + x)) / ((lam + x)(1 - e^-lam))] + sigma2 vr``,
 
@@ -278,7 +278,7 @@ def _quadrature(knots, nodes: int):
 
 
 def parabolic_density(u):
-    """Parabolic normal-load density ``6 u (1 - u)`` per unit ``u = zeta/L`` [-] (docs/models/lugre.md §3.2, [assumed form]).
+    """Parabolic normal-load density ``6 u (1 - u)`` per unit ``u = zeta/L`` [-] (docs/models/lugre_friction.md §3.2, [assumed form]).
 
     Integrates to 1 over ``u in [0, 1]``; ``f_n(zeta) = F_n/L * parabolic_density(zeta/L)``.
     """
@@ -320,7 +320,7 @@ def mu_ss_density(vr, romega, p: LuGreParams, density, theta=1.0, nodes: int = 1
 
     ``mu = sgn(vr) theta g [1 - int_0^1 w(u) e^{-x u} du] + sigma2 vr`` where ``w`` is the load
     density per unit ``u = zeta/L`` normalised to unit mass (``f_n = F_n w / L``) and
-    ``z_ss(zeta) = sgn(vr) theta g (1 - e^{-zeta/Z}) / sigma0`` (docs/models/lugre.md §3.3).
+    ``z_ss(zeta) = sgn(vr) theta g (1 - e^{-zeta/Z}) / sigma0`` (docs/models/lugre_friction.md §3.3).
 
     Parameters
     ----------
@@ -366,7 +366,7 @@ def density_shape_slope(x, density, nodes: int = 12):
 
 
 def mu_ss_lumped(vr, romega, p: LuGreParams, kappa0=None, theta=1.0):
-    """Averaged lumped steady state (FM eqs. (8)-(9) with ``dz/dt = 0``) [-] (docs/models/lugre.md §4.2).
+    """Averaged lumped steady state (FM eqs. (8)-(9) with ``dz/dt = 0``) [-] (docs/models/lugre_friction.md §4.2).
 
     ``mu = sgn(vr) theta g x/(x + kappa0) + sigma2 vr`` with ``x = L/Z``. ``kappa0`` is
     a constant (``None`` takes ``p.kappa0``), ``lambda`` for an exponential load
@@ -388,7 +388,7 @@ def mu_ss_lumped(vr, romega, p: LuGreParams, kappa0=None, theta=1.0):
 
 
 def small_slip_slope(v, p: LuGreParams):
-    """Braking small-slip stiffness ``d|mu|/d|s|`` at ``s -> 0``: ``sigma0 L/2 + sigma2 v`` [-] (docs/models/lugre.md §3.3).
+    """Braking small-slip stiffness ``d|mu|/d|s|`` at ``s -> 0``: ``sigma0 L/2 + sigma2 v`` [-] (docs/models/lugre_friction.md §3.3).
 
     Independent of ``g`` and of ``theta``.
     """

@@ -1,6 +1,6 @@
 """Distributed LuGre tire (FM eqs. (1)-(2)) solved exactly along characteristics.
 
-PDE (docs/models/lugre.md §3.1), ``zeta`` from the leading edge, ``u = zeta/L``::
+PDE (docs/models/lugre_friction.md §3.1), ``zeta`` from the leading edge, ``u = zeta/L``::
 
     dz/dt + |r omega| dz/dzeta = vr - b(t) z,    b = sigma0 |vr| / (theta g(vr)),    z(0, t) = 0
 
@@ -28,7 +28,7 @@ deflection, FM eq. (7)) and one tracked point (the trailing edge): ``dzbar/dt = 
 (|r omega|/L) z(L, t)``, the lumped model (8) with the exact trailing-edge term in place of
 ``kappa |r omega| zbar``.
 
-:func:`upwind_steady_mu` is the first-order upwind discretisation of docs/models/lugre.md §3.3, kept as
+:func:`upwind_steady_mu` is the first-order upwind discretisation of docs/models/lugre_friction.md §3.3, kept as
 a reference for the convergence figures.
 """
 from __future__ import annotations
@@ -98,7 +98,7 @@ def _powers(points, orders) -> tuple:
 
 
 def patch_reduction(load: str, lam: float = 0.0, u=None, f=None) -> PatchReduction:
-    """The :class:`PatchReduction` of a normal-load density (docs/models/lugre.md §3.2).
+    """The :class:`PatchReduction` of a normal-load density (docs/models/lugre_friction.md §3.2).
 
     Parameters
     ----------
@@ -164,7 +164,7 @@ def upwind_steady_mu(vr: float, romega: float, p: LuGreParams, cells: int, theta
     Cell values ``z_j`` (cell centres are not used: the upwind value is the cell's outflow value)
     solve ``|r omega| (z_j - z_{j-1})/dzeta = vr - b z_j``, ``z_0 = 0``; the force (FM eq. (2))
     is their mean, ``mu = sigma0 mean(z) + sigma2 vr``. Converges to FM eq. (4) at first order
-    (docs/models/lugre.md §3.3).
+    (docs/models/lugre_friction.md §3.3).
     """
     b = p.sigma0 * abs(vr) / float(stribeck(vr, p, theta))
     c = abs(romega)

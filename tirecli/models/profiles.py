@@ -1,7 +1,7 @@
 """Input profiles over time: torque, brake pressure, adhesion theta, prescribed slip or speed.
 
 A profile is a vectorized function of time ``t`` [s] with a JSON ``record()`` written into every
-run's outputs (the shape of a brake release changes the results: docs/models/lugre.md §7). Kinds:
+run's outputs (the shape of a brake release changes the results: docs/models/lugre_friction.md §7). Kinds:
 
 - :class:`Constant` — one value;
 - :class:`Table` — piecewise-linear through ``(t_i, y_i)``, held constant outside (steps are two
@@ -9,7 +9,7 @@ run's outputs (the shape of a brake release changes the results: docs/models/lug
 - :class:`Transitions` — a level that changes at given times to new levels, each change a
   ``step``, a ``linear`` ramp or a ``half-cosine`` (smooth) transition over its duration:
   ``y = y_a + (y_b - y_a) S((t - t0)/d)`` with ``S(x) = (1 - cos(pi clip(x, 0, 1)))/2``
-  (docs/models/observer.md §7);
+  (docs/models/observer_model.md §7);
 - :class:`Expression` — a formula of ``t`` (numpy functions, evaluated safely: no names other
   than ``t``, ``pi``, ``e`` and the functions of :data:`EXPRESSION_FUNCTIONS`).
 
@@ -38,7 +38,7 @@ SHAPES = ("step", "linear", "half-cosine")
 
 
 def smoothstep_cos(x):
-    """Half-cosine transition ``S(x) = (1 - cos(pi clip(x, 0, 1)))/2`` [-] (docs/models/observer.md §7)."""
+    """Half-cosine transition ``S(x) = (1 - cos(pi clip(x, 0, 1)))/2`` [-] (docs/models/observer_model.md §7)."""
     return 0.5 * (1.0 - np.cos(np.pi * np.clip(x, 0.0, 1.0)))
 
 

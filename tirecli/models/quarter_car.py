@@ -1,9 +1,9 @@
 """Quarter car with the lumped LuGre tire: the plant of FM's brakings and OBS's observer.
 
 ``m dv/dt = F``, ``J domega/dt = -r F_w - sigma_w omega + u`` with ``F = mu F_n`` from the
-lumped model (FM eqs. (8)-(9); docs/models/lugre.md §7, docs/models/observer.md §1). FM's brakings use the consistent
+lumped model (FM eqs. (8)-(9); docs/models/lugre_friction.md §7, docs/models/observer_model.md §1). FM's brakings use the consistent
 form ``F_w = F``; OBS's design plant keeps ``sigma2`` in the vehicle equation only
-(``F_w = F - sigma2 vr F_n``, docs/models/observer.md §1 [reconstructed]): the switch ``sigma2_in_wheel``
+(``F_w = F - sigma2 vr F_n``, docs/models/observer_model.md §1 [reconstructed]): the switch ``sigma2_in_wheel``
 selects between the two. The right-hand side has the python-control shape ``rhs(t, x, u, p)``.
 """
 from __future__ import annotations

@@ -1,4 +1,4 @@
-"""Peaks of steady-state friction curves |mu|(|s|) at a held speed (docs/models/lugre.md §5, §9).
+"""Peaks of steady-state friction curves |mu|(|s|) at a held speed (docs/models/lugre_friction.md §5, §9).
 
 A steady-state curve of a sweep is one model variant at one held speed, one adhesion and one
 direction: braking holds the vehicle speed ``v`` (``r omega = v (1 - sigma)``), driving holds the

@@ -4,7 +4,7 @@ A :class:`FrictionVariant` names one of the paper's model choices, so sweeps, tr
 and figures refer to the same thing:
 
 - ``distributed`` with a normal-load density: ``uniform`` (FM eq. (3)), ``exponential``
-  (FM eq. (5), decay ``lam``), ``parabolic`` (docs/models/lugre.md §3.2) or ``tabulated`` samples;
+  (FM eq. (5), decay ``lam``), ``parabolic`` (docs/models/lugre_friction.md §3.2) or ``tabulated`` samples;
 - ``lumped`` (FM eqs. (8)-(9)) with ``kappa0`` a constant, ``"Z"`` for ``kappa0(Z)`` of
   FM eq. (10), or ``lam`` for an exponential load (``kappa = lam/L``).
 """

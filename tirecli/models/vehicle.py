@@ -1,4 +1,4 @@
-"""Quarter-car vehicle parameters (docs/models/lugre.md §7, docs/models/observer.md §1).
+"""Quarter-car vehicle parameters (docs/models/lugre_friction.md §7, docs/models/observer_model.md §1).
 
 The quarter-car motion ``m dv/dt = F``, ``J domega/dt = -r F - sigma_w omega + u`` is built on
 these parameters by the transient models.

@@ -1,4 +1,4 @@
-"""The distributed LuGre tire driven by prescribed kinematics, vectorised over time (docs/models/lugre.md §3.1-3.2, §8).
+"""The distributed LuGre tire driven by prescribed kinematics, vectorised over time (docs/models/lugre_friction.md §3.1-3.2, §8).
 
 Open loop (the tire alone, ``v(t)`` [m/s] and ``r omega(t)`` [m/s] given, adhesion ``theta = 1``)
 the coefficient of the PDE (FM eq. (1))::

@@ -1,4 +1,4 @@
-"""Parameter identification of the LuGre tire (FM §4.3; docs/models/lugre.md §8), no I/O.
+"""Parameter identification of the LuGre tire (FM §4.3; docs/models/lugre_friction.md §8), no I/O.
 
 Stage 1 — steady state: bounded nonlinear least squares (``scipy.optimize.least_squares``, trust
 region reflective) of the uniform-load steady state FM eq. (4) to samples ``(s_i, v_i, mu_i)``::
@@ -118,7 +118,7 @@ def _rms(resid) -> float:
 
 
 def romega_of(s, v):
-    """Wheel circumferential speed ``r omega`` [m/s] from slip ``s`` [-] and vehicle speed ``v`` [m/s] (docs/models/lugre.md §1)."""
+    """Wheel circumferential speed ``r omega`` [m/s] from slip ``s`` [-] and vehicle speed ``v`` [m/s] (docs/models/lugre_friction.md §1)."""
     s, v = np.asarray(s, dtype=float), np.asarray(v, dtype=float)
     with np.errstate(divide="ignore", invalid="ignore"):
         return np.where(s <= 0.0, v * (1.0 + s), v / (1.0 - s))

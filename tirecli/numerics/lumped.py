@@ -1,4 +1,4 @@
-"""ROS2 stepper of the quarter car with the averaged lumped LuGre tire (FM eqs. (8)-(10); docs/models/lugre.md §4, §7).
+"""ROS2 stepper of the quarter car with the averaged lumped LuGre tire (FM eqs. (8)-(10); docs/models/lugre_friction.md §4, §7).
 
 State ``y = (v [m/s], omega [rad/s], z [m])``::
 

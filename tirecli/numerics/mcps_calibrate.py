@@ -1,4 +1,4 @@
-"""Calibration of the MCPS rubber parameters to Magic Formula curves (docs/models/mcps.md §8, procedure assumed).
+"""Calibration of the MCPS rubber parameters to Magic Formula curves (docs/models/mcps_tire.md §8, procedure assumed).
 
 Three bounded least-squares fits (``scipy.optimize.least_squares``, trust-region reflective,
 residuals in N or N m, equal weights), each on an even grid that excludes zero slip:
@@ -15,7 +15,7 @@ residuals in N or N m, equal weights), each on an even grid that excludes zero s
 The report gives each group's gap before calibration (the start set), right after its own fit
 (``max_gap_stage``) and for the final set (``max_gap``: the set drawn and written).
 
-Bounds (docs/models/mcps.md §8): ``r`` in ``[1e6, 1e9]`` N/m^3 (fitted in log10), ``mu`` in ``[0.7, 1.2]``,
+Bounds (docs/models/mcps_tire.md §8): ``r`` in ``[1e6, 1e9]`` N/m^3 (fitted in log10), ``mu`` in ``[0.7, 1.2]``,
 ``alpha``, ``beta`` in ``[1.001, 5]``, ``c_Mz`` in ``[0, 5]`` [assumed]. A value within 1e-6
 (relative to the bound range) of a bound is reported *at its bound*.
 """
@@ -25,7 +25,7 @@ import math
 
 import numpy as np
 
-#: Bounds of the fitted parameters (docs/models/mcps.md §8; c_Mz's are tirecli's).
+#: Bounds of the fitted parameters (docs/models/mcps_tire.md §8; c_Mz's are tirecli's).
 BOUNDS = {
     "r_x": (1e6, 1e9), "mu_x": (0.7, 1.2), "alpha_x": (1.001, 5.0), "beta_x": (1.001, 5.0),
     "r_y": (1e6, 1e9), "mu_y": (0.7, 1.2), "alpha_y": (1.001, 5.0), "beta_y": (1.001, 5.0),
@@ -69,7 +69,7 @@ def calibrate(p, fz: float, targets: dict, grid: dict, carcass: str = "complete"
     carcass : {"complete", "rigid"}
         Model of the lateral fits.
     rounds : int
-        Largest number of alternations of the lateral fits (step 2 then 3); 1 is the sequence of docs/models/mcps.md §8.
+        Largest number of alternations of the lateral fits (step 2 then 3); 1 is the sequence of docs/models/mcps_tire.md §8.
 
     Returns
     -------

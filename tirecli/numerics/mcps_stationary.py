@@ -22,7 +22,7 @@ from scipy.optimize import root
 
 from tirecli.models.mcps import tire as T
 
-#: Convergence tolerance of the fixed point (18) on ``max |G|`` (docs/models/mcps.md §7).
+#: Convergence tolerance of the fixed point (18) on ``max |G|`` (docs/models/mcps_tire.md §7).
 TOL = 1e-10
 
 
@@ -111,7 +111,7 @@ def solve(p, fz: float, kappa, alpha, phi, carcass: str = "complete", frame_term
     carcass : {"complete", "rigid"}
         The complete model (belt fixed point, MCPS eq. 18) or the solid carcass (eq. 14).
     frame_term : bool
-        Frame-rotation term in the stationary patch (default off, docs/models/mcps.md §4; acts only with a yaw rate).
+        Frame-rotation term in the stationary patch (default off, docs/models/mcps_tire.md §4; acts only with a yaw rate).
     tol : float
         Tolerance on ``max |G|`` (scaled by ``fz``).
     locked : iterable of int

@@ -41,7 +41,7 @@ def simulate_slider(law: L.DahlLaw, ux, uy, psi, frame_term: bool = False):
     psi : array_like, shape (..., n)
         Slider rotation at the samples [rad].
     frame_term : bool
-        Rotate the force states with the slider (docs/models/mcps.md §4; off for Fig. 3).
+        Rotate the force states with the slider (docs/models/mcps_tire.md §4; off for Fig. 3).
 
     Returns
     -------
@@ -116,7 +116,7 @@ def integrate_slider_in_time(law: L.DahlLaw, amplitude: float, rotation: float, 
 
 
 def triangle_yaw(amplitude: float, rate: float, cycles: int, samples_per_leg: int):
-    """Time grid and yaw angle of the standstill cycle 0 -> +A -> -A -> +A ... (docs/models/mcps.md §11).
+    """Time grid and yaw angle of the standstill cycle 0 -> +A -> -A -> +A ... (docs/models/mcps_tire.md §11).
 
     ``cycles`` full cycles after the first quarter: legs ``0 -> A`` then ``2 cycles`` legs of
     ``2A``; every reversal lies on the grid. Returns ``(t [s], psi [rad], leg index)``.
@@ -199,7 +199,7 @@ def asymptotic_standstill_torque(law: L.DahlLaw, l: float, c_Mz: float, frame_te
     Without the frame term each slider slides at the Coulomb level: MCPS eq. (12),
     ``(mu_y Fz/4)(c_muz w + c_Mz l)``. With it the force states lag the turning frame and settle
     at ``F* = A^-1 b`` of the exact step (per unit yaw: ``p = n g_x``, ``q = n g_y``, ``w = 1``,
-    ``n = F'_ky |xi|``, ``b = (0, h_y xi)``), above Coulomb near the centre (docs/models/mcps.md §3.2). The
+    ``n = F'_ky |xi|``, ``b = (0, h_y xi)``), above Coulomb near the centre (docs/models/mcps_tire.md §3.2). The
     integrand is a smooth rational function of ``xi`` on each half patch: Gauss-Legendre with
     ``nodes`` points integrates it to rounding (checked against adaptive quadrature in the tests).
     """
@@ -344,7 +344,7 @@ def simulate_rolling(p, fz: float, Vx: float, Vy: float, romega: float, yaw: flo
     locked : iterable of int
         Belt DOFs held at zero (0: x, 1: y, 2: delta), e.g. ``(2,)`` for a locked twist.
     frame_term : bool
-        Rotate the element states with the belt (``Omega_s = yaw + delta_dot``; docs/models/mcps.md §4 default on).
+        Rotate the element states with the belt (``Omega_s = yaw + delta_dot``; docs/models/mcps_tire.md §4 default on).
     passes : int or None
         Element updates per step for the belt coupling after the predictor (default: 1 when the belt's
         fastest mode is well resolved, ``omega dt < 0.1``, else 2).
@@ -451,7 +451,7 @@ def simulate_rolling(p, fz: float, Vx: float, Vy: float, romega: float, yaw: flo
 
 
 def rigid_relaxation_exact(p, fz: float, alpha: float, s):
-    """Exact ``Fy, Mz`` of the solid carcass after a slip-angle step (characteristics, docs/models/mcps.md §7):
+    """Exact ``Fy, Mz`` of the solid carcass after a slip-angle step (characteristics, docs/models/mcps_tire.md §7):
     after rolling ``s`` [m] the element at distance ``d`` holds the stationary state at ``min(d, s)``.
 
     Per component ``F(d) = tau (1 - e^{-c d})``; the patch integrals split at ``d = s``. Returns

@@ -5,7 +5,7 @@
 breakpoint and sample) or ``auto`` (:func:`choose_method`: LSODA for the ideal measurement, the
 fixed scheme for a sampled one when ``lambda_f``, ``h rho_slow`` and ``h rho_block`` allow it).
 
-The coupled system (docs/models/observer.md §1-§3) is stiff twice over: the plant's wheel/bristle modes reach
+The coupled system (docs/models/observer_model.md §1-§3) is stiff twice over: the plant's wheel/bristle modes reach
 -2.5e3 1/s and the observer's output-error mode ``lambda_f = C K_eff`` is about -3.9e6 1/s for the
 OBS gains. :func:`simulate_fast` exploits the structure:
 
@@ -28,7 +28,7 @@ OBS gains. :func:`simulate_fast` exploits the structure:
 
 :func:`simulate_adaptive` integrates the full 7-state system (plant ``(v, omega, z)``, observer
 OBS (14); :func:`scalar_rhs`) with ``scipy.integrate.solve_ivp``; :func:`simulate_reference` is it
-with the reference Radau settings of docs/models/observer.md §7. :func:`full_rhs` is the same system built from
+with the reference Radau settings of docs/models/observer_model.md §7. :func:`full_rhs` is the same system built from
 :func:`tirecli.models.quarter_car.rhs` (the straightforward form the benchmark once timed).
 """
 from __future__ import annotations
@@ -515,9 +515,9 @@ def full_rhs(plant: ObserverPlant, gains: ObserverGains, scenario: Scenario):
 def simulate_reference(plant: ObserverPlant, gains: ObserverGains, scenario: Scenario, sensor: Sensor | None = None,
                        rtol: float = 1e-8, atol=None, max_step: float | None = 5e-3, output_dt: float = 1e-3,
                        method: str = "radau") -> Trajectory:
-    """Radau on the full system, split at breakpoints and samples (rtol 1e-8, max step 5 ms: docs/models/observer.md §7).
+    """Radau on the full system, split at breakpoints and samples (rtol 1e-8, max step 5 ms: docs/models/observer_model.md §7).
 
-    :func:`simulate_adaptive` with the reference settings of docs/models/observer.md §7.
+    :func:`simulate_adaptive` with the reference settings of docs/models/observer_model.md §7.
     """
     return simulate_adaptive(plant, gains, scenario, sensor, method=method, rtol=rtol, atol=atol, h_max=max_step,
                              output_dt=output_dt)
@@ -548,7 +548,7 @@ def scalar_rhs(plant: ObserverPlant, gains: ObserverGains, scenario: Scenario):
     ``z' = vr - theta_obs sigma0 |vr|/g(vr) z - kappa r |omega| z``, ``F = F_n (sigma0 z + sigma1 z' + sigma2 vr)``,
     ``m v' = F``, ``J omega' = -r (F - F_n sigma2 vr) - sigma_w omega + u``;
 
-    observer, OBS (14) in explicit form (docs/models/observer.md §3), ``y~ = y - (chi_hat - P z_hat)/J``; the
+    observer, OBS (14) in explicit form (docs/models/observer_model.md §3), ``y~ = y - (chi_hat - P z_hat)/J``; the
     wheel angle ``angle' = omega`` [rad] is an eighth state when ``X`` has one (encoder models).
     """
     tire, car, g = plant.tire, plant.car, gains
@@ -735,7 +735,7 @@ class SolverOptions:
 def slow_rate(plant: ObserverPlant, gains: ObserverGains, theta_hat: float = 1.0) -> float:
     """Rate ``rho_slow = c_eta + k1 P/(r m J lambda_f)`` [1/s] of the speed-error mode on the slow manifold.
 
-    The singular-perturbation form of the slow pole of docs/models/observer.md §6 (``k1/(r m |k3|)`` for
+    The singular-perturbation form of the slow pole of docs/models/observer_model.md §6 (``k1/(r m |k3|)`` for
     ``alpha = 0``): 0.0294 1/s for the OBS gains, 11.4 1/s for ``k1 = 1e6``.
     """
     lam = float(plant.fast_rate(gains, theta_hat))

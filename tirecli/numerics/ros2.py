@@ -16,7 +16,7 @@ solution ``y + h k1`` gives the error estimate ``h (k1 + k2)/2``; steps adapt to
 ``tol`` in physical units (m/s for speeds, friction coefficient for bristle states) and end
 exactly on the inputs' breakpoints (kinks of ramps, steps), so no step straddles a kink.
 
-Modes of the wheel (docs/models/lugre.md §7): *free* (quarter car), *locked* (``omega = 0`` held while the
+Modes of the wheel (docs/models/lugre_friction.md §7): *free* (quarter car), *locked* (``omega = 0`` held while the
 brake torque can balance the tire torque ``|r F| <= T_b``; brake torque never drives the wheel
 backwards) and *prescribed* (open loop: ``v(t)``, ``omega(t)`` given, only the tire states
 integrate). **Stop condition:** a run ends at ``t_end``, or when the vehicle speed falls to
@@ -474,7 +474,7 @@ def integrate(stepper, y0, t0: float, t_end: float, breakpoints=(), tol: float =
         if at_bp:  # the slope this step ends with: the inputs' left limits at the breakpoint
             f_left = stepper.rhs_at(t + hh, y_new, step_mode, True)
         if mode == FREE and y_new[1] < 0.0:
-            # the wheel would turn backwards: lock where omega reaches 0 (docs/models/lugre.md §7)
+            # the wheel would turn backwards: lock where omega reaches 0 (docs/models/lugre_friction.md §7)
             hs, ys = _event_step(attempt, E, t, hh, lambda tt, yy: yy[1], y[1], y_new[1], at_bp)
             if hs <= 1e-12:
                 # omega is already 0 at this step's start: lock here (record this time again, locked)

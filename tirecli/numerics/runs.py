@@ -66,7 +66,7 @@ def _initial_state(variant, stepper, v0, omega0):
 def quarter_car(variant: FrictionVariant, p: LuGreParams, car: QuarterCarParams, torque, theta,
                 v0: float, omega0: float, t_end: float, options: SolverOptions = SolverOptions(),
                 sample_times=()) -> Trajectory:
-    """Quarter-car run (docs/models/lugre.md §7) from ``z = 0`` at ``(v0 [m/s], omega0 [rad/s])`` to ``t_end`` [s].
+    """Quarter-car run (docs/models/lugre_friction.md §7) from ``z = 0`` at ``(v0 [m/s], omega0 [rad/s])`` to ``t_end`` [s].
 
     ``torque`` and ``theta`` are profiles (:mod:`tirecli.models.profiles`): the signed wheel
     torque ``u`` [N m] (its braking part cannot reverse the wheel) and the adhesion (FM

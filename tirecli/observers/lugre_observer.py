@@ -1,11 +1,11 @@
 """The nonlinear road-adhesion / vehicle-speed observer of OBS on the lumped LuGre quarter car.
 
-Pure, vectorized model code (no I/O, no plotting), restating ``docs/models/observer.md``:
+Pure, vectorized model code (no I/O, no plotting), restating ``docs/models/observer_model.md``:
 
 - the design plant in OBS coordinates ``x = (eta, chi, z)`` (OBS (19)-(22)), with ``theta`` in the
   OBS convention (``theta_obs`` multiplies ``sigma0 |vr| / g``; ``theta_obs = 1/theta_fm``,
   :mod:`tirecli.conventions`) and ``sigma2`` in the vehicle equation only (OBS (3)-(4));
-- the observer of Theorem 1 in explicit form (docs/models/observer.md §3): output injection
+- the observer of Theorem 1 in explicit form (docs/models/observer_model.md §3): output injection
   ``K = (k1, k2, k3)``, adaptation gain ``gamma``, nonlinear injection gain ``alpha``;
 - the design checks: observability (§4), the transfer function ``G(s) = C (sI - A + KC)^-1 B``
   and its SPR conditions (§6), the error-dynamics poles, the Lipschitz sizes (§5) and the
@@ -34,7 +34,7 @@ class ObserverGains:
     k1, k2 : float
         Output injection on ``eta`` and ``chi`` [kg m^2/s].
     k3 : float
-        Output injection on ``z`` [m] (negative for passivity, docs/models/observer.md §6).
+        Output injection on ``z`` [m] (negative for passivity, docs/models/observer_model.md §6).
     gamma : float
         Adaptation gain of ``theta_hat`` [s/m].
     alpha : float
@@ -85,7 +85,7 @@ class ObserverPlant:
 
     @property
     def E(self) -> np.ndarray:
-        """Output coefficient ``E`` of OBS (6) (docs/models/observer.md §3)."""
+        """Output coefficient ``E`` of OBS (6) (docs/models/observer_model.md §3)."""
         t, c = self.tire, self.car
         q = 1.0 + c.J / (c.m * c.r ** 2)
         return np.array([c.F_n * t.sigma2 * c.r ** 2 * q - t.sigma_w, -t.sigma_w, c.r * q])
@@ -101,7 +101,7 @@ class ObserverPlant:
         return self.car.r * self.car.F_n * self.tire.sigma0
 
     def matrices(self):
-        """``(A, B, R, E, C)`` of OBS (6) for the lumped LuGre plant (docs/models/observer.md §3)."""
+        """``(A, B, R, E, C)`` of OBS (6) for the lumped LuGre plant (docs/models/observer_model.md §3)."""
         c = self.car
         A = np.array([[-self.c_eta, 0.0, 0.0],
                       [0.0, 0.0, -self.Q],
@@ -126,7 +126,7 @@ class ObserverPlant:
         return (eta - c.J * omega) / (c.r * c.m), omega, z
 
     def speed_from_eta(self, eta, y):
-        """Vehicle speed ``v = (eta - J y)/(r m)`` [m/s] from ``eta`` and the wheel speed ``y`` (docs/models/observer.md §3)."""
+        """Vehicle speed ``v = (eta - J y)/(r m)`` [m/s] from ``eta`` and the wheel speed ``y`` (docs/models/observer_model.md §3)."""
         c = self.car
         return (np.asarray(eta, dtype=float) - c.J * np.asarray(y, dtype=float)) / (c.r * c.m)
 
@@ -158,7 +158,7 @@ class ObserverPlant:
                 + R.reshape(3, *([1] * (x.ndim - 1))) * u + E.reshape(3, *([1] * (x.ndim - 1))) * y)
 
     def observer_rhs(self, xhat, theta_hat, y, u, gains: ObserverGains):
-        """The observer of Theorem 1 in explicit form (docs/models/observer.md §3, OBS (14)).
+        """The observer of Theorem 1 in explicit form (docs/models/observer_model.md §3, OBS (14)).
 
         Parameters
         ----------
@@ -209,7 +209,7 @@ def plant_from(tire: LuGreParams, car: QuarterCarParams) -> ObserverPlant:
 
 
 def observability(plant: ObserverPlant) -> dict:
-    """Observability of ``(A, C)`` (docs/models/observer.md §4).
+    """Observability of ``(A, C)`` (docs/models/observer_model.md §4).
 
     Returns ``matrix`` O = (C; CA; CA^2), ``det`` and its closed form
     ``r F_n^2 sigma0 (F_n sigma1 sigma2 - m sigma0) / (J^3 m^2)``, the ``factor``
@@ -239,13 +239,13 @@ def error_matrix(plant: ObserverPlant, gains: ObserverGains) -> np.ndarray:
 
 
 def error_poles(plant: ObserverPlant, gains: ObserverGains) -> np.ndarray:
-    """Eigenvalues of ``A - K C`` [1/s], sorted from the fastest (docs/models/observer.md §6)."""
+    """Eigenvalues of ``A - K C`` [1/s], sorted from the fastest (docs/models/observer_model.md §6)."""
     ev = np.linalg.eigvals(error_matrix(plant, gains))
     return ev[np.argsort(ev.real)]
 
 
 def slow_pole_estimate(plant: ObserverPlant, gains: ObserverGains) -> float:
-    """Singular-perturbation estimate of the slow speed-error pole [1/s] (docs/models/observer.md §6).
+    """Singular-perturbation estimate of the slow speed-error pole [1/s] (docs/models/observer_model.md §6).
 
     ``-(F_n sigma2/m + k1/(r m |k3|))`` (= -0.0294 1/s for the OBS gains: time constant 34 s).
     """
@@ -254,10 +254,10 @@ def slow_pole_estimate(plant: ObserverPlant, gains: ObserverGains) -> float:
 
 
 def transfer_function(plant: ObserverPlant, gains: ObserverGains) -> dict:
-    """``G(s) = C (sI - A + KC)^-1 B = k_c (s^2 + a1 s + a0)/(s^3 + b2 s^2 + b1 s + b0)`` (docs/models/observer.md §6).
+    """``G(s) = C (sI - A + KC)^-1 B = k_c (s^2 + a1 s + a0)/(s^3 + b2 s^2 + b1 s + b0)`` (docs/models/observer_model.md §6).
 
     Computed for any ``K`` from ``det(sI - M + B C) - det(sI - M)`` (``M = A - KC``); for ``k2 = 0``
-    the coefficients equal the closed forms of docs/models/observer.md §6. Also returns the zeros, the poles and
+    the coefficients equal the closed forms of docs/models/observer_model.md §6. Also returns the zeros, the poles and
     the coefficients ``(c0, c1, c2)`` of ``Re G(jw) |D(jw)|^2 / k_c = c0 + c1 w^2 + c2 w^4``.
     """
     _, B, _, _, C = plant.matrices()
@@ -292,7 +292,7 @@ class Condition:
 
 
 def design_conditions(plant: ObserverPlant, gains: ObserverGains) -> list[Condition]:
-    """Observability, gain-sign and SPR conditions of OBS §IV (docs/models/observer.md §4, §6).
+    """Observability, gain-sign and SPR conditions of OBS §IV (docs/models/observer_model.md §4, §6).
 
     Each :class:`Condition` failing is a warning: the theorem's guarantees do not hold (the
     observer may still work in simulation, as OBS's alpha = 20 does for (17)).
@@ -306,15 +306,15 @@ def design_conditions(plant: ObserverPlant, gains: ObserverGains) -> list[Condit
     coeffs = [tf["a1"], tf["a0"], tf["b2"], tf["b1"], tf["b0"]]
     return [
         Condition("observability", obs["rank"] == 3, obs["det"], "rank (C; CA; CA^2) = 3, i.e. F_n sigma1 sigma2 != m sigma0",
-                  "(A, C) observable (A1, docs/models/observer.md §4)"),
-        Condition("k1-positive", g.k1 > 0, g.k1, "k1 > 0", "OBS §IV-h gain sign (docs/models/observer.md §6)"),
+                  "(A, C) observable (A1, docs/models/observer_model.md §4)"),
+        Condition("k1-positive", g.k1 > 0, g.k1, "k1 > 0", "OBS §IV-h gain sign (docs/models/observer_model.md §6)"),
         Condition("k3-negative", g.k3 < -k3_min, g.k3, f"k3 < -J sigma0/(r F_n sigma1^2) = {-k3_min:.4g} m",
-                  "b2 > a1: the w^4 coefficient of Re G is positive (docs/models/observer.md §6)"),
+                  "b2 > a1: the w^4 coefficient of Re G is positive (docs/models/observer_model.md §6)"),
         Condition("hurwitz", bool(np.all(poles.real < 0)), float(np.max(poles.real)), "all eig(A - K C) < 0",
                   "A - K C Hurwitz (A3)"),
         Condition("hf-gain", tf["k_c"] > 0, tf["k_c"], "k_c = r F_n sigma1/J > 0", "relative degree 1, positive high-frequency gain"),
         Condition("coefficients", bool(min(coeffs) > 0), float(min(coeffs)), "a1, a0, b2, b1, b0 > 0",
-                  "sufficient SPR condition (docs/models/observer.md §6)"),
+                  "sufficient SPR condition (docs/models/observer_model.md §6)"),
         Condition("spr", bool(c0 > 0 and c1 >= 0 and c2 > 0), float(min(c0, c1, c2)),
                   "Re G(jw) |D|^2/k_c = c0 + c1 w^2 + c2 w^4 with c0, c2 > 0, c1 >= 0",
                   "G(s) strictly positive real: P(A-KC) + (A-KC)'P = -Q, PB = C' (A3)"),
@@ -324,7 +324,7 @@ def design_conditions(plant: ObserverPlant, gains: ObserverGains) -> list[Condit
 
 
 def lipschitz_sizes(plant: ObserverPlant, vr_max: float, omega_max: float, z_max: float) -> dict:
-    """Lipschitz constants of ``phi`` and ``psi`` on a trajectory's range (docs/models/observer.md §5).
+    """Lipschitz constants of ``phi`` and ``psi`` on a trajectory's range (docs/models/observer_model.md §5).
 
     ``L_psi = kappa r |omega|_max``; ``L_phi = k_z + k_eta`` with ``k_z = sigma0 |vr|_max/mu_c`` and
     ``k_eta = |z|_max/(r m) (sigma0/mu_c + sigma0 |vr|_max (mu_s - mu_c)/(v_s mu_c^2))`` (``alpha = 1``).
@@ -343,11 +343,11 @@ def alpha_bound(lambda_min_q: float, theta_max: float, L_phi: float, L_psi: floa
 
 @lru_cache(maxsize=32)
 def passivity_margin(plant: ObserverPlant, gains: ObserverGains) -> dict:
-    """Best ``lambda_min(Q)`` found over ``P = P' > 0`` with ``P B = C'`` (A3; docs/models/observer.md §6).
+    """Best ``lambda_min(Q)`` found over ``P = P' > 0`` with ``P B = C'`` (A3; docs/models/observer_model.md §6).
 
     ``P B = C'`` fixes the third column of ``P`` to ``(0, -1/J, r F_n sigma1/J)``; the free entries
     ``p11, p12, p22`` are searched (Nelder-Mead, :func:`_nelder_mead`, from a few starts) to
-    maximise ``lambda_min(Q)``, ``Q = -(P (A-KC) + (A-KC)' P)``. docs/models/observer.md §6 quotes about 1.1e-6 for
+    maximise ``lambda_min(Q)``, ``Q = -(P (A-KC) + (A-KC)' P)``. docs/models/observer_model.md §6 quotes about 1.1e-6 for
     the OBS gains, which makes the sufficient bound (17) on ``alpha`` astronomically large.
     Returns ``lambda_min_q`` (0 when no admissible ``P`` was found) and ``P`` (cached per
     plant and gains; do not modify the result).
@@ -417,7 +417,7 @@ def linearized_error_matrix(plant: ObserverPlant, gains: ObserverGains, theta_ob
     ``A - K_eff C - e3 e3' (theta a_phi + kappa r |y|) - e3 e1' theta z d a_phi/d eta`` at the
     operating point ``(y [rad/s], v [m/s], z [m])``; ``K_eff = (k1, k2, k3 - alpha (1 + theta))``.
     Its slowest eigenvalue is the speed-error mode along a trajectory (a few % off the
-    ``A - K C`` value of docs/models/observer.md §6, which leaves out the friction terms).
+    ``A - K C`` value of docs/models/observer_model.md §6, which leaves out the friction terms).
     """
     t, c = plant.tire, plant.car
     A, _, _, _, C = plant.matrices()

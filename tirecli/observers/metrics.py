@@ -1,4 +1,4 @@
-"""Metrics of an observer run (docs/models/observer.md §7-§8): tracking error per phase, settling, excitation.
+"""Metrics of an observer run (docs/models/observer_model.md §7-§8): tracking error per phase, settling, excitation.
 
 Pure functions of arrays; times in s, speeds in m/s, adhesion in the OBS convention.
 """

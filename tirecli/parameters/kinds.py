@@ -130,7 +130,7 @@ OBSERVER = register_kind(Kind(
 
 def _mf_fields() -> dict:
     """One optional number per numeric key of the ``.tir`` catalogue (units from the file's
-    dimension; an absent key stays absent, the Magic Formula layer applies tirecli's defaults, docs/models/magic_formula.md §12.5 item 9)."""
+    dimension; an absent key stays absent, the Magic Formula layer applies tirecli's defaults, docs/models/magic_formula_tyre.md §12.5 item 9)."""
     from tirecli.parameters.mf_catalogue import CATALOGUE
 
     positive = {"FNOMIN", "UNLOADED_RADIUS", "LONGVL", "NOMPRES", "INFLPRES"}

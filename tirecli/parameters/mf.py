@@ -1,12 +1,12 @@
 """Magic Formula parameter sets: from ``.tir`` files (or their YAML form) to checked, SI tyres.
 
 :func:`tire_data` turns a :class:`~tirecli.io.tir.TirDocument` into the evaluator's flat view
-(docs/models/magic_formula.md §12.5 item 3) and checks it:
+(docs/models/magic_formula_tyre.md §12.5 item 3) and checks it:
 
 - ``[UNITS]`` other than SI are converted to SI for every dimensional key of the catalogue
   (lengths, loads, stiffnesses, speeds, pressures, masses, times; §12.5 item 8). A non-radian
   ``ANGLE`` is refused for MF files, because the coefficients that multiply angles would need
-  converting too (docs/models/magic_formula.md §12.5 item 8); PAC89 files are in degrees by definition.
+  converting too (docs/models/magic_formula_tyre.md §12.5 item 8); PAC89 files are in degrees by definition.
 - The version comes from ``FITTYP``, else ``PROPERTY_FILE_FORMAT``, else the keys present
   (§12.3).
 - Required coefficients (§12.5 item 9: ``FNOMIN, UNLOADED_RADIUS, PCX1, PDX1, PKX1, PCY1,
@@ -37,7 +37,7 @@ from tirecli.parameters.mf_catalogue import CATALOGUE, NON_MF_SECTIONS
 #: Built-in tyres (package data ``tirecli/parameters/data/NAME.tir``): origin and licence of each.
 BUILTIN_TIRES = {
     "pacejka2006-205-60r15": {
-        "title": "Pacejka (2006) Table A3.1 205/60R15 91V, 2.2 bar, MF 6.1 (the golden-data tyre of docs/models/magic_formula.md §15.3)",
+        "title": "Pacejka (2006) Table A3.1 205/60R15 91V, 2.2 bar, MF 6.1 (the golden-data tyre of docs/models/magic_formula_tyre.md §15.3)",
         "citation": "H. B. Pacejka, Tyre and Vehicle Dynamics, 2nd ed., Butterworth-Heinemann, 2006, Table A3.1, "
                     "as transcribed by KMoula30/outlap (data/tires/pacejka_2006_205_60r15/car.tyr.yaml); "
                     "data CC-BY-SA-4.0",
@@ -308,7 +308,7 @@ def tire_data(doc: tirio.TirDocument) -> TireData:
         e = doc.entry("UNITS", "ANGLE")
         problems.append(doc.problem(e.line, "ANGLE", f"ANGLE = {token(ang)}: MF coefficients are read in radians only; "
                                                      "the coefficients that multiply angles (PKY*, PHY*, QHZ*, RBY3, ...) "
-                                                     "would need converting too (docs/models/magic_formula.md §12.5 item 8)"))
+                                                     "would need converting too (docs/models/magic_formula_tyre.md §12.5 item 8)"))
     coef, missing, defaulted = complete_coefficients(flat, version, turn_slip=False)
     if doc.ends_mid_line and missing:
         # a file cut short: one line saying so (the coefficients after the cut are all missing)
@@ -347,12 +347,12 @@ def tire_data(doc: tirio.TirDocument) -> TireData:
     if problems:
         raise ConfigError(problems)
     for k in defaulted:
-        source[k] = f"default {coef[k]:g} (not in the file; docs/models/magic_formula.md §12.5 item 9)"
+        source[k] = f"default {coef[k]:g} (not in the file; docs/models/magic_formula_tyre.md §12.5 item 9)"
     if defaulted:
         shown = ", ".join(defaulted[:12]) + (f" and {len(defaulted) - 12} more" if len(defaulted) > 12 else "")
         warnings.append(Problem(doc.file, None, "", f"{len(defaulted)} model coefficient(s) not in the file take "
                                                     f"tirecli's default (L* = 1, PKY4 = 2, else 0; "
-                                                    f"docs/models/magic_formula.md §12.5 item 9): {shown}"))
+                                                    f"docs/models/magic_formula_tyre.md §12.5 item 9): {shown}"))
     side = normalise_side(text.get("TYRESIDE"))
     return TireData(doc=doc, values=coef, version=version, version_source=how, side=side, source=source,
                     defaulted=defaulted, units=units, factors=factors, warnings=warnings, text=text)
@@ -458,7 +458,7 @@ def tire_set(td: TireData, name: str, title: str = "", citation: str = ""):
     """
     from tirecli.parameters.sets import ParameterSet
 
-    assumed = {k: f"not in the file; tirecli's default {td.values[k]:g} (docs/models/magic_formula.md §12.5 item 9)"
+    assumed = {k: f"not in the file; tirecli's default {td.values[k]:g} (docs/models/magic_formula_tyre.md §12.5 item 9)"
                for k in td.defaulted}
     extra = {
         "version": td.version, "version_source": td.version_source, "side": td.side,
@@ -522,7 +522,7 @@ def resolve_tire(raw, origins, path: tuple, base_dir: Path | None):
         coef, missing, defaulted = complete_coefficients(ps.values, version, turn_slip=False)
         problems += [origins.problem(path, f"missing required coefficient {k!r} ({CATALOGUE[k].meaning})")
                      for k in missing]
-        ps.assumed = {k: f"not given; tirecli's default {coef[k]:g} (docs/models/magic_formula.md §12.5 item 9)"
+        ps.assumed = {k: f"not given; tirecli's default {coef[k]:g} (docs/models/magic_formula_tyre.md §12.5 item 9)"
                       for k in defaulted}
         ps.values = coef
         ps.extra = {"version": version, "version_source": how, "side": "unknown", "file": "inline"}

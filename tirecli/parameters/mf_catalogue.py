@@ -1,7 +1,7 @@
 """Catalogue of ``.tir`` keys: expected section, dimension (for unit conversion) and meaning.
 
 The one place where the Magic Formula parameter names, units and meanings are written down
-(docs/models/magic_formula.md §4-§9, §12.2, §13.2). Dimensions: ``-`` none, ``L`` length, ``F`` force,
+(docs/models/magic_formula_tyre.md §4-§9, §12.2, §13.2). Dimensions: ``-`` none, ``L`` length, ``F`` force,
 ``M`` mass, ``T`` time, ``P`` pressure, ``A`` angle (radians only, see
 :mod:`tirecli.parameters.mf`), combinations such as ``F/L``; ``str`` marks text values;
 ``pac89`` marks coefficients in the PAC89 form's own units (kN, %, deg; never converted).
@@ -393,7 +393,7 @@ def _build() -> tuple[dict, dict]:
 #: ``SECTION_KEYS``: ``(section, key)`` -> :class:`KeyInfo`.
 CATALOGUE, SECTION_KEYS = _build()
 
-#: Section names in the order a ``.tir`` file lists them (docs/models/magic_formula.md §12).
+#: Section names in the order a ``.tir`` file lists them (docs/models/magic_formula_tyre.md §12).
 SECTION_ORDER = tuple(dict.fromkeys(info.section for info in SECTION_KEYS.values()))
 
 #: Sections whose keys are not Magic Formula parameters (units, header, vendor-specific data).

@@ -22,7 +22,7 @@ from markupsafe import Markup
 from tirecli.io import output
 
 #: Paper of a figure (registry ``paper``) -> model page under docs/models/.
-PAPER_DOC = {"FM": "lugre", "OBS": "observer", "MF": "magic_formula", "MCPS": "mcps"}
+PAPER_DOC = {"FM": "lugre_friction", "OBS": "observer_model", "MF": "magic_formula_tyre", "MCPS": "mcps_tire"}
 
 _REF = re.compile(r"docs/models/(\w+)\.md(?: (§\d+(?:\.\d+)?))?")
 _LINK = re.compile(r'href="([^"#:]+)\.md(#[^"]*)?"')
@@ -83,7 +83,7 @@ h2 {{ border-bottom: 1px solid #ccc; padding-bottom: .15em; margin-top: 1.6em; }
 def write_docs(out: Path, version: str) -> dict[str, str]:
     """Render every page into ``out/docs/`` (same layout as the repository's ``docs/``).
 
-    Returns ``{"models/lugre": "docs/models/lugre.html", ...}`` (paths relative to ``out``); empty
+    Returns ``{"models/lugre_friction": "docs/models/lugre_friction.html", ...}`` (paths relative to ``out``); empty
     when the documentation is not installed (the cards then name the page without a link).
     """
     src = source_dir()
@@ -122,7 +122,7 @@ def write_docs(out: Path, version: str) -> dict[str, str]:
 
 
 def card_doc(paper: str, written: dict[str, str]) -> dict | None:
-    """The model page of a card: ``{"name": "docs/models/lugre.md", "href": ... or None}``."""
+    """The model page of a card: ``{"name": "docs/models/lugre_friction.md", "href": ... or None}``."""
     page = PAPER_DOC.get(paper)
     if page is None:
         return None

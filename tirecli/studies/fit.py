@@ -1,4 +1,4 @@
-"""Identification of the LuGre parameters from braking data (FM §4.3; docs/models/lugre.md §8).
+"""Identification of the LuGre parameters from braking data (FM §4.3; docs/models/lugre_friction.md §8).
 
 Config (``tirecli fit CONFIG``)::
 

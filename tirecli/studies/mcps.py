@@ -5,7 +5,7 @@ CONFIG`` runs the time-domain studies ``mcps-slider`` (Fig. 3), ``mcps-standstil
 ``mcps-relaxation`` (force build-up after a slip-angle step). Models: :mod:`tirecli.models.mcps`;
 solvers: :mod:`tirecli.numerics.mcps_stationary`, :mod:`tirecli.numerics.mcps_transient`,
 :mod:`tirecli.numerics.mcps_calibrate`. Axes ISO-W, road on tire, SI (rad, not degrees, in configs
-and CSVs; figures draw degrees). Users' guide: ``docs/models/mcps.md``.
+and CSVs; figures draw degrees). Users' guide: ``docs/models/mcps_tire.md``.
 
 ``mcps-stationary``::
 
@@ -80,7 +80,7 @@ def tire_set(config: Config):
 
 
 def reference_tire(ps) -> bool:
-    """Whether the set is the unmodified default (the reference values of docs/models/mcps.md apply)."""
+    """Whether the set is the unmodified default (the reference values of docs/models/mcps_tire.md apply)."""
     return ps.name == DEFAULT_TIRE and not ps.overridden
 
 
@@ -95,7 +95,7 @@ class MFSide:
     ----------
     kind : str
         ``tir`` (a real tyre through the project's evaluator), ``simple`` (fixed-coefficient basic
-        curve, docs/models/mcps.md §8) or ``none``.
+        curve, docs/models/mcps_tire.md §8) or ``none``.
     name : str
         Set name (``externdata-205-60r15``, a file stem, ``mcps-simple-mf``).
     ps : ParameterSet or None
@@ -322,7 +322,7 @@ def calibrated_set(ps, p_cal, report: dict, mf: MFSide, fz: float):
     name = f"{ps.name}-calibrated"
     doc = {"name": name, "kind": "mcps",
            "title": f"{ps.title} -- rubber parameters calibrated to {mf.label} at {fz:g} N",
-           "citation": f"{ps.citation} Calibrated by tirecli compare (least squares, docs/models/mcps.md §8).",
+           "citation": f"{ps.citation} Calibrated by tirecli compare (least squares, docs/models/mcps_tire.md §8).",
            "values": doc_values}
     out = ParameterSet(name=name, kind="mcps", values=values,
                        source={k: ("tirecli compare (calibrated)" if k in fitted else ps.source.get(k, "")) for k in values},
@@ -464,7 +464,7 @@ SLIDER = Map(fields=common_fields() | {
     "compare_period": Nullable(spec=Num(unit="s", gt=0, le=1e6), default=0.5,
                                doc="period of a second run, integrated in time, showing rate independence (null: none)"),
     "samples": Num(unit="-", integer=True, ge=16, le=100_000, default=400, doc="samples per period (rounded to a multiple of 4)"),
-    "frame_term": Bool(default=False, doc="rotate the force states with the slider (docs/models/mcps.md §4: off for Fig. 3)"),
+    "frame_term": Bool(default=False, doc="rotate the force states with the slider (docs/models/mcps_tire.md §4: off for Fig. 3)"),
 })
 
 
@@ -496,7 +496,7 @@ def _refine_peak(x, y, i):
 
 @register_study("mcps-slider", check=plan_slider)
 def run_slider(config: Config, progress=None) -> StudyResult:
-    """One rubber slider under sinusoidal translation and rotation (MCPS Fig. 3; docs/models/mcps.md §4)."""
+    """One rubber slider under sinusoidal translation and rotation (MCPS Fig. 3; docs/models/mcps_tire.md §4)."""
     from tirecli.numerics.mcps_transient import integrate_slider_in_time, simulate_slider
 
     checked, ps, p = plan_slider(config)
@@ -584,7 +584,7 @@ STANDSTILL = Map(fields=common_fields() | {
     "amplitude": Num(unit="rad", gt=0, le=6.3, default=0.45, doc="yaw amplitude A of the cycle 0 -> A -> -A -> A"),
     "yaw_rate": Num(unit="rad/s", gt=0, le=1e4, default=1.0, doc="|yaw rate| (the response does not depend on it)"),
     "cycles": Num(unit="-", integer=True, ge=1, le=20, default=2, doc="full yaw cycles after the first quarter"),
-    "frame_term": Bool(default=True, doc="rotate the slider states with the wheel (docs/models/mcps.md §4: on)"),
+    "frame_term": Bool(default=True, doc="rotate the slider states with the wheel (docs/models/mcps_tire.md §4: on)"),
     "nodes": Num(unit="-", integer=True, ge=2, le=200, default=24, doc="Gauss nodes per half patch (resultants)"),
     "grid": Num(unit="-", integer=True, ge=3, le=1001, default=81, doc="points of the lateral force distribution (data/patch.csv)"),
     "samples": Num(unit="-", integer=True, ge=20, le=20_000, default=400, doc="samples per yaw leg of 2 A"),
@@ -728,7 +728,7 @@ RELAXATION = Map(fields=common_fields() | {
     "distance": Num(unit="m", gt=0, le=1000, default=4.0, doc="rolled distance to simulate"),
     "cells": Num(unit="-", integer=True, ge=10, le=20_000, default=100,
                  doc="patch cells (raised automatically at low speed to resolve the belt)"),
-    "frame_term": Bool(default=True, doc="rotate the element states with the belt twist (docs/models/mcps.md §4: on)"),
+    "frame_term": Bool(default=True, doc="rotate the element states with the belt twist (docs/models/mcps_tire.md §4: on)"),
 })
 
 
@@ -801,7 +801,7 @@ def crossings(s, ratio, level):
 
 @register_study("mcps-relaxation", check=plan_relaxation)
 def run_relaxation(config: Config, progress=None) -> StudyResult:
-    """Force build-up after a slip-angle step at constant speed (docs/models/mcps.md §7, scenario assumed)."""
+    """Force build-up after a slip-angle step at constant speed (docs/models/mcps_tire.md §7, scenario assumed)."""
     from tirecli.numerics.mcps_stationary import solve
     from tirecli.numerics.mcps_transient import simulate_rolling
 
@@ -858,7 +858,7 @@ def run_relaxation(config: Config, progress=None) -> StudyResult:
                            "numerics": "Lagrangian tread elements (CFL = 1), exact per-component element steps, "
                                        "trapezoidal belt with a predictor-corrector coupling"},
               "assumed": ["slip-angle step from free rolling at constant speed (the paper shows no relaxation "
-                          "run; docs/models/mcps.md §7)"],
+                          "run; docs/models/mcps_tire.md §7)"],
               "signs": "fy, mz, fx: road on tire in R_W about the rim centre (ISO-W, eq. 16); ratio = fy/fy_inf; "
                        "rim_fy = k_y y + c_y ydot, the force the belt puts on the rim",
               "cases": [{"label": c.label, "carcass": c.carcass, "locked": [LOCKABLE[j] for j in c.locked]} for c in cases],

@@ -6,7 +6,7 @@ coefficients and the operating point like any other key::
 
     study: mf-eval
     tire: pacejka2006-205-60r15          # a built-in tyre, a .tir path, or {set: ..., LMUY: 0.9}
-    convention: mfeval                   # or teasit (docs/models/magic_formula.md §10)
+    convention: mfeval                   # or teasit (docs/models/magic_formula_tyre.md §10)
     side: null                           # optional mount side (mirroring)
     limits: true                         # input clipping and low-speed rules (§11)
     points:                              # numbers, or lists of equal length (one point per item)
@@ -51,7 +51,7 @@ POINTS = Map(fields={
 
 SPEC = Map(fields=common_fields() | {
     "tire": Raw(doc="Magic Formula tyre: a built-in name, a .tir path, or {set: ..., overrides}"),
-    "convention": Str(choices=("mfeval", "teasit"), default="mfeval", doc="variant of docs/models/magic_formula.md §10"),
+    "convention": Str(choices=("mfeval", "teasit"), default="mfeval", doc="variant of docs/models/magic_formula_tyre.md §10"),
     "side": Str(choices=("left", "right"), default=None, doc="mount side (mirroring)"),
     "limits": Bool(default=True, doc="input clipping and low-speed rules"),
     "points": POINTS,

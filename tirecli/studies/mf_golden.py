@@ -1,8 +1,8 @@
-"""The public golden data of the Magic Formula (docs/models/magic_formula.md §15.4) as a study: every row
+"""The public golden data of the Magic Formula (docs/models/magic_formula_tyre.md §15.4) as a study: every row
 reproduced with the ``teasit`` convention, one reference check per block (the largest residual
 against the tolerance 1e-6 N / N m, the print precision of the data).
 
-The rows are those of docs/models/magic_formula.md §15.4, copied from KMoula30/outlap
+The rows are those of docs/models/magic_formula_tyre.md §15.4, copied from KMoula30/outlap
 ``crates/outlap-tire/tests/golden/pacejka_2006_205_60r15/{fx0,fy0_mz,combined,combined_camber}.csv``
 (generated with teasit/magic-formula-tyre-library under GNU Octave; data CC-BY-SA-4.0, the numbers
 are facts), for the Pacejka (2006) Table A3.1 tyre (built-in ``pacejka2006-205-60r15``).
@@ -21,7 +21,7 @@ from tirecli.config.loader import Config
 from tirecli.config.schema import Map, Raw, Str, collect
 from tirecli.studies.base import StudyResult, common_fields, register_study
 
-# kappa, alpha_rad, gamma_rad, fz_n, p_pa, vx_mps, fx_n, fy_n, mz_nm, mx_nm, my_nm (docs/models/magic_formula.md §15.4, copied
+# kappa, alpha_rad, gamma_rad, fz_n, p_pa, vx_mps, fx_n, fy_n, mz_nm, mx_nm, my_nm (docs/models/magic_formula_tyre.md §15.4, copied
 # from KMoula30/outlap crates/outlap-tire/tests/golden/pacejka_2006_205_60r15/*.csv, CC-BY-SA-4.0 data)
 GOLDEN = {
     "fx0": """\
@@ -67,7 +67,7 @@ GOLDEN = {
 -0.1,0.102,0.06981317008,4000,220000,16.67,-3228.969873,-3279.314013,-46.39796357,0,-12.52
 0.05,0.068,0.06981317008,4000,220000,16.67,2484.914109,-2655.457264,48.30154784,0,-12.52""",
 }
-TOLERANCE = 1e-6  # N and N m: the print precision of the golden CSVs (docs/models/magic_formula.md §15.2)
+TOLERANCE = 1e-6  # N and N m: the print precision of the golden CSVs (docs/models/magic_formula_tyre.md §15.2)
 COLUMNS = ("kappa", "alpha", "gamma", "fz", "p", "vx", "fx", "fy", "mz", "mx", "my")
 OUTPUTS = ("fx", "fy", "mz", "mx", "my")
 BLOCK_TITLES = {
@@ -121,7 +121,7 @@ def run_golden(config: Config, progress=None) -> StudyResult:
     return StudyResult(
         study="mf-golden", config=config, parameter_sets={"tire": ps},
         data={"golden": pd.concat(frames, ignore_index=True)},
-        meta={"convention": checked["convention"], "tolerance": TOLERANCE, "source": "docs/models/magic_formula.md §15.4",
-              "title": checked["title"] or "Magic Formula golden rows (docs/models/magic_formula.md §15.4)"},
+        meta={"convention": checked["convention"], "tolerance": TOLERANCE, "source": "docs/models/magic_formula_tyre.md §15.4",
+              "title": checked["title"] or "Magic Formula golden rows (docs/models/magic_formula_tyre.md §15.4)"},
         figures=checked["figures"] or [f"mf-golden-{b.replace('_', '-')}" for b in GOLDEN],
     )

@@ -7,7 +7,7 @@ a LuGre ``tire:`` runs :mod:`tirecli.studies.sweep`. The command, the output con
 
     study: sweep
     tire: chrono-185-80r14              # or tires/my.tir, or {set: my.tir, LMUY: 0.9}
-    convention: mfeval                  # mfeval (default, docs/models/magic_formula.md §10) or teasit (§15.2)
+    convention: mfeval                  # mfeval (default, docs/models/magic_formula_tyre.md §10) or teasit (§15.2)
     side: left                          # optional: mount side (mirrors a tyre measured on the other)
     limits: true                        # clip inputs to the file's ranges, low-speed rules (§11)
     sweep:
@@ -32,7 +32,7 @@ mz, mx, my``, and ``mu_x = fx/fz``, ``mu_y = fy/fz``, ``slip`` (the LuGre slip o
 longitudinal Magic Formula force on the LuGre slip grid (``kappa = kappa_from_slip(slip)``,
 ``|slip| <= 0.999``) and frame ``lugre`` the LuGre steady state (``slip, mu, direction``) at the
 held speed. Set ``limits: false`` for the comparison when the file's ``KPUMAX`` is below the
-slips of interest (clipping flattens the curve, docs/models/magic_formula.md §11).
+slips of interest (clipping flattens the curve, docs/models/magic_formula_tyre.md §11).
 """
 from __future__ import annotations
 
@@ -80,7 +80,7 @@ COMPARE = Map(fields={
 
 SPEC = Map(fields=common_fields() | {
     "tire": Raw(doc="Magic Formula tyre: a built-in name, a .tir path, or {set: ..., overrides}"),
-    "convention": Str(choices=("mfeval", "teasit"), default="mfeval", doc="variant of docs/models/magic_formula.md §10"),
+    "convention": Str(choices=("mfeval", "teasit"), default="mfeval", doc="variant of docs/models/magic_formula_tyre.md §10"),
     "side": Str(choices=("left", "right"), default=None, doc="mount side (mirroring, §2.4)"),
     "limits": Bool(default=True, doc="input clipping and low-speed rules (§11)"),
     "sweep": Map(fields=MF_SWEEP.fields, default=None),
@@ -273,7 +273,7 @@ def run_mf_sweep(config: Config, progress=None) -> StudyResult:
         meta={
             "model": f"Magic Formula {VERSION_NAMES[t.version]}",
             "convention": checked["convention"],
-            "axes": "ISO-W (docs/models/magic_formula.md §2.2): alpha > 0 gives Fy < 0; kappa > 0 driving",
+            "axes": "ISO-W (docs/models/magic_formula_tyre.md §2.2): alpha > 0 gives Fy < 0; kappa > 0 driving",
             "tyre_side": t.side, "mount_side": checked["side"] or t.side,
             "limits": checked["limits"],
             "input_rules": {k: n for k, n in counts.items() if n},

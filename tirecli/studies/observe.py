@@ -214,7 +214,7 @@ def _make_case(label, gains, checked, theta_raw, torque_raw, est, meas, config, 
     conv = sc["theta_convention"]
     v0 = sc["v0"]
     s0 = sc["slip0"]
-    # initial wheel speed from the slip (docs/models/lugre.md §1): braking r w = v (1 + s), driving v = r w (1 - s)
+    # initial wheel speed from the slip (docs/models/lugre_friction.md §1): braking r w = v (1 + s), driving v = r w (1 - s)
     romega0 = v0 * (1.0 + s0) if s0 <= 0 else v0 / (1.0 - s0)
     theta_hat0_obs = float(theta_obs_from_fm(to_theta_fm(est["theta"], conv)))
     theta0 = float(theta_obs_from_fm(to_theta_fm(theta_p(0.0), conv)))
@@ -376,7 +376,7 @@ def simulate_case(plan_: Plan, case: Case):
 
 
 def case_metrics(plant: lo.ObserverPlant, tr, case: Case, m: dict) -> dict:
-    """Metrics of one run (docs/models/observer.md §7-§8; see :mod:`tirecli.observers.metrics`)."""
+    """Metrics of one run (docs/models/observer_model.md §7-§8; see :mod:`tirecli.observers.metrics`)."""
     r = plant.car.r
     vr = r * tr.omega - tr.v
     err = tr.theta_hat - tr.theta
@@ -397,7 +397,7 @@ def case_metrics(plant: lo.ObserverPlant, tr, case: Case, m: dict) -> dict:
 
 
 def design_record(plant: lo.ObserverPlant, gains: lo.ObserverGains, tr=None) -> dict:
-    """Design facts of a gain set (docs/models/observer.md §4-§6), JSON-ready."""
+    """Design facts of a gain set (docs/models/observer_model.md §4-§6), JSON-ready."""
     obs = lo.observability(plant)
     tf = lo.transfer_function(plant, gains)
     rec = {
@@ -423,7 +423,7 @@ def design_record(plant: lo.ObserverPlant, gains: lo.ObserverGains, tr=None) -> 
                                   "z_max": float(np.max(np.abs(tr.z)))}
         rec["passivity"] = {"lambda_min_q": pm["lambda_min_q"],
                             "alpha_bound_17_m": lo.alpha_bound(pm["lambda_min_q"], theta_max, lip["L_phi"], lip["L_psi"]),
-                            "note": "sufficient bound (17); OBS's alpha is a practical tuning value (docs/models/observer.md §6)"}
+                            "note": "sufficient bound (17); OBS's alpha is a practical tuning value (docs/models/observer_model.md §6)"}
     return rec
 
 
@@ -485,7 +485,7 @@ def _warnings(case: Case, design: dict, met: dict, m: dict, tr) -> list[str]:
     if met["excitation_share"] < m["min_excitation"]:
         out.append(f"{case.label}: excitation: |v_r| > {m['excitation_threshold']:g} m/s only "
                    f"{100 * met['excitation_share']:.0f}% of the time (< {100 * m['min_excitation']:.0f}%): theta is "
-                   "not observable while v_r = 0 (A4, docs/models/observer.md §8)")
+                   "not observable while v_r = 0 (A4, docs/models/observer_model.md §8)")
     if np.any(tr.v < 0) or np.any(tr.omega < 0):
         out.append(f"{case.label}: the vehicle or the wheel reverses; the model assumes forward motion")
     return out

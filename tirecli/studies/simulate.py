@@ -4,14 +4,14 @@ Config (``tirecli simulate CONFIG``)::
 
     study: simulate
     tire: canudas2003-table2                 # LuGre set (name, file, or {set: ..., overrides})
-    vehicle: canudas2003-obs-quarter-car     # quarter-car set (default) [assumed for FM, docs/models/lugre.md §7]
+    vehicle: canudas2003-obs-quarter-car     # quarter-car set (default) [assumed for FM, docs/models/lugre_friction.md §7]
     initial: {v: 20, slip: 0}                # or {v: 20, omega: 80}; the bristles start undeformed
     input:                                   # exactly one of torque / brake_torque / pressure
       brake_torque: {initial: 0, changes: [{at: 0.5, duration: 1.5, to: 1000, shape: linear},
                                            {at: 2.0, duration: 0.6, to: 0, shape: linear}]}
       # torque: PROFILE         signed wheel torque [N m] (> 0 drives, < 0 brakes)
       # pressure: PROFILE       brake pressure [bar], brake torque = pressure_gain * pressure
-      pressure_gain: 20                      # [N m/bar] (docs/models/lugre.md §10, FM Fig. 4) [assumed]
+      pressure_gain: 20                      # [N m/bar] (docs/models/lugre_friction.md §10, FM Fig. 4) [assumed]
       theta: 1.0                             # adhesion profile, FM convention unless theta_convention: obs
     t_end: 5.0                               # [s]
     stop: {v_min: 0.1}                       # the run ends when v falls to v_min [m/s]
@@ -30,7 +30,7 @@ Config (``tirecli simulate CONFIG``)::
 A case may override ``input``, ``initial`` and ``solver``. Profiles are those of
 :mod:`tirecli.models.profiles` (number, table, transitions, CSV, formula). Brake torque never turns
 the wheel backwards: the wheel locks and stays locked while the brake can hold the tire torque
-(docs/models/lugre.md §7). Frames: ``timeseries`` (``case, mode, t, v, omega, romega, slip, vr, mu, torque,
+(docs/models/lugre_friction.md §7). Frames: ``timeseries`` (``case, mode, t, v, omega, romega, slip, vr, mu, torque,
 brake_torque, pressure, theta, zbar, zdot, kappa0, locked, distance``), ``events`` (one row per
 case) and, with ``measurement``, ``measured`` / ``measured_clean`` (synthetic samples ``t, pressure,
 torque, v, romega, s, mu`` with and without noise).
@@ -59,7 +59,7 @@ if TYPE_CHECKING:  # pandas is imported when a study runs, not when its config i
 
 DEFAULT_VEHICLE = "canudas2003-obs-quarter-car"
 TORQUE_KEYS = ("torque", "brake_torque", "pressure")
-#: Brake pressure to torque (docs/models/lugre.md §10, FM Fig. 4): torque = 20 N m/bar * pressure [assumed].
+#: Brake pressure to torque (docs/models/lugre_friction.md §10, FM Fig. 4): torque = 20 N m/bar * pressure [assumed].
 DEFAULT_PRESSURE_GAIN = 20.0
 
 
@@ -74,7 +74,7 @@ def _input_fields(defaults: bool) -> dict:
         "brake_torque": _optional(profile_spec("N m", lo=0.0)),
         "pressure": _optional(profile_spec("bar", lo=0.0)),
         "pressure_gain": Num(unit="N m/bar", gt=0, default=DEFAULT_PRESSURE_GAIN if defaults else None,
-                             doc="brake torque per unit pressure [assumed 20, docs/models/lugre.md §7]"),
+                             doc="brake torque per unit pressure [assumed 20, docs/models/lugre_friction.md §7]"),
         "theta": _optional(profile_spec("-", gt=0.0)) if not defaults else
         _with_default(profile_spec("-", gt=0.0), 1.0),
         "theta_convention": Str(choices=THETA_CONVENTIONS, default="fm" if defaults else None,
@@ -394,7 +394,8 @@ def plan(config: Config):
     """Check a simulate config completely; returns ``(checked, tire set, vehicle set, cases)``."""
     checked, tire, vehicle = collect(lambda: config.checked(SPEC), lambda: config.group("tire", "lugre"),
                                      lambda: config.group("vehicle", "quarter_car", DEFAULT_VEHICLE))
-    p, car = tire.model(), vehicle.model()
+    tire.model()  # builds the tyre model: checks the set's values against each other
+    car = vehicle.model()
     base_dir = config.base_dir
     gsolver = checked["solver"]
     cases = []
@@ -701,7 +702,7 @@ def run_simulate(config: Config, progress=None) -> StudyResult:
         "events": events,
         "stop_condition": f"a run ends at t_end = {t_end:g} s, or when the vehicle speed falls to v_min = "
                           f"{checked['stop']['v_min']:g} m/s (the quarter car has no model of a vehicle at rest)",
-        "wheel_lock": "brake torque never reverses the wheel: omega = 0 is held while |r F| <= T_b (docs/models/lugre.md §7)",
+        "wheel_lock": "brake torque never reverses the wheel: omega = 0 is held while |r F| <= T_b (docs/models/lugre_friction.md §7)",
         "pressure_gain_N_m_per_bar": gain,
         "theta_stored": "fm (g -> theta*g; theta_obs = 1/theta)",
         "solver": "adaptive ROS2 (tirecli.numerics.ros2); distributed model exact along characteristics",
@@ -713,7 +714,7 @@ def run_simulate(config: Config, progress=None) -> StudyResult:
     uses_pressure = inp.get("pressure") is not None or meas is not None or any(c.pressure is not None for c in cases)
     if uses_pressure and (inp.get("pressure_gain") in (None, DEFAULT_PRESSURE_GAIN)):
         meta["assumed"] = [f"input.pressure_gain = {DEFAULT_PRESSURE_GAIN:g} N m/bar: brake torque per unit pressure "
-                           "(docs/models/lugre.md §10, FM Fig. 4) [assumed]; override with --set input.pressure_gain=VALUE"]
+                           "(docs/models/lugre_friction.md §10, FM Fig. 4) [assumed]; override with --set input.pressure_gain=VALUE"]
     return StudyResult(
         study="simulate", config=config, parameter_sets={"tire": tire, "vehicle": vehicle}, data=data, meta=meta,
         figures=figures, payload={"params": p, "car": car, "cases": cases, "runs": trs, "checked": checked},

@@ -1,6 +1,6 @@
 """The Magic Formula tyre model: MF 6.1 / 6.2, MF 5.2 / PAC2002 and PAC89 (pure, vectorized numpy).
 
-Documentation: ``docs/models/magic_formula.md`` (sections cited as §N in every docstring). Axis system and
+Documentation: ``docs/models/magic_formula_tyre.md`` (sections cited as §N in every docstring). Axis system and
 signs: :mod:`.axes` (ISO-W, stated once; the LuGre slip relation is in :mod:`tirecli.conventions`).
 
 - :class:`MFTire` -- coefficients (SI), version, measured side (:mod:`.tire`);

@@ -1,4 +1,4 @@
-"""Axis system and signs of the Magic Formula in tirecli, stated once (docs/models/magic_formula.md §2).
+"""Axis system and signs of the Magic Formula in tirecli, stated once (docs/models/magic_formula_tyre.md §2).
 
 Internally every Magic Formula quantity is in the **ISO-W** (TYDEX W) contact-patch frame, the
 frame of every ``.tir`` file:

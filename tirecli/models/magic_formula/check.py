@@ -1,6 +1,6 @@
 """Sanity checks of Magic Formula coefficients, in the spirit of mfeval's coefficient check.
 
-The Magic Formula is well behaved only within limits (docs/models/magic_formula.md §5, §6, §13.1): shape
+The Magic Formula is well behaved only within limits (docs/models/magic_formula_tyre.md §5, §6, §13.1): shape
 factors ``C > 0`` (and below 2, else the force changes sign at large slip), peaks ``D`` with a
 fixed sign (``D <= 0`` for ``Fx`` flips the curve), curvatures ``E <= 1`` (``E > 1`` makes the
 curve unstable: it turns back), weighting-function slopes ``B_xa, B_yk > 0``, a slip stiffness
@@ -107,7 +107,7 @@ def check_coefficients(t: MFTire) -> list[Finding]:
     if (muy > 0).any() and (muy < 0).any():
         err("PDY1/PDY2/PDY3", "mu_y changes sign over the load/camber/pressure range (D_y crosses 0)")
     elif (muy < 0).all():
-        warn("PDY1", "mu_y < 0 (book sign set, docs/models/magic_formula.md §5.2): valid, but unusual for TNO files")
+        warn("PDY1", "mu_y < 0 (book sign set, docs/models/magic_formula_tyre.md §5.2): valid, but unusual for TNO files")
     kya = np.asarray(fy.K)
     if (kya == 0).any() or ((kya > 0).any() and (kya < 0).any()):
         err("PKY1/PKY2/PKY4", "cornering stiffness K_ya reaches 0 or changes sign over the load range")

@@ -99,7 +99,7 @@ def evaluate(tire: MFTire, kappa=0.0, alpha=0.0, gamma=0.0, fz=None, vx=None, p=
              convention: str | Convention = "mfeval", alpha_star: bool = False, side: str | None = None,
              limits: bool = True, low_speed: bool | None = None, outputs=OUTPUTS, combined: bool = True,
              threads: int | None = None, block: int = BLOCK) -> MFResult:
-    """Forces and moments of a Magic Formula tyre, ISO-W, combined slip (docs/models/magic_formula.md §5-§9, §13).
+    """Forces and moments of a Magic Formula tyre, ISO-W, combined slip (docs/models/magic_formula_tyre.md §5-§9, §13).
 
     Parameters
     ----------

@@ -1,4 +1,4 @@
-"""Input limits and low-speed handling of the Magic Formula (docs/models/magic_formula.md §11, mfeval's logic).
+"""Input limits and low-speed handling of the Magic Formula (docs/models/magic_formula_tyre.md §11, mfeval's logic).
 
 Two switches, both on by default as in mfeval:
 

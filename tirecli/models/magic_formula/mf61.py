@@ -1,6 +1,6 @@
 """MF 6.1 (and MF 5.2 / PAC2002) steady-state forces and moments, vectorized (pure numpy).
 
-Implements docs/models/magic_formula.md §3-§7 and §9 (book Pacejka 2012 eqs. 4.E1-4.E78; Besselink et al.
+Implements docs/models/magic_formula_tyre.md §3-§7 and §9 (book Pacejka 2012 eqs. 4.E1-4.E78; Besselink et al.
 2010 eqs. A48-A60), with the variants of §10 chosen by a
 :class:`~tirecli.models.magic_formula.tire.Convention`:
 

@@ -1,4 +1,4 @@
-"""The simple Magic Formula of Bakker, Pacejka & Lidner (SAE 890087), "PAC89" (docs/models/magic_formula.md §13.2).
+"""The simple Magic Formula of Bakker, Pacejka & Lidner (SAE 890087), "PAC89" (docs/models/magic_formula_tyre.md §13.2).
 
 Per-load B, C, D, E and shifts from the coefficients ``A0..A13`` (lateral), ``B0..B10``
 (longitudinal) and ``C0..C17`` (aligning), in the units of the form: ``Fz`` in **kN**, ``kappa``

@@ -1,4 +1,4 @@
-"""Effective rolling radius of MF 6.1 (docs/models/magic_formula.md §7.3; mfeval's form).
+"""Effective rolling radius of MF 6.1 (docs/models/magic_formula_tyre.md §7.3; mfeval's form).
 
 ``R_Omega = R0 (Q_RE0 + Q_V1 (Omega R0 / V0)^2)``,
 ``R_e = R_Omega - (Fz0 / C_z) (DREFF arctan(BREFF Fz/Fz0) + FREFF Fz/Fz0)``,
@@ -39,7 +39,7 @@ def effective_rolling_radius(t, fz, kappa, vx, p=None, iterations: int = 30, tol
         When the tyre lacks ``Q_RE0`` or ``VERTICAL_STIFFNESS``.
     """
     if not has_radius(t):
-        raise ValueError("the effective rolling radius needs Q_RE0 and VERTICAL_STIFFNESS (docs/models/magic_formula.md §7.3)")
+        raise ValueError("the effective rolling radius needs Q_RE0 and VERTICAL_STIFFNESS (docs/models/magic_formula_tyre.md §7.3)")
     c = t.coef
     r0, fz0 = c["UNLOADED_RADIUS"], c["FNOMIN"]
     fz, kappa, vx = (np.asarray(a, dtype=float) for a in (fz, kappa, vx))

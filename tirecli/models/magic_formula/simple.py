@@ -1,12 +1,12 @@
-"""The basic Magic Formula curve with fixed B, C, D, E (docs/models/magic_formula.md §13.1): the simple-form
-fallback of the MCPS comparison (docs/models/mcps.md §8), when no real ``.tir`` tyre is wanted.
+"""The basic Magic Formula curve with fixed B, C, D, E (docs/models/magic_formula_tyre.md §13.1): the simple-form
+fallback of the MCPS comparison (docs/models/mcps_tire.md §8), when no real ``.tir`` tyre is wanted.
 
 ``Y = D sin(C arctan(B x - E (B x - arctan B x)))`` per channel, no shifts; the peak scales with the
 load (``Dx Fz``, ``Dy Fz`` [N], ``Dz Fz`` [N m]: the fields are peaks over load), ``B``, ``C``, ``E``
 are fixed [assumed].
 ISO-W axes, road on tire: ``Fx`` has the sign of ``kappa``, ``Fy`` the opposite sign of ``alpha``,
-``Mz`` the sign of ``alpha`` (docs/models/magic_formula.md §2.2). Combined slip [assumed]: the normalised-slip
-similarity method (docs/models/magic_formula.md §13.3, Beckman's variant): ``s = kappa/kappa_peak``,
+``Mz`` the sign of ``alpha`` (docs/models/magic_formula_tyre.md §2.2). Combined slip [assumed]: the normalised-slip
+similarity method (docs/models/magic_formula_tyre.md §13.3, Beckman's variant): ``s = kappa/kappa_peak``,
 ``a = alpha/alpha_peak``, ``rho = hypot(s, a)``, ``Fx = (s/rho) Fx0(rho kappa_peak)``,
 ``Fy = (a/rho) Fy0(rho alpha_peak)``, and likewise ``Mz = (a/rho) Mz0(rho alpha_peak)``.
 """
@@ -19,7 +19,7 @@ import numpy as np
 
 
 def curve(x, B, C, D, E):
-    """The basic curve ``D sin(C arctan(B x - E (B x - arctan B x)))`` (docs/models/magic_formula.md §13.1)."""
+    """The basic curve ``D sin(C arctan(B x - E (B x - arctan B x)))`` (docs/models/magic_formula_tyre.md §13.1)."""
     bx = B * np.asarray(x, dtype=float)
     return D * np.sin(C * np.arctan(bx - E * (bx - np.arctan(bx))))
 
@@ -40,7 +40,7 @@ def peak_input(B, C, E) -> float:
 
 @dataclass(frozen=True)
 class SimpleMF:
-    """Fixed-coefficient Magic Formula (docs/models/magic_formula.md §13.1), SI.
+    """Fixed-coefficient Magic Formula (docs/models/magic_formula_tyre.md §13.1), SI.
 
     Parameters
     ----------

@@ -1,7 +1,7 @@
 """A Magic Formula tyre (coefficients in SI, version, side) and the evaluation conventions.
 
 :class:`MFTire` holds a *complete* flat coefficient map (upper-case ``.tir`` keys, SI units):
-:func:`complete_coefficients` fills in tirecli's defaults (docs/models/magic_formula.md §12.5
+:func:`complete_coefficients` fills in tirecli's defaults (docs/models/magic_formula_tyre.md §12.5
 item 9: every ``L*`` scaling factor 1 except ``LMUV`` 0, ``PKY4`` 2, the turn-slip defaults of
 §8, everything else 0) and lists the required keys that are missing. Reading files and turning
 problems into messages is the job of :mod:`tirecli.io.tir` and :mod:`tirecli.parameters.mf`.
@@ -113,7 +113,7 @@ def complete_coefficients(values: dict, version: str, turn_slip: bool = True) ->
         if k in coef or k in OPTIONAL_NO_DEFAULT or k in REQUIRED[fam]:
             continue
         coef[k] = default_value(k)
-        quiet = k == "LMUV" or (k == "PKY4" and version == "5.2")  # fixed values (docs/models/magic_formula.md §3, §9)
+        quiet = k == "LMUV" or (k == "PKY4" and version == "5.2")  # fixed values (docs/models/magic_formula_tyre.md §3, §9)
         if not quiet and (turn_slip or k not in TURNSLIP_DEFAULTS):
             defaulted.append(k)
     if fam == "mf" and "INFLPRES" not in coef and "NOMPRES" in coef:
@@ -191,7 +191,7 @@ class MFTire:
 
 @dataclass(frozen=True)
 class Convention:
-    """Switches for every point of docs/models/magic_formula.md §10 where implementations disagree.
+    """Switches for every point of docs/models/magic_formula_tyre.md §10 where implementations disagree.
 
     Attributes
     ----------

@@ -1,4 +1,4 @@
-"""Turn slip (spin) of MF 6.1: the reduction factors zeta_0 ... zeta_8 (docs/models/magic_formula.md §8).
+"""Turn slip (spin) of MF 6.1: the reduction factors zeta_0 ... zeta_8 (docs/models/magic_formula_tyre.md §8).
 
 Book Pacejka 2012 eqs. 4.75-4.106 / 4.E80-4.E91, restated in §8. Spin is
 

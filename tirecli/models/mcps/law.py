@@ -1,7 +1,7 @@
 """Friction laws of the MCPS tire model: anisotropic Coulomb and Dahl-type differential laws.
 
 Sorine & Szymanski, *A New Dynamic Multi-D.O.F. Tire-Model* (IFAC CTS 2000) [MCPS], eqs. (1)-(9);
-tirecli's documentation: ``docs/models/mcps.md`` §2-§4. Pure functions on numpy arrays, SI units.
+tirecli's documentation: ``docs/models/mcps_tire.md`` §2-§4. Pure functions on numpy arrays, SI units.
 
 Sign convention (stated once for the MCPS package): the friction operator's output ``f`` [N]
 (``m`` [N m]) is what a slider transmits **to the road**, so ``f . du >= 0`` in steady sliding,
@@ -181,7 +181,7 @@ def rates(F, M, du, dpsi, omega, law: DahlLaw, frame_term: bool = True):
     dpsi : array_like, shape (...)
         Slider spin [rad/s] (drives the torsion).
     omega : array_like, shape (...)
-        Rotation rate of the slider frame relative to the road [rad/s] (frame term, docs/models/mcps.md §4).
+        Rotation rate of the slider frame relative to the road [rad/s] (frame term, docs/models/mcps_tire.md §4).
     frame_term : bool
         Include ``-Omega_s Omega_hat X``.
 
@@ -278,14 +278,14 @@ def step(F, M, du, dpsi, dtheta, law: DahlLaw):
 
 
 def path_rates(alpha, beta, K, Fk):
-    """Decay rates [1/m] of the two branches along a monotone 1-D path (docs/models/mcps.md §3.2):
+    """Decay rates [1/m] of the two branches along a monotone 1-D path (docs/models/mcps_tire.md §3.2):
     ``a = beta K/(alpha F_k)``, ``b = (beta - 1) K/((alpha - 1) F_k)``."""
     return beta * K / (alpha * Fk), (beta - 1.0) * K / ((alpha - 1.0) * Fk)
 
 
 def path_response(p, alpha, beta, K, Fk):
     """1-D response of the second-order law, monotone from rest, as a fraction of ``F_k``
-    (docs/models/mcps.md §3.2): ``g(p) = 1 + (alpha - 1) e^{-b p} - alpha e^{-a p}``,
+    (docs/models/mcps_tire.md §3.2): ``g(p) = 1 + (alpha - 1) e^{-b p} - alpha e^{-a p}``,
     ``a = beta K/(alpha F_k)``, ``b = (beta - 1) K/((alpha - 1) F_k)``.
 
     Parameters
@@ -306,7 +306,7 @@ def path_response(p, alpha, beta, K, Fk):
 
 def overshoot_peak(alpha, beta, K=1.0, Fk=1.0):
     """Peak of :func:`path_response`: ``(p*, g(p*))`` with ``p* = ln(beta/(beta-1))/(a - b)`` [m]
-    (docs/models/mcps.md §3.2); ``(inf, 1)`` when there is no overshoot (``alpha <= beta``)."""
+    (docs/models/mcps_tire.md §3.2); ``(inf, 1)`` when there is no overshoot (``alpha <= beta``)."""
     if alpha <= beta:
         return float("inf"), 1.0
     a, b = path_rates(alpha, beta, K, Fk)

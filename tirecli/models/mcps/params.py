@@ -3,7 +3,7 @@
 Units are SI; the schema (units, ranges, meaning, equation) is the ``mcps`` kind of
 :mod:`tirecli.parameters.kinds`; the default values are the built-in set ``sorine2000-mcps``
 (all assumed: the paper prints none). Equations: Sorine & Szymanski 2000 [MCPS];
-``docs/models/mcps.md``.
+``docs/models/mcps_tire.md``.
 """
 from __future__ import annotations
 
@@ -106,13 +106,13 @@ class MCPSParams:
         return replace(self, **values)
 
     def patch(self, fz: float) -> Patch:
-        """Patch geometry at load ``fz`` [N] (docs/models/mcps.md §9: ``l = l_ref (fz/fz_ref)^l_exponent``, ``P = fz/(w l)``)."""
+        """Patch geometry at load ``fz`` [N] (docs/models/mcps_tire.md §9: ``l = l_ref (fz/fz_ref)^l_exponent``, ``P = fz/(w l)``)."""
         fz = float(fz)
         l = self.l_ref * (fz / self.fz_ref) ** self.l_exponent
         return Patch(fz=fz, l=l, w=self.w, P=fz / (self.w * l))
 
     def patch_law(self, fz: float) -> DahlLaw:
-        """Second-order law per unit patch length at load ``fz`` (docs/models/mcps.md §5):
+        """Second-order law per unit patch length at load ``fz`` (docs/models/mcps_tire.md §5):
         ``K' = w r``, ``F'_k = mu P w``, ``S'_z = c_Sz r_y w^3/12``, ``M'_kz = c_muz mu_y P w^2/4``."""
         pa = self.patch(fz)
         w, P = pa.w, pa.P
@@ -133,7 +133,7 @@ class MCPSParams:
             alpha_z=self.alpha_z, beta_z=self.beta_z)
 
     def stiffnesses(self, fz: float) -> dict:
-        """Linear stiffnesses at load ``fz`` (docs/models/mcps.md §5-§7), SI:
+        """Linear stiffnesses at load ``fz`` (docs/models/mcps_tire.md §5-§7), SI:
 
         - ``D_xsigma = w r_x l^2/2`` [N]: slip stiffness dFx/dkappa (solid carcass = complete model);
         - ``D_yalpha = w r_y l^2/2`` [N/rad]: cornering stiffness -dFy/dalpha, solid carcass;
@@ -141,7 +141,7 @@ class MCPSParams:
         - ``D_yphi = w r_y l^3/12`` [N m]: curvature force stiffness -dFy/dphi, solid carcass;
         - ``D_zphi = c_Sz w r_y w^2 l^2/24`` [N m^2]: curvature torque stiffness -dMz/dphi, solid carcass;
         - ``D_yalphaF``, ``D_zalphaF``: eq. (20), with the belt twist: ``D k_delta/(k_delta + D_zalpha)``;
-        - ``D_yphiF``, ``D_zphiF``: curvature stiffnesses with the twist (linear theory, docs/models/mcps.md §7);
+        - ``D_yphiF``, ``D_zphiF``: curvature stiffnesses with the twist (linear theory, docs/models/mcps_tire.md §7);
         - ``C_z`` [N m/rad]: small yaw stiffness at standstill, eq. (11), and ``C_zF`` with the twist;
         - ``Mz_inf`` [N m]: asymptotic sliding torque at standstill, eq. (12) (frame term off).
         """

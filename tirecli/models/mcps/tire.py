@@ -25,7 +25,7 @@ import numpy as np
 
 from tirecli.models.mcps.law import DahlLaw, path_rates
 
-#: Below this argument the closed forms switch to their power series (docs/models/mcps.md §6: the aligning
+#: Below this argument the closed forms switch to their power series (docs/models/mcps_tire.md §6: the aligning
 #: bracket loses every digit to cancellation near z = 1e-4).
 SERIES_Z = 0.05
 
@@ -52,7 +52,7 @@ def f1z(z):
 
 def f2z(z):
     """``f2(z)/z`` with ``f2(z) = (1 - e^-z (1+z))/z^2 - (1 - e^-z)/(2z)`` (the first moment about
-    the patch centre, docs/models/mcps.md §6); series ``sum (-1)^j j z^(j-1)/(2 (j+2)!)`` below ``SERIES_Z``."""
+    the patch centre, docs/models/mcps_tire.md §6); series ``sum (-1)^j j z^(j-1)/(2 (j+2)!)`` below ``SERIES_Z``."""
     z = np.asarray(z, dtype=float)
     small = z < SERIES_Z
     zs = np.where(small, 1.0, z)
@@ -187,7 +187,7 @@ def resultants(f0, f1y, m0, c_Mz: float):
 
 
 def belt_velocities(Vx, Vy, romega, yaw, q, qdot):
-    """Slider velocities of the complete model in the belt frame R_A (docs/models/mcps.md §7, own convention).
+    """Slider velocities of the complete model in the belt frame R_A (docs/models/mcps_tire.md §7, own convention).
 
     Parameters
     ----------
@@ -271,7 +271,7 @@ def belt_rhs(t, state, u, p):
 
 
 def pure_longitudinal_fx(kappa, p, fz):
-    """Closed-form stationary ``Fx`` [N] of pure longitudinal slip (docs/models/mcps.md §6; the same with and
+    """Closed-form stationary ``Fx`` [N] of pure longitudinal slip (docs/models/mcps_tire.md §6; the same with and
     without the carcass): ``sgn(kappa) mu_x Fz [1 + (alpha_x-1)(1-e^{-bP})/(bP) - alpha_x (1-e^{-aP})/(aP)]``
     with ``P = l |kappa|/(1+kappa)`` and ``a``, ``b`` of the 1-D path response (per-length constants).
 
