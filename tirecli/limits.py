@@ -101,6 +101,18 @@ def budget(limit: int | None, config_key: bool = True):
         _LIMIT.reset(token)
 
 
+def compute_cap(cap: float) -> float:
+    """A fixed compute cap (e.g. the MCPS studies' stationary points or element-steps) scaled with the budget:
+    ``cap`` at the default budget, ``cap * max_samples() / DEFAULT_MAX_SAMPLES`` when the budget is raised."""
+    return cap * max(1.0, max_samples() / DEFAULT_MAX_SAMPLES)
+
+
+def cap_hint() -> str:
+    """How to raise a compute cap (the caps scale with the sample budget)."""
+    return f"(or raise {OPTION} or {'.'.join(CONFIG_KEY)}; the cap scales with it)" if _LIMIT.get()[1] \
+        else f"(or raise {OPTION}; the cap scales with it)"
+
+
 def _raise_hint(n: str) -> str:
     hint = f"{OPTION} {n}"
     return f"{hint} or {'.'.join(CONFIG_KEY)}: {n}" if _LIMIT.get()[1] else hint

@@ -414,3 +414,19 @@ def test_schema_caps_text_and_huge_integers():
     assert Str(max_len=5).check("abcdef", ("k",), ctx) is not None and "too long" in ctx.problems[-1].message
     Num(integer=True).check(10**400, ("n",), ctx)
     assert "finite" in ctx.problems[-1].message
+
+
+def test_the_mcps_compute_caps_grow_with_the_sample_budget(tmp_path, refused_here, cli):
+    """The MCPS studies' fixed caps (curvature points, element-steps, ...) scale with ``--max-samples``."""
+    cfg = copy_example("mcps-fig7-9.yaml", tmp_path)
+    text = Path(cfg).read_text(encoding="utf-8").replace("calibrate: true", "calibrate: false")
+    Path(cfg).write_text(text + "curvature: {start: 0, stop: 0.1, num: 3000}\n", encoding="utf-8")
+    refused_here(["params", "validate", cfg],
+                 r"6000 curvature points .* budget of 5000 .*raise --max-samples or run\.max_samples; the cap scales")
+    code, out, err = cli("params", "validate", cfg, "--max-samples", "2e6")
+    assert code == 0, err
+    with limits.budget(3 * limits.DEFAULT_MAX_SAMPLES):
+        assert limits.compute_cap(5000) == 15000
+    assert limits.compute_cap(5000) == 5000
+    with limits.budget(10):  # a lowered budget never lowers a cap below its default
+        assert limits.compute_cap(5000) == 5000

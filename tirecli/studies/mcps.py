@@ -36,7 +36,7 @@ import numpy as np
 from tirecli.config.loader import Config
 from tirecli.config.schema import AnyOf, Bool, Grid, ListOf, Map, Nullable, Num, Raw, Str, collect
 from tirecli.errors import ConfigError, RunError, token
-from tirecli.limits import MAX_TITLE_CHARS, Estimate
+from tirecli.limits import MAX_TITLE_CHARS, Estimate, cap_hint, compute_cap
 from tirecli.studies.base import StudyResult, common_fields, register_study
 
 if TYPE_CHECKING:  # pandas is imported when a study runs, not when its config is checked
@@ -251,17 +251,17 @@ def plan_stationary(config: Config):
     checked["carcass"] = [carc] if isinstance(carc, str) else list(dict.fromkeys(carc))
     fams = _points(checked)
     n = sum(f[1].size for f in fams) * len(checked["fz"]) * len(checked["carcass"])
-    if n > MAX_STATIONARY_POINTS:
+    if n > compute_cap(MAX_STATIONARY_POINTS):
         raise ConfigError(config.origins.problem((), f"{n} stationary points (slips x loads x carcasses) exceed the "
-                                                     f"budget of {MAX_STATIONARY_POINTS}: use coarser grids"))
+                                                     f"budget of {compute_cap(MAX_STATIONARY_POINTS):.0f}: use coarser grids " + cap_hint()))
     Estimate().add(n, tuple(("combined", k) for k in ("alpha", "kappa")) + tuple((k,) for k in FAMILIES) + (("fz",),),
                    f"the stationary points ({n:,}: slips x {len(checked['fz'])} load(s) x "
                    f"{len(checked['carcass'])} carcass(es))", BYTES_PER_ROW).check(config.origins)
     nc = sum(f[1].size for f in fams if f[0] == "curvature") * len(checked["fz"]) * len(checked["carcass"])
-    if nc > MAX_CURVATURE_POINTS:
+    if nc > compute_cap(MAX_CURVATURE_POINTS):
         raise ConfigError(config.origins.problem(("curvature",), f"{nc} curvature points (x loads x carcasses) exceed "
-                                                                 f"the budget of {MAX_CURVATURE_POINTS} (each integrates "
-                                                                 "the patch along its length): use a coarser grid"))
+                                                                 f"the budget of {compute_cap(MAX_CURVATURE_POINTS):.0f} (each integrates "
+                                                                 "the patch along its length): use a coarser grid " + cap_hint()))
     cal = checked["calibrate"]
     if cal is True:
         cal = {"points": 40, "kappa_max": 0.12, "alpha_max": 12 * DEG, "load": None, "rounds": 1}
@@ -471,9 +471,9 @@ SLIDER = Map(fields=common_fields() | {
 def plan_slider(config: Config):
     checked, ps = collect(lambda: config.checked(SLIDER), lambda: tire_set(config))
     steps = int(checked["periods"]) * int(checked["samples"])
-    if steps > MAX_STEPS:
+    if steps > compute_cap(MAX_STEPS):
         raise ConfigError(config.origins.problem(("samples",), f"{steps} steps (periods x samples) exceed the budget "
-                                                               f"of {MAX_STEPS}: fewer samples per period"))
+                                                               f"of {compute_cap(MAX_STEPS):.0f}: fewer samples per period " + cap_hint()))
     runs_ = 2 if checked["compare_period"] else 1
     Estimate().add(runs_ * (steps + 1), (("samples",), ("periods",)),
                    f"data/slider.csv ({runs_} run(s) x {steps:,} steps)", BYTES_PER_ROW).check(config.origins)
@@ -598,13 +598,13 @@ def plan_standstill(config: Config):
     steps = legs * int(checked["samples"])
     sliders = 2 * int(checked["nodes"]) + int(checked["grid"])
     rows = legs * int(checked["patch_samples"]) * int(checked["grid"])
-    if steps > MAX_STEPS or steps * sliders > MAX_SLIDER_STEPS:
+    if steps > compute_cap(MAX_STEPS) or steps * sliders > compute_cap(MAX_SLIDER_STEPS):
         raise ConfigError(config.origins.problem(("samples",), f"{steps:.0f} steps of {sliders} sliders exceed the budget "
-                                                               f"({MAX_STEPS} steps, {MAX_SLIDER_STEPS:.0e} slider-steps): "
-                                                               "fewer samples, cycles, nodes or grid points"))
-    if rows > MAX_PATCH_ROWS:
+                                                               f"({compute_cap(MAX_STEPS):.0f} steps, {compute_cap(MAX_SLIDER_STEPS):.0e} slider-steps): "
+                                                               "fewer samples, cycles, nodes or grid points " + cap_hint()))
+    if rows > compute_cap(MAX_PATCH_ROWS):
         raise ConfigError(config.origins.problem(("patch_samples",), f"data/patch.csv would hold {rows:.0f} rows (budget "
-                                                                     f"{MAX_PATCH_ROWS}): fewer patch_samples or grid points"))
+                                                                     f"{compute_cap(MAX_PATCH_ROWS):.0f}): fewer patch_samples or grid points " + cap_hint()))
     (Estimate().add(steps, (("samples",), ("cycles",)), f"data/standstill.csv ({steps:,.0f} steps)", BYTES_PER_ROW)
      .add(rows, (("patch_samples",), ("grid",), ("cycles",)), f"data/patch.csv ({rows:,.0f} rows)", BYTES_PER_ROW)
      .check(config.origins))
@@ -766,12 +766,12 @@ def plan_relaxation(config: Config):
         steps = checked["distance"] / (p.patch(checked["fz"]).l / n)
         est.add(steps + 1, (("distance",), ("cells",), ("speed",)), f"data/relaxation.csv (case {c.label!r}: "
                 f"{steps:,.0f} steps of {n} cells)", BYTES_PER_ROW)
-        if n * steps > MAX_ELEMENT_STEPS:
+        if n * steps > compute_cap(MAX_ELEMENT_STEPS):
             raise ConfigError(config.origins.problem((), f"case {token(c.label)}: the run needs {n} cells x {steps:.3g} steps "
                                                          f"(speed {checked['speed']:g} m/s, distance {checked['distance']:g} m), "
-                                                         f"over the budget of {MAX_ELEMENT_STEPS:.0e} element-steps (short "
+                                                         f"over the budget of {compute_cap(MAX_ELEMENT_STEPS):.0e} element-steps (short "
                                                          "relaxation lengths at large slip angles and the belt's fast modes at "
-                                                         "low speed need small steps): shorten 'distance' or raise 'speed'"))
+                                                         "low speed need small steps): shorten 'distance' or raise 'speed' " + cap_hint()))
     est.check(config.origins)
     return checked, ps, p, cases
 
