@@ -563,8 +563,8 @@ def scalar_rhs(plant: ObserverPlant, gains: ObserverGains, scenario: Scenario):
     E1, _, E3 = (float(e) for e in plant.E)
     P, Q = plant.P, plant.Q
     k1, k2, k3, gam, alp = g.k1, g.k2, g.k3, g.gamma, g.alpha
-    u_of = getattr(scenario.torque, "at", scenario.torque)
-    th_fm = scenario.theta_fm
+    u_of = getattr(scenario.torque, "at", scenario.torque)   # scalar evaluations without numpy overhead
+    th_fm = getattr(scenario.theta_fm, "at", scenario.theta_fm)
     exp_, fabs = math.exp, math.fabs
 
     def aphi_of(vr):
