@@ -236,6 +236,12 @@ class _Scaled:
     def record(self):
         return {"kind": self.what, "factor": self.factor, "of": self.prof.record()}
 
+    def __eq__(self, other):  # by value, like the profiles (the key of a kept run, tirecli.numerics.runs)
+        return type(other) is _Scaled and (self.prof, self.factor, self.what) == (other.prof, other.factor, other.what)
+
+    def __hash__(self):
+        return hash((self.prof, self.factor, self.what))
+
 
 class Case:
     """One planned run: variant, inputs, initial state, solver options, open-loop drive."""
