@@ -37,6 +37,8 @@ from tirecli.numerics.ros2 import GAMMA, LOCKED, PRESCRIBED
 #: transit, and its first-order embedded estimate overstates the (second-order) error of a
 #: quadrature of the smooth ``b(t)``; 0.1 leaves the results unchanged (measured) with ~30 % fewer steps.
 PHI_WEIGHT = 0.1
+#: ``jac`` value of :meth:`CharacteristicsStepper._eval` asking for the outputs without the Jacobian.
+OUTPUTS = "outputs"
 
 
 class History:
@@ -171,7 +173,8 @@ class CharacteristicsStepper:
     # ------------------------------------------------------------------ model
 
     def _eval(self, t, y, u, th, mode, jac):
-        """Right-hand side (and, with ``jac``, Jacobian pieces and outputs) at one state."""
+        """Right-hand side at one state; with ``jac``: ``(f, Jacobian pieces, outputs)``, with ``jac`` =
+        :data:`OUTPUTS`: ``(f, None, outputs)`` (what the dense output needs, without the Jacobian)."""
         p, car = self.p, self.car
         r, L = car.r, p.L
         v, w, Y, Phi, X = y[0], y[1], y[2], y[3], y[4]
@@ -215,6 +218,11 @@ class CharacteristicsStepper:
         f = [fv, fw, dY, b, c] + dS
         if not jac:
             return f
+        zL = zp[-1]
+        k0 = zL / zw if (self.uniform and zw != 0.0) else math.nan
+        out = (vr, mu, zw, zwd, u, th, k0, zL, F)
+        if jac is OUTPUTS:
+            return f, None, out
         sg = 1.0 if vr > 0.0 else (-1.0 if vr < 0.0 else 0.0)
         dbdvr = (p.sigma0 * sg / g) * (1.0 + th * (p.mu_s - p.mu_c) * e * p.alpha * qa / g)
         dbdth = -b / th
@@ -243,9 +251,6 @@ class CharacteristicsStepper:
         mu_v = -(s1 * wd_vr + p.sigma2)
         mu_w = r * (s1 * (wd_vr + ws * wd_c) + p.sigma2)
         mu_th = s1 * wd_th
-        zL = zp[-1]
-        k0 = zL / zw if (self.uniform and zw != 0.0) else math.nan
-        out = (vr, mu, zw, zwd, u, th, k0, zL, F)
         return f, (Jqv, Jqw, q_th, diag, SY, SPhi, SX, SS, mu_q, mu_v, mu_w, mu_th), out
 
     # ------------------------------------------------------------------ stepper API
@@ -256,13 +261,14 @@ class CharacteristicsStepper:
         self.hist.put(t, y[4], y[3], y[2], f[4], f[3], f[2])
         return E
 
-    def peek(self, t, y, mode):
-        """``start`` without recording ``(t, y)`` in the history (a step from a point of a finished run)."""
+    def peek(self, t, y, mode, jac=True):
+        """``start`` without recording ``(t, y)`` in the history (a step from a point of a finished run);
+        ``jac=OUTPUTS``: a record without the Jacobian (for :meth:`outputs`, not for a step)."""
         y = [float(x) for x in y]
         u, th = self.inputs(t)
         if mode == PRESCRIBED:
             y[0], y[1] = self.V(t), self.W(t)
-        f, J, out = self._eval(t, y, u, th, mode, True)
+        f, J, out = self._eval(t, y, u, th, mode, jac)
         return (t, y, u, th, mode, f, J, out)
 
     def attempt(self, E, h, left=False):
@@ -375,12 +381,12 @@ class CharacteristicsStepper:
         u, th = self._inputs_at(t, left)
         y = [float(x) for x in y]
         y[1] = 0.0
-        F = self._eval(t, y, u, th, LOCKED, True)[2][-1]
+        F = self._eval(t, y, u, th, LOCKED, OUTPUTS)[2][-1]
         return min(-u, self.car.r * F - u)
 
     def evaluate(self, t, y, mode):
         """``(state, outputs)`` at ``(t, y)`` in ``mode``, without touching the history."""
-        E = self.peek(t, y, mode)
+        E = self.peek(t, y, mode, OUTPUTS)
         return E[1], self.outputs(E)
 
     def rollback(self, t: float) -> None:

@@ -125,10 +125,12 @@ def _memo_key(*parts):
 
 
 def _freeze(tr: Trajectory) -> None:
-    """Make a kept run's arrays read-only (it is shared: a caller writing into it would change it for the next)."""
+    """Make a kept run's arrays read-only (it is shared: a caller writing into it would change it for the next);
+    its dense-output samples are then kept too (``sample_cache``)."""
     for a in (tr.t, tr.y, tr.dy, tr.dy_left, tr.modes, *tr.out.values()):
         if isinstance(a, np.ndarray):
             a.flags.writeable = False
+    tr.sample_cache = {}
 
 
 def _shared(tr: Trajectory) -> Trajectory:
