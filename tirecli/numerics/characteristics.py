@@ -24,6 +24,7 @@ from __future__ import annotations
 
 import bisect
 import math
+from operator import mul
 
 import numpy as np
 
@@ -203,11 +204,11 @@ class CharacteristicsStepper:
             dWX.append(G * slope)
         cL = c / L
         A, Bc, pidx, Drows = self.A, self.Bc, self.pidx, self.Drows
-        trans = [Bc[j] * zp[pidx[j]] - sum(val * S[l] for l, val in Drows[j]) for j in range(K)]
+        trans = [Bc[j] * zp[pidx[j]] - sum([val * S[l] for l, val in Drows[j]]) for j in range(K)]
         dS = [A[j] * vr - b * S[j] - cL * trans[j] for j in range(K)]
         wv = self.w
-        zw = sum(wv[j] * S[j] for j in range(K))
-        zwd = sum(wv[j] * dS[j] for j in range(K))
+        zw = sum(map(mul, wv, S))
+        zwd = sum(map(mul, wv, dS))
         mu = p.sigma0 * zw + p.sigma1 * zwd + p.sigma2 * vr
         F = mu * car.F_n
         if mode == PRESCRIBED:
@@ -241,12 +242,12 @@ class CharacteristicsStepper:
         SX = [cL * Bc[j] * dWX[pidx[j]] for j in range(K)]
         SS = [[(l, cL * val) for l, val in Drows[j] if l != j] for j in range(K)]
         s1 = p.sigma1
-        wd_vr = sum(wv[j] * q_vr[3 + j] for j in range(K))
-        wd_c = sum(wv[j] * q_c[3 + j] for j in range(K))
-        wd_th = sum(wv[j] * q_th[3 + j] for j in range(K))
+        wd_vr = sum(map(mul, wv, q_vr[3:]))
+        wd_c = sum(map(mul, wv, q_c[3:]))
+        wd_th = sum(map(mul, wv, q_th[3:]))
         wBc = self.wBc
-        mu_q = [-s1 * cL * self.sum_wBc, -s1 * cL * sum(wBc[j] * Wp[pidx[j]] for j in range(K)),
-                s1 * cL * sum(wBc[j] * dWX[pidx[j]] for j in range(K))] + \
+        mu_q = [-s1 * cL * self.sum_wBc, -s1 * cL * sum([wBc[j] * Wp[pidx[j]] for j in range(K)]),
+                s1 * cL * sum([wBc[j] * dWX[pidx[j]] for j in range(K)])] + \
                [p.sigma0 * wv[j] + s1 * (-b * wv[j] + cL * self.DTw[j]) for j in range(K)]
         mu_v = -(s1 * wd_vr + p.sigma2)
         mu_w = r * (s1 * (wd_vr + ws * wd_c) + p.sigma2)
@@ -317,8 +318,8 @@ class CharacteristicsStepper:
             ftv, ftw = Fm * mu_th * thd, -rFJ * mu_th * thd + ud / J
             Jvv, Jvw = Fm * mu_v, Fm * mu_w
             Jwv, Jww = -rFJ * mu_v, -rFJ * mu_w - self.p.sigma_w / J
-            sv_ = sum(mu_q[i] * cv[i] for i in range(nq))
-            sw_ = sum(mu_q[i] * cw[i] for i in range(nq))
+            sv_ = sum(map(mul, mu_q, cv))
+            sw_ = sum(map(mul, mu_q, cw))
             a11 = 1.0 - gh * Jvv - gh * Fm * sv_
             a12 = -gh * Jvw - gh * Fm * sw_
             a21 = -gh * Jwv + gh * rFJ * sv_
@@ -328,7 +329,7 @@ class CharacteristicsStepper:
 
             def solve(rv, rw, rq):
                 base = tire(rq)
-                m_r = sum(mu_q[i] * base[i] for i in range(nq))
+                m_r = sum(map(mul, mu_q, base))
                 b1 = rv + gh * Fm * m_r
                 b2 = rw - gh * rFJ * m_r
                 if locked:

@@ -68,16 +68,17 @@ def _initial_state(variant, stepper, v0, omega0):
 
 def quarter_car(variant: FrictionVariant, p: LuGreParams, car: QuarterCarParams, torque, theta,
                 v0: float, omega0: float, t_end: float, options: SolverOptions = SolverOptions(),
-                sample_times=()) -> Trajectory:
+                sample_times=(), reuse: bool = False) -> Trajectory:
     """Quarter-car run (docs/models/lugre_friction.md §7) from ``z = 0`` at ``(v0 [m/s], omega0 [rad/s])`` to ``t_end`` [s].
 
     ``torque`` and ``theta`` are profiles (:mod:`tirecli.models.profiles`): the signed wheel
     torque ``u`` [N m] (its braking part cannot reverse the wheel) and the adhesion (FM
     convention). The run stops early when ``v`` falls to ``options.v_stop``. ``sample_times``
-    [s] become step ends, so the solution is exact (not interpolated) there.
+    [s] become step ends, so the solution is exact (not interpolated) there. ``reuse``: keep the run
+    (read-only) and return the kept one to a later call with the same inputs (:data:`MEMO_RUNS`).
     """
-    key = _memo_key(variant, p, car, torque, theta, float(v0), float(omega0), float(t_end), options,
-                    tuple(float(x) for x in sample_times))
+    key = None if not reuse else _memo_key(variant, p, car, torque, theta, float(v0), float(omega0), float(t_end),
+                                           options, tuple(float(x) for x in sample_times))
     memo = _memo()
     if key is not None and key in memo:
         memo.move_to_end(key)

@@ -660,7 +660,7 @@ def run_cases(cases, p, car, t_end, sample_times=(), progress=None) -> dict:
     for c in sorted(cases, key=lambda c: c.mode != "coupled"):
         if c.mode == "coupled":
             trs[c.label] = runs.quarter_car(c.variant, p, car, c.torque, c.theta, c.v0, c.omega0, t_end, c.solver,
-                                            sample_times)
+                                            sample_times, reuse=True)
         else:
             if c.drive_case is not None:
                 drv = trs[c.drive_case]
