@@ -697,17 +697,18 @@ def simulate_adaptive(plant: ObserverPlant, gains: ObserverGains, scenario: Scen
                       torque=np.asarray(scenario.torque(t), float), method=label, info=info)
 
 
-#: Right-hand-side calls LSODA may spend on a segment before it counts as stalled: this many per
-#: segment, plus :data:`LSODA_STALL_CALLS_PER_S` per simulated second (plus four per ``h_max`` step).
-#: Its normal work on the built-in runs is at most about 450 calls per segment start and 1000 per
-#: simulated second (rtol 1e-10); stalled it spends about ``lambda_f/0.6``, 6.5e6 calls per simulated
-#: second for the OBS gains (6500 in a 1 ms hold interval).
+#: LSODA counts as stalled when a window of this many right-hand-side calls advances the solution by
+#: less than the window over :data:`LSODA_STALL_RATE` (2 ms).
 LSODA_STALL_CALLS = 2000
-LSODA_STALL_CALLS_PER_S = 10000
+#: Calls per simulated second [1/s] of a stalled LSODA, at least (or four per ``h_max``, if more). Its
+#: normal work on the built-in runs is at most about 450 calls per segment start and 2000 per
+#: simulated second (rtol 1e-10); stalled it makes about ``lambda_f/0.6`` calls per second, 6.5e6
+#: for the OBS gains.
+LSODA_STALL_RATE = 1e6
 
 
 class _Stalled(Exception):
-    """LSODA spent its right-hand-side budget on a segment (:func:`_lsoda_guarded`)."""
+    """LSODA stalled on a segment (:func:`_lsoda_guarded`)."""
 
 
 def _lsoda_guarded(fun, a: float, b: float, X, h_max, opts: dict):
@@ -718,20 +719,27 @@ def _lsoda_guarded(fun, a: float, b: float, X, h_max, opts: dict):
     converges in one iteration at every step (the fast observer mode, ``lambda_f`` about 4e6 1/s,
     sits below the tolerance) that estimate is never formed: LSODA stays in Adams at order 1 with
     the step its stability allows, ``h`` about ``0.6/lambda_f`` (1.5e-7 s), and a 1 s segment costs
-    7e6 calls (the theta-known case of the speed-error study: 7.2e6 calls, 100 s). Past
-    :data:`LSODA_STALL_CALLS` calls plus :data:`LSODA_STALL_CALLS_PER_S` per second of the segment,
-    the segment is redone with BDF (same tolerances and output times).
+    7e6 calls (the theta-known case of the speed-error study: 7.2e6 calls, 100 s). When
+    :data:`LSODA_STALL_CALLS` calls in a row advance the solution (the latest time LSODA asked
+    for) by less than ``LSODA_STALL_CALLS / LSODA_STALL_RATE``, the segment is redone with BDF
+    (same tolerances and output times).
     """
     from scipy.integrate import solve_ivp
 
-    budget = int(LSODA_STALL_CALLS + LSODA_STALL_CALLS_PER_S * (b - a) + (4.0 * (b - a) / h_max if h_max else 0.0))
+    window = LSODA_STALL_CALLS
+    least = window / max(LSODA_STALL_RATE, 4.0 / h_max if h_max else 0.0)   # [s] a window must advance
     calls = 0
+    t_far = t_mark = a
 
     def counted(t, x):
-        nonlocal calls
+        nonlocal calls, t_far, t_mark
         calls += 1
-        if calls > budget:
-            raise _Stalled
+        if t > t_far:
+            t_far = t
+        if calls % window == 0:
+            if t_far - t_mark < least:
+                raise _Stalled
+            t_mark = t_far
         return fun(t, x)
 
     try:
