@@ -7,7 +7,9 @@ Three runs, each against Radau at rtol 1e-10 split at every breakpoint and sampl
 
 1. the 20 s OBS Fig. 2 run (ideal measurement, OBS gains);
 2. stiff gains: ``k1 = 1e6`` with ``v_hat(0) = v(0) + 3 m/s``, 5 s of the Fig. 2 scenario;
-3. a 1 kHz held measurement, 1 s of the Fig. 2 scenario (each sample an input jump).
+3. a 1 kHz held measurement, 1 s of the Fig. 2 scenario (each sample an input jump);
+4. the theta-known case of the obs-speed-error study (gamma = 0, v_hat(0) = v(0) + 0.1 m/s, 20 s), where
+   LSODA stalls in its non-stiff mode on [12, 13] s unless the segment is redone with BDF.
 
 Deviations are the largest over the reference's 5 ms output grid (sampled run: mid-sample times,
 where the held value is unambiguous). Wall times are the best of several runs. Goal (issue 12):
@@ -112,6 +114,17 @@ def main() -> None:
     runs += [("auto (default, rtol 1e-7)", S(), 5)]
     table("1 kHz held measurement, 1 s, OBS gains", plant, gains, sc_m, Sensor(rate=1000.0), runs,
           np.arange(0.0, 1.0, 0.001) + 0.0005)
+
+    from tirecli.studies.base import builtin_config
+    from tirecli.studies.observe import plan
+
+    pe = plan(builtin_config("obs-speed-error"))
+    known = pe.cases[3]
+    runs = [("fixed, step 2.5 ms", S(method="fixed"), 3)]
+    runs += [(f"{m}, rtol 1e-7", S(method=m, rtol=1e-7), 3) for m in ("lsoda", "bdf", "radau")]
+    runs += [("auto (default, rtol 1e-7)", S(), 3)]
+    table("obs-speed-error, theta known (gamma = 0), v_hat(0) = v(0) + 0.1 m/s, 20 s", pe.plant, known.gains,
+          known.scenario, None, runs, np.arange(0.0, 20.0, 0.005))
 
     exe = shutil.which("tirecli")
     if exe:

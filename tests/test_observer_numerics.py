@@ -375,3 +375,38 @@ def test_adaptive_methods_stop_at_every_breakpoint(plant, gains):
     sc = fig2_start(plant, 20.0)
     tr = oi.simulate_adaptive(plant, gains, replace(sc, duration=20.0), method="lsoda", rtol=1e-4)
     assert tr.info["segments"] == len(sc.breakpoints) + 1 == 8
+
+
+def test_lsoda_stall_in_its_nonstiff_mode_is_redone_with_bdf():
+    """Speed-error study, theta known (gamma = 0), +0.1 m/s: on [12, 13] s LSODA's corrector converged in one
+    iteration at every step, so it never estimated the stiffness and stayed in its Adams mode at the step the
+    observer's fast mode allows (1.5e-7 s): 7.2e6 rhs calls and 100 s for this run. ``auto`` (LSODA) redoes such a
+    segment with BDF: the work stays bounded and the answer is the tight reference's."""
+    from tirecli.studies.base import builtin_config
+    from tirecli.studies.observe import plan
+
+    p = plan(builtin_config("obs-speed-error"))
+    case = p.cases[3]
+    assert case.gains.gamma == 0.0 and case.sensor.ideal
+    tr = oi.simulate(p.plant, case.gains, case.scenario, case.sensor, p.solver)
+    assert tr.info["method"] == "lsoda" and tr.info["rhs_calls"] < 20000, tr.info
+    ref = oi.simulate_adaptive(p.plant, case.gains, case.scenario, method="radau", rtol=1e-10)
+    assert np.array_equal(ref.t, tr.t)
+    assert np.max(np.abs(tr.v_hat - ref.v_hat)) < 5e-5 and np.max(np.abs(tr.v - ref.v)) < 5e-5
+    # the slow speed-error mode still shows: about 0.1 exp(-0.027 x 20 s) left at 20 s
+    assert 0.05 < tr.v_hat[-1] - tr.v[-1] < 0.07
+
+
+def test_lsoda_guard_redoes_a_segment_over_its_budget(plant, gains, monkeypatch):
+    """With a stall rate below LSODA's normal work every segment counts as stalled: each is redone with BDF (said
+    in the info and the method label) and the result is BDF's."""
+    sc = fig2_start(plant, 6.0, v_hat0=20.1)
+    bdf = oi.simulate_adaptive(plant, gains, sc, method="bdf", rtol=1e-7)
+    monkeypatch.setattr(oi, "LSODA_STALL_CALLS", 20)
+    monkeypatch.setattr(oi, "LSODA_STALL_RATE", 1e-3)   # 20 calls must advance 2e4 s: none does
+    tr = oi.simulate_adaptive(plant, gains, sc, method="lsoda", rtol=1e-7)
+    assert tr.info["lsoda_stalled_segments_start_s"] == [0.0, 5.0] and "BDF" in tr.info["lsoda_stall"]
+    assert "2 segment(s) by BDF" in tr.method
+    assert tr.info["rhs_calls"] == bdf.info["rhs_calls"] + 2 * 20
+    np.testing.assert_array_equal(tr.v_hat, bdf.v_hat)
+    np.testing.assert_array_equal(tr.theta_hat, bdf.theta_hat)

@@ -261,3 +261,31 @@ def test_driving_torque_and_theta_step(table2, car):
     assert np.all(tr.out["slip"][tr.t > 0.05] > 0) and np.all(tr.out["mu"][tr.t > 0.05] > 0)
     assert tr.out["theta"][0] == 1.0 and tr.out["theta"][-1] == 0.5
     assert 0.5 in set(np.round(tr.t, 12))  # the step is a breakpoint
+
+
+def test_kept_runs_are_shared_read_only_and_equal_to_fresh_ones(table2, car):
+    """``reuse=True`` (what the simulate study asks: fm-fig6/7/8 reuse fm-fig4's brakings) returns the kept run for
+    the same inputs: arrays shared and read-only, containers its own, dense-output samples cached; equal to a
+    fresh run bit for bit. Other inputs are another run."""
+    args = (FrictionVariant("distributed"), table2, car, fm_torque(), Constant(1.0), 20.0, 80.0, 1.0)
+    a = runs.quarter_car(*args, reuse=True)
+    b = runs.quarter_car(*args, reuse=True)
+    fresh = runs.quarter_car(*args)
+    assert b is not a and b.out is not a.out and np.shares_memory(a.y, b.y)
+    assert not np.shares_memory(fresh.y, a.y)
+    np.testing.assert_array_equal(fresh.y, a.y)
+    np.testing.assert_array_equal(fresh.out["mu"], b.out["mu"])
+    with pytest.raises(ValueError):
+        b.y[0, 0] = 0.0
+    b.out["mu"] = None                  # a caller's own container: the kept run is untouched
+    assert a.out["mu"] is not None
+    grid = np.arange(0.0, 1.0, 1e-3)
+    (ya, oa), (yb, ob), (yf, of) = a.sample(grid), b.sample(grid), fresh.sample(grid)
+    assert len(a.sample_cache) == 1 and a.sample_cache is b.sample_cache and fresh.sample_cache is None
+    np.testing.assert_array_equal(ya, yf)
+    np.testing.assert_array_equal(yb, yf)
+    np.testing.assert_array_equal(ob["mu"], of["mu"])
+    yb[0, 0] = -1.0                     # samples are the caller's copies
+    assert a.sample(grid)[0][0, 0] == yf[0, 0]
+    other = runs.quarter_car(*args[:5], 19.0, 76.0, 1.0, reuse=True)
+    assert not np.shares_memory(other.y, a.y) and other.y[0, 0] == 19.0

@@ -24,6 +24,7 @@ from __future__ import annotations
 
 import bisect
 import math
+from operator import mul
 
 import numpy as np
 
@@ -37,6 +38,8 @@ from tirecli.numerics.ros2 import GAMMA, LOCKED, PRESCRIBED
 #: transit, and its first-order embedded estimate overstates the (second-order) error of a
 #: quadrature of the smooth ``b(t)``; 0.1 leaves the results unchanged (measured) with ~30 % fewer steps.
 PHI_WEIGHT = 0.1
+#: ``jac`` value of :meth:`CharacteristicsStepper._eval` asking for the outputs without the Jacobian.
+OUTPUTS = "outputs"
 
 
 class History:
@@ -171,7 +174,8 @@ class CharacteristicsStepper:
     # ------------------------------------------------------------------ model
 
     def _eval(self, t, y, u, th, mode, jac):
-        """Right-hand side (and, with ``jac``, Jacobian pieces and outputs) at one state."""
+        """Right-hand side at one state; with ``jac``: ``(f, Jacobian pieces, outputs)``, with ``jac`` =
+        :data:`OUTPUTS`: ``(f, None, outputs)`` (what the dense output needs, without the Jacobian)."""
         p, car = self.p, self.car
         r, L = car.r, p.L
         v, w, Y, Phi, X = y[0], y[1], y[2], y[3], y[4]
@@ -200,11 +204,11 @@ class CharacteristicsStepper:
             dWX.append(G * slope)
         cL = c / L
         A, Bc, pidx, Drows = self.A, self.Bc, self.pidx, self.Drows
-        trans = [Bc[j] * zp[pidx[j]] - sum(val * S[l] for l, val in Drows[j]) for j in range(K)]
+        trans = [Bc[j] * zp[pidx[j]] - sum([val * S[l] for l, val in Drows[j]]) for j in range(K)]
         dS = [A[j] * vr - b * S[j] - cL * trans[j] for j in range(K)]
         wv = self.w
-        zw = sum(wv[j] * S[j] for j in range(K))
-        zwd = sum(wv[j] * dS[j] for j in range(K))
+        zw = sum(map(mul, wv, S))
+        zwd = sum(map(mul, wv, dS))
         mu = p.sigma0 * zw + p.sigma1 * zwd + p.sigma2 * vr
         F = mu * car.F_n
         if mode == PRESCRIBED:
@@ -215,6 +219,11 @@ class CharacteristicsStepper:
         f = [fv, fw, dY, b, c] + dS
         if not jac:
             return f
+        zL = zp[-1]
+        k0 = zL / zw if (self.uniform and zw != 0.0) else math.nan
+        out = (vr, mu, zw, zwd, u, th, k0, zL, F)
+        if jac is OUTPUTS:
+            return f, None, out
         sg = 1.0 if vr > 0.0 else (-1.0 if vr < 0.0 else 0.0)
         dbdvr = (p.sigma0 * sg / g) * (1.0 + th * (p.mu_s - p.mu_c) * e * p.alpha * qa / g)
         dbdth = -b / th
@@ -233,19 +242,16 @@ class CharacteristicsStepper:
         SX = [cL * Bc[j] * dWX[pidx[j]] for j in range(K)]
         SS = [[(l, cL * val) for l, val in Drows[j] if l != j] for j in range(K)]
         s1 = p.sigma1
-        wd_vr = sum(wv[j] * q_vr[3 + j] for j in range(K))
-        wd_c = sum(wv[j] * q_c[3 + j] for j in range(K))
-        wd_th = sum(wv[j] * q_th[3 + j] for j in range(K))
+        wd_vr = sum(map(mul, wv, q_vr[3:]))
+        wd_c = sum(map(mul, wv, q_c[3:]))
+        wd_th = sum(map(mul, wv, q_th[3:]))
         wBc = self.wBc
-        mu_q = [-s1 * cL * self.sum_wBc, -s1 * cL * sum(wBc[j] * Wp[pidx[j]] for j in range(K)),
-                s1 * cL * sum(wBc[j] * dWX[pidx[j]] for j in range(K))] + \
+        mu_q = [-s1 * cL * self.sum_wBc, -s1 * cL * sum([wBc[j] * Wp[pidx[j]] for j in range(K)]),
+                s1 * cL * sum([wBc[j] * dWX[pidx[j]] for j in range(K)])] + \
                [p.sigma0 * wv[j] + s1 * (-b * wv[j] + cL * self.DTw[j]) for j in range(K)]
         mu_v = -(s1 * wd_vr + p.sigma2)
         mu_w = r * (s1 * (wd_vr + ws * wd_c) + p.sigma2)
         mu_th = s1 * wd_th
-        zL = zp[-1]
-        k0 = zL / zw if (self.uniform and zw != 0.0) else math.nan
-        out = (vr, mu, zw, zwd, u, th, k0, zL, F)
         return f, (Jqv, Jqw, q_th, diag, SY, SPhi, SX, SS, mu_q, mu_v, mu_w, mu_th), out
 
     # ------------------------------------------------------------------ stepper API
@@ -256,13 +262,14 @@ class CharacteristicsStepper:
         self.hist.put(t, y[4], y[3], y[2], f[4], f[3], f[2])
         return E
 
-    def peek(self, t, y, mode):
-        """``start`` without recording ``(t, y)`` in the history (a step from a point of a finished run)."""
+    def peek(self, t, y, mode, jac=True):
+        """``start`` without recording ``(t, y)`` in the history (a step from a point of a finished run);
+        ``jac=OUTPUTS``: a record without the Jacobian (for :meth:`outputs`, not for a step)."""
         y = [float(x) for x in y]
         u, th = self.inputs(t)
         if mode == PRESCRIBED:
             y[0], y[1] = self.V(t), self.W(t)
-        f, J, out = self._eval(t, y, u, th, mode, True)
+        f, J, out = self._eval(t, y, u, th, mode, jac)
         return (t, y, u, th, mode, f, J, out)
 
     def attempt(self, E, h, left=False):
@@ -311,8 +318,8 @@ class CharacteristicsStepper:
             ftv, ftw = Fm * mu_th * thd, -rFJ * mu_th * thd + ud / J
             Jvv, Jvw = Fm * mu_v, Fm * mu_w
             Jwv, Jww = -rFJ * mu_v, -rFJ * mu_w - self.p.sigma_w / J
-            sv_ = sum(mu_q[i] * cv[i] for i in range(nq))
-            sw_ = sum(mu_q[i] * cw[i] for i in range(nq))
+            sv_ = sum(map(mul, mu_q, cv))
+            sw_ = sum(map(mul, mu_q, cw))
             a11 = 1.0 - gh * Jvv - gh * Fm * sv_
             a12 = -gh * Jvw - gh * Fm * sw_
             a21 = -gh * Jwv + gh * rFJ * sv_
@@ -322,7 +329,7 @@ class CharacteristicsStepper:
 
             def solve(rv, rw, rq):
                 base = tire(rq)
-                m_r = sum(mu_q[i] * base[i] for i in range(nq))
+                m_r = sum(map(mul, mu_q, base))
                 b1 = rv + gh * Fm * m_r
                 b2 = rw - gh * rFJ * m_r
                 if locked:
@@ -375,12 +382,12 @@ class CharacteristicsStepper:
         u, th = self._inputs_at(t, left)
         y = [float(x) for x in y]
         y[1] = 0.0
-        F = self._eval(t, y, u, th, LOCKED, True)[2][-1]
+        F = self._eval(t, y, u, th, LOCKED, OUTPUTS)[2][-1]
         return min(-u, self.car.r * F - u)
 
     def evaluate(self, t, y, mode):
         """``(state, outputs)`` at ``(t, y)`` in ``mode``, without touching the history."""
-        E = self.peek(t, y, mode)
+        E = self.peek(t, y, mode, OUTPUTS)
         return E[1], self.outputs(E)
 
     def rollback(self, t: float) -> None:

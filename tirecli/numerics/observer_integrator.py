@@ -2,8 +2,9 @@
 
 :func:`simulate` runs the method of ``solver:`` (:class:`SolverOptions`): ``fixed``
 (:func:`simulate_fast`), ``lsoda``/``radau``/``bdf`` (:func:`simulate_adaptive`, split at every
-breakpoint and sample) or ``auto`` (:func:`choose_method`: LSODA for the ideal measurement, the
-fixed scheme for a sampled one when ``lambda_f``, ``h rho_slow`` and ``h rho_block`` allow it).
+breakpoint and sample; a segment where LSODA stalls in its non-stiff mode is redone with BDF) or
+``auto`` (:func:`choose_method`: LSODA for the ideal measurement, the fixed scheme for a sampled one
+when ``lambda_f``, ``h rho_slow`` and ``h rho_block`` allow it).
 
 The coupled system (docs/models/observer_model.md §1-§3) is stiff twice over: the plant's wheel/bristle modes reach
 -2.5e3 1/s and the observer's output-error mode ``lambda_f = C K_eff`` is about -3.9e6 1/s for the
@@ -562,8 +563,8 @@ def scalar_rhs(plant: ObserverPlant, gains: ObserverGains, scenario: Scenario):
     E1, _, E3 = (float(e) for e in plant.E)
     P, Q = plant.P, plant.Q
     k1, k2, k3, gam, alp = g.k1, g.k2, g.k3, g.gamma, g.alpha
-    u_of = getattr(scenario.torque, "at", scenario.torque)
-    th_fm = scenario.theta_fm
+    u_of = getattr(scenario.torque, "at", scenario.torque)   # scalar evaluations without numpy overhead
+    th_fm = getattr(scenario.theta_fm, "at", scenario.theta_fm)
     exp_, fabs = math.exp, math.fabs
 
     def aphi_of(vr):
@@ -646,6 +647,7 @@ def simulate_adaptive(plant: ObserverPlant, gains: ObserverGains, scenario: Scen
     t_out = np.linspace(0.0, T, n_out + 1)
     ts, Xs, ys = [], [], []
     nfev = 0
+    stalled = []
     kw = {"max_step": h_max} if h_max else {}
     for a, b in zip(cuts[:-1], cuts[1:]):
         if sampler is not None and a > 0 and round(a, 12) in sample_set:
@@ -654,8 +656,15 @@ def simulate_adaptive(plant: ObserverPlant, gains: ObserverGains, scenario: Scen
         te = t_out[(t_out >= a) & (t_out < b)]
         if len(te) == 0 or te[0] > a:
             te = np.concatenate([[a], te])
-        sol = solve_ivp(lambda t, x: f(t, x, yy), (a, b), X, method=name, rtol=rtol, atol=atol_v,
-                        t_eval=np.append(te, b), dense_output=encoder, **kw)
+        fun = lambda t, x, yy=yy: f(t, x, yy)  # noqa: E731
+        opts = dict(rtol=rtol, atol=atol_v, t_eval=np.append(te, b), dense_output=encoder, **kw)
+        if name == "LSODA":
+            sol, spent = _lsoda_guarded(fun, a, b, X, h_max, opts)
+            if spent:
+                stalled.append(round(float(a), 9))
+                nfev += spent
+        else:
+            sol = solve_ivp(fun, (a, b), X, method=name, **opts)
         if sol.status < 0:
             raise RunError(f"{method} integration failed at t = {a:.6g} s: {sol.message}")
         nfev += sol.nfev
@@ -675,11 +684,68 @@ def simulate_adaptive(plant: ObserverPlant, gains: ObserverGains, scenario: Scen
     y = np.concatenate(ys)
     y = np.where(np.isnan(y), Y[1], y)
     v, omega, z, eh, ch, zh, thh = Y[:7]
+    info = {"method": method, "rtol": rtol, "atol": "rtol x state scales" if atol is None else atol,
+            "h_max_s": h_max, "segments": len(cuts) - 1, "rhs_calls": int(nfev)}
+    label = f"{method} (rtol {rtol:g})"
+    if stalled:
+        info["lsoda_stalled_segments_start_s"] = stalled
+        info["lsoda_stall"] = (f"LSODA stayed in its non-stiff mode on {len(stalled)} segment(s) (first at t = "
+                               f"{stalled[0]:.6g} s); each was redone with BDF")
+        label = f"{method} (rtol {rtol:g}; {len(stalled)} segment(s) by BDF)"
     return Trajectory(t=t, v=v, omega=omega, z=z, y=y, v_hat=plant.speed_from_eta(eh, y), z_hat=zh, theta_hat=thh,
                       y_tilde=y - (ch - plant.P * zh) / plant.car.J, theta=theta_obs_from_fm(scenario.theta_fm(t)),
-                      torque=np.asarray(scenario.torque(t), float), method=f"{method} (rtol {rtol:g})",
-                      info={"method": method, "rtol": rtol, "atol": "rtol x state scales" if atol is None else atol,
-                            "h_max_s": h_max, "segments": len(cuts) - 1, "rhs_calls": int(nfev)})
+                      torque=np.asarray(scenario.torque(t), float), method=label, info=info)
+
+
+#: LSODA counts as stalled when a window of this many right-hand-side calls advances the solution by
+#: less than the window over :data:`LSODA_STALL_RATE` (2 ms).
+LSODA_STALL_CALLS = 2000
+#: Calls per simulated second [1/s] of a stalled LSODA, at least (or four per ``h_max``, if more). Its
+#: normal work on the built-in runs is at most about 450 calls per segment start and 2000 per
+#: simulated second (rtol 1e-10); stalled it makes about ``lambda_f/0.6`` calls per second, 6.5e6
+#: for the OBS gains.
+LSODA_STALL_RATE = 1e6
+
+
+class _Stalled(Exception):
+    """LSODA stalled on a segment (:func:`_lsoda_guarded`)."""
+
+
+def _lsoda_guarded(fun, a: float, b: float, X, h_max, opts: dict):
+    """``solve_ivp`` with LSODA on ``[a, b]``, redone with BDF when LSODA stalls: ``(sol, calls spent in vain)``.
+
+    LSODA starts every segment in its non-stiff (Adams) mode and switches to BDF on an estimate of
+    the Lipschitz constant that it forms from the corrector's convergence rate. When the corrector
+    converges in one iteration at every step (the fast observer mode, ``lambda_f`` about 4e6 1/s,
+    sits below the tolerance) that estimate is never formed: LSODA stays in Adams at order 1 with
+    the step its stability allows, ``h`` about ``0.6/lambda_f`` (1.5e-7 s), and a 1 s segment costs
+    7e6 calls (the theta-known case of the speed-error study: 7.2e6 calls, 100 s). When
+    :data:`LSODA_STALL_CALLS` calls in a row advance the solution (the latest time LSODA asked
+    for) by less than ``LSODA_STALL_CALLS / LSODA_STALL_RATE``, the segment is redone with BDF
+    (same tolerances and output times).
+    """
+    from scipy.integrate import solve_ivp
+
+    window = LSODA_STALL_CALLS
+    least = window / max(LSODA_STALL_RATE, 4.0 / h_max if h_max else 0.0)   # [s] a window must advance
+    calls = 0
+    t_far = t_mark = a
+
+    def counted(t, x):
+        nonlocal calls, t_far, t_mark
+        calls += 1
+        if t > t_far:
+            t_far = t
+        if calls % window == 0:
+            if t_far - t_mark < least:
+                raise _Stalled
+            t_mark = t_far
+        return fun(t, x)
+
+    try:
+        return solve_ivp(counted, (a, b), X, method="LSODA", **opts), 0
+    except _Stalled:
+        return solve_ivp(fun, (a, b), X, method="BDF", **opts), calls
 
 
 def _edge_time(sol, angle, lo, hi):
@@ -751,7 +817,8 @@ def choose_method(plant: ObserverPlant, gains: ObserverGains, scenario: Scenario
 
     - with the ideal measurement LSODA on the full system is faster than the fixed scheme at
       every accuracy (about as fast as the 5 ms step for its 3e-4 in theta_hat, 8x faster at 5e-6),
-      and it follows stiff gains, where the fixed scheme does not: LSODA;
+      and it follows stiff gains, where the fixed scheme does not: LSODA, guarded against its stall
+      in the non-stiff mode (:func:`_lsoda_guarded`: such a segment is redone with BDF);
     - with a sampled measurement every sample is an input jump an adaptive method must restart
       at (about 90 rhs calls, 2.5 ms each time: 2.5 s per simulated second at 1 kHz), while the
       fixed scheme takes the fast layer after a jump in closed form (0.02 s per simulated second):
@@ -767,7 +834,8 @@ def choose_method(plant: ObserverPlant, gains: ObserverGains, scenario: Scenario
     """
     sensor = sensor or Sensor()
     if sensor.ideal:
-        return "lsoda", "ideal measurement: LSODA is faster than the fixed step at equal accuracy"
+        return "lsoda", ("ideal measurement: LSODA is faster than the fixed step at equal accuracy (a segment where "
+                         "it stalls in its non-stiff mode is redone with BDF)")
     lam = float(plant.fast_rate(gains, scenario.theta_hat0))
     if not lam >= MIN_FAST_RATE:
         return "lsoda", (f"observer fast mode lambda_f = {lam:.3g} 1/s < {MIN_FAST_RATE:g} 1/s: the fixed scheme's "

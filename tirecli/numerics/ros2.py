@@ -196,6 +196,9 @@ class Trajectory:
     advance : callable or None
         ``advance(t_k, y_k, mode, dt) -> y``: the integrator's step of length ``dt`` from a recorded
         point, the dense output of :meth:`sample` (and the map events are root-found on).
+    sample_cache : dict or None
+        Results of :meth:`sample` by output times, for a run that is no longer changed (its arrays
+        read-only: a run kept for reuse, :mod:`tirecli.numerics.runs`); shared by its copies.
     """
 
     t: np.ndarray
@@ -210,6 +213,7 @@ class Trajectory:
     evaluate: object = None
     out_names: tuple = field(default_factory=tuple)
     advance: object = None
+    sample_cache: dict | None = field(default=None, repr=False, compare=False)
 
     def state(self, name: str) -> np.ndarray:
         return self.y[:, self.y_names.index(name)]
@@ -261,6 +265,12 @@ class Trajectory:
         are returned exactly.
         """
         tq = np.atleast_1d(np.asarray(tq, dtype=float))
+        cache, key = self.sample_cache, None
+        if cache is not None:
+            key = tq.tobytes()
+            if key in cache:
+                Y, outs = cache[key]
+                return Y.copy(), {n: outs[:, i].copy() for i, n in enumerate(self.out_names)}
         Y = np.empty((tq.size, self.y.shape[1]))
         outs = np.empty((tq.size, len(self.out_names)))
         k = self.step_index(tq)
@@ -276,6 +286,10 @@ class Trajectory:
             y_eff, outs[i] = self.evaluate(float(tt), yi, int(self.modes[kk]))
             Y[i] = yi
             Y[i, :2] = y_eff[:2]
+        if key is not None:
+            while len(cache) >= SAMPLE_CACHE_SIZE:
+                cache.pop(next(iter(cache)))
+            cache[key] = (Y.copy(), outs.copy())
         return Y, {n: outs[:, i] for i, n in enumerate(self.out_names)}
 
     def _sample_one(self, tt: float) -> tuple:
@@ -346,6 +360,10 @@ class Trajectory:
         part = hk * ((t4 / 2 - t3 + th) * v[k] + (t4 / 4 - 2 * t3 / 3 + t2 / 2) * hk * f0[k]
                      + (-t4 / 2 + t3) * v[k + 1] + (t4 / 4 - t3 / 3) * hk * f1[k])
         return cum[k] + part
+
+
+#: Output grids whose :meth:`Trajectory.sample` results a kept run holds (the time series and the measured samples).
+SAMPLE_CACHE_SIZE = 4
 
 
 def merge_breakpoints(t0: float, t_end: float, *lists) -> list:

@@ -7,7 +7,10 @@ and integrate with :func:`tirecli.numerics.ros2.integrate`.
 from __future__ import annotations
 
 import bisect
-from dataclasses import dataclass
+import copy
+import threading
+from collections import OrderedDict
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -65,20 +68,75 @@ def _initial_state(variant, stepper, v0, omega0):
 
 def quarter_car(variant: FrictionVariant, p: LuGreParams, car: QuarterCarParams, torque, theta,
                 v0: float, omega0: float, t_end: float, options: SolverOptions = SolverOptions(),
-                sample_times=()) -> Trajectory:
+                sample_times=(), reuse: bool = False) -> Trajectory:
     """Quarter-car run (docs/models/lugre_friction.md §7) from ``z = 0`` at ``(v0 [m/s], omega0 [rad/s])`` to ``t_end`` [s].
 
     ``torque`` and ``theta`` are profiles (:mod:`tirecli.models.profiles`): the signed wheel
     torque ``u`` [N m] (its braking part cannot reverse the wheel) and the adhesion (FM
     convention). The run stops early when ``v`` falls to ``options.v_stop``. ``sample_times``
-    [s] become step ends, so the solution is exact (not interpolated) there.
+    [s] become step ends, so the solution is exact (not interpolated) there. ``reuse``: keep the run
+    (read-only) and return the kept one to a later call with the same inputs (:data:`MEMO_RUNS`).
     """
+    key = None if not reuse else _memo_key(variant, p, car, torque, theta, float(v0), float(omega0), float(t_end),
+                                           options, tuple(float(x) for x in sample_times))
+    memo = _memo()
+    if key is not None and key in memo:
+        memo.move_to_end(key)
+        return _shared(memo[key])
     tol = options.tol_for(variant)
     st = _stepper(variant, p, car, torque.at, theta.at, tol=tol)
     tr = integrate(st, _initial_state(variant, st, v0, omega0), 0.0, t_end,
                    tuple(torque.breakpoints(t_end)) + tuple(theta.breakpoints(t_end)) + tuple(sample_times), tol=tol,
                    h_max=options.h_max, v_stop=options.v_stop)
-    return _finish(tr, car)
+    tr = _finish(tr, car)
+    if key is None:
+        return tr
+    _freeze(tr)
+    memo[key] = tr
+    while len(memo) > MEMO_RUNS:
+        memo.popitem(last=False)
+    return _shared(tr)
+
+
+#: Coupled runs kept for reuse in a process (per thread, least recently used dropped first). The
+#: built-in brakings are shared by several studies: braking #2 of fm-fig4 is the data of fm-fig6, and
+#: the brakings of fm-fig7 and fm-fig8 are those of fm-fig4, so a report solves each of them once.
+MEMO_RUNS = 8
+_LOCAL = threading.local()
+
+
+def _memo() -> OrderedDict:
+    memo = getattr(_LOCAL, "runs", None)
+    if memo is None:
+        memo = _LOCAL.runs = OrderedDict()
+    return memo
+
+
+def _memo_key(*parts):
+    """The key of a run: its inputs (frozen dataclasses and profiles, compared by value) and the sample
+    budget in force; ``None`` when an input is not hashable (the run is not kept)."""
+    from tirecli.limits import max_samples
+
+    key = parts + (max_samples(),)
+    try:
+        hash(key)
+    except TypeError:
+        return None
+    return key
+
+
+def _freeze(tr: Trajectory) -> None:
+    """Make a kept run's arrays read-only (it is shared: a caller writing into it would change it for the next);
+    its dense-output samples are then kept too (``sample_cache``)."""
+    for a in (tr.t, tr.y, tr.dy, tr.dy_left, tr.modes, *tr.out.values()):
+        if isinstance(a, np.ndarray):
+            a.flags.writeable = False
+    tr.sample_cache = {}
+
+
+def _shared(tr: Trajectory) -> Trajectory:
+    """A kept run for one caller: its own ``out``, ``events`` and ``stats`` containers, the (read-only) arrays shared."""
+    return replace(tr, out=dict(tr.out), events=copy.deepcopy(tr.events), stats=dict(tr.stats))
 
 
 def open_loop(variant: FrictionVariant, p: LuGreParams, car: QuarterCarParams, v_profile, omega_profile, theta,

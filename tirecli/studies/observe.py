@@ -196,11 +196,24 @@ def _sensor(m: dict | None) -> Sensor:
 
 
 def _theta_fm_fn(profile, convention):
-    """``theta_fm(t)`` of a profile given in ``convention`` (scalar calls use the profile's fast ``at``)."""
+    """``theta_fm(t)`` of a profile given in ``convention`` (scalar calls use the profile's fast ``at``).
+
+    With a scalar ``at`` the function has one too, ``theta_fm.at(t)`` (a float, no numpy: what the
+    adaptive integrators call at every rhs evaluation)."""
+    at = getattr(profile, "at", None)
+    at_fm = None
+    if at is not None and convention == "obs":
+        def at_fm(t):
+            return 1.0 / at(t)
+    elif at is not None and convention == "fm":
+        at_fm = at
+
     def theta_fm(t):
-        if np.ndim(t) == 0 and hasattr(profile, "at"):
-            return float(to_theta_fm(profile.at(float(t)), convention))
+        if at_fm is not None and np.ndim(t) == 0:
+            return at_fm(float(t))
         return to_theta_fm(profile(t), convention)
+    if at_fm is not None:
+        theta_fm.at = at_fm
     return theta_fm
 
 

@@ -236,6 +236,12 @@ class _Scaled:
     def record(self):
         return {"kind": self.what, "factor": self.factor, "of": self.prof.record()}
 
+    def __eq__(self, other):  # by value, like the profiles (the key of a kept run, tirecli.numerics.runs)
+        return type(other) is _Scaled and (self.prof, self.factor, self.what) == (other.prof, other.factor, other.what)
+
+    def __hash__(self):
+        return hash((self.prof, self.factor, self.what))
+
 
 class Case:
     """One planned run: variant, inputs, initial state, solver options, open-loop drive."""
@@ -654,7 +660,7 @@ def run_cases(cases, p, car, t_end, sample_times=(), progress=None) -> dict:
     for c in sorted(cases, key=lambda c: c.mode != "coupled"):
         if c.mode == "coupled":
             trs[c.label] = runs.quarter_car(c.variant, p, car, c.torque, c.theta, c.v0, c.omega0, t_end, c.solver,
-                                            sample_times)
+                                            sample_times, reuse=True)
         else:
             if c.drive_case is not None:
                 drv = trs[c.drive_case]
