@@ -154,15 +154,34 @@ def _minimize(f, a, b, xtol=1e-12, maxiter=200):
     return x, fx
 
 
-def _event_step(attempt, E, t, H, g, g0, gH, left_end=False):
+def _return_root(gh, H, gH, tol=EVENT_TOL):
+    """Zero of ``gh`` on ``(0, H]`` where it comes back down through 0 after rising from ``gh(0) ~ 0``
+    (the step starts on the event surface, ``gh(H) = gH < 0``): the largest of the probes ``gh(H 2^-k)``
+    (k = 1, 2, ... down to ``tol``) brackets the zero with ``H``; 0.0 when no probe is positive
+    (``gh`` leaves 0 downwards: the event is at the step's start)."""
+    best, g_best = 0.0, 0.0
+    h = H
+    while h > 2.0 * tol:
+        h *= 0.5
+        g = gh(h)
+        if g > g_best:
+            best, g_best = h, g
+    if g_best <= 0.0:
+        return 0.0
+    return _root(gh, best, H, g_best, gH, tol)
+
+
+def _event_step(attempt, E, t, H, g, g0, gH, left_end=False, on_surface=False):
     """Length ``h`` in ``(0, H]`` of the step from ``E`` (at ``t``) that ends on the event ``g(t + h, y(h)) = 0``,
     with ``y(h)`` the ROS2 step of length ``h`` (the integrator's own one-step map, smooth in ``h``):
     Brent's method to ``EVENT_TOL``. ``g0``, ``gH``: the event function at both ends (a sign change).
-    Returns ``(h, y(h))``."""
+    ``on_surface``: the step starts on the event surface (``g0`` zero up to rounding): the zero sought
+    is where ``g`` comes back to 0 after leaving it upwards (:func:`_return_root`); ``h = 0`` when it
+    leaves downwards. Returns ``(h, y(h))``."""
     def gh(h):
         return g(t + h, attempt(E, h, left_end and h >= H)[0])
 
-    h = _root(gh, 0.0, H, g0, gH)
+    h = _return_root(gh, H, gH) if on_surface else _root(gh, 0.0, H, g0, gH)
     if h <= 0.0:
         return 0.0, None
     return h, attempt(E, h, left_end and h >= H)[0]
@@ -417,19 +436,21 @@ def integrate(stepper, y0, t0: float, t_end: float, breakpoints=(), tol: float =
     start, attempt, outputs, deriv = stepper.start, stepper.attempt, stepper.outputs, stepper.deriv
     f_left = None          # slope at the current time as the end of the previous step (None: same as the next start's)
     prev = None            # (t, y, E, mode) of the last accepted step's start
+    sticks = False         # the wheel sticks at t: the next step is locked without the holding test at t
     while True:
         E = start(t, y, mode)
-        if mode == LOCKED and not stepper.holds(E):
+        if mode == LOCKED and not sticks and not stepper.holds(E):
             # The brake no longer holds at t. If it already failed within the last (locked) step,
-            # locate the crossing of the holding margin on that step's dense output and redo the step to it.
+            # locate the crossing of the holding margin on that step's dense output and redo the step to it
+            # (a step that started sticking, margin ~ 0-: the crossing after the margin's rise).
             fl = f_left if f_left is not None else deriv(E)
             if prev is not None and prev[3] == LOCKED and stepper.lock_margin(t, y, True) < 0.0:
                 tp, yp, Ep, _ = prev
                 gp = stepper.lock_margin(tp, yp)
                 gt = stepper.lock_margin(t, y, True)
-                if gp >= 0.0 > gt:
+                if gt < 0.0:
                     stepper.rollback(tp)
-                    hs, ys = _event_step(attempt, Ep, tp, t - tp, stepper.lock_margin, gp, gt, True)
+                    hs, ys = _event_step(attempt, Ep, tp, t - tp, stepper.lock_margin, gp, gt, True, gp < 0.0)
                     if 0.0 < hs < t - tp - 1e-12:
                         ys[1] = 0.0
                         t, y = tp + hs, ys
@@ -440,6 +461,7 @@ def integrate(stepper, y0, t0: float, t_end: float, breakpoints=(), tol: float =
             mode = FREE
             locks[-1][1] = t
             E = start(t, y, mode)
+        sticks = False
         rec_t.append(t)
         rec_y.append(list(y))
         rec_o.append(outputs(E))
@@ -474,18 +496,26 @@ def integrate(stepper, y0, t0: float, t_end: float, breakpoints=(), tol: float =
         if at_bp:  # the slope this step ends with: the inputs' left limits at the breakpoint
             f_left = stepper.rhs_at(t + hh, y_new, step_mode, True)
         if mode == FREE and y_new[1] < 0.0:
-            # the wheel would turn backwards: lock where omega reaches 0 (docs/models/lugre_friction.md §7)
-            hs, ys = _event_step(attempt, E, t, hh, lambda tt, yy: yy[1], y[1], y_new[1], at_bp)
+            # the wheel would turn backwards: lock where omega reaches 0 (docs/models/lugre_friction.md §7);
+            # from omega = 0 (just unlocked, or at rest): where omega comes back to 0 after rising
+            hs, ys = _event_step(attempt, E, t, hh, lambda tt, yy: yy[1], y[1], y_new[1], at_bp, y[1] == 0.0)
             if hs <= 1e-12:
-                # omega is already 0 at this step's start: lock here (record this time again, locked)
+                # The wheel leaves omega = 0 backwards (it sticks: Filippov): lock here and take the next step
+                # locked whatever the holding margin says at t (it is 0 to rounding, rising: the margin has
+                # just been root-found, or the free rolling would reverse the wheel); the unlock is the margin's
+                # next downward crossing. Record this time again, locked.
                 fl_prev = rec_fl[-1]
                 for lst in (rec_t, rec_y, rec_o, rec_f, rec_fl, rec_m):
                     lst.pop()
                 y = list(y)
                 y[1] = 0.0
                 mode = LOCKED
-                locks.append([t, None])
+                if locks and locks[-1][1] == t:
+                    locks[-1][1] = None       # the unlock at t did not happen: the lock goes on
+                else:
+                    locks.append([t, None])
                 f_left = fl_prev
+                sticks = True
                 continue
             end_bp = at_bp and hs >= hh
             hh, y_new = hs, ys
