@@ -65,13 +65,20 @@ def hermite(s, h, y0, y1, f0, f1):
 def _root(g, a, b, ga=None, gb=None, tol=EVENT_TOL):
     """A zero of ``g`` on ``[a, b]`` where it changes sign: regula falsi with the Illinois modification
     and bisection safeguard (superlinear, bracketing), to ``tol``. Plain Python: no scipy import on the
-    simulate path."""
+    simulate path. Returns, of the points evaluated in the final bracket (its ends included, ``a`` as
+    given excluded: the zero is sought after it), the one where ``|g|`` is smallest."""
     ga = g(a) if ga is None else ga
     gb = g(b) if gb is None else gb
     if ga == 0.0:
         return a
     if gb == 0.0 or ga * gb > 0.0:
         return b
+    g_raw, a0 = g, a
+    seen = {a: ga, b: gb}
+
+    def g(x):
+        seen[x] = gx = g_raw(x)
+        return gx
     side = 0
     for _ in range(200):
         if b - a <= tol:
@@ -79,6 +86,9 @@ def _root(g, a, b, ga=None, gb=None, tol=EVENT_TOL):
         c = b - gb * (b - a) / (gb - ga)
         if not a < c < b:
             c = 0.5 * (a + b)
+        # at least tol/2 inside the bracket (Brent's rule): a secant point a rounding error away from an end
+        # (an end value ~0, e.g. an event just located) would evaluate g at rounding noise
+        c = min(max(c, a + 0.5 * tol), b - 0.5 * tol)
         gc = g(c)
         if gc == 0.0:
             return c
@@ -100,7 +110,8 @@ def _root(g, a, b, ga=None, gb=None, tol=EVENT_TOL):
                 b, gb = m, gm
             else:
                 a, ga = m, gm
-    return 0.5 * (a + b) if abs(ga) > 0 and abs(gb) > 0 else (a if ga == 0.0 else b)
+    inside = [x for x in seen if a <= x <= b and x != a0]
+    return min(inside, key=lambda x: abs(seen[x])) if inside else 0.5 * (a + b)
 
 
 def _minimize(f, a, b, xtol=1e-12, maxiter=200):
@@ -154,11 +165,12 @@ def _minimize(f, a, b, xtol=1e-12, maxiter=200):
     return x, fx
 
 
-def _return_root(gh, H, gH, tol=EVENT_TOL):
+def _return_root(gh, H, gH, floor=0.0, tol=EVENT_TOL):
     """Zero of ``gh`` on ``(0, H]`` where it comes back down through 0 after rising from ``gh(0) ~ 0``
     (the step starts on the event surface, ``gh(H) = gH < 0``): the largest of the probes ``gh(H 2^-k)``
-    (k = 1, 2, ... down to ``tol``) brackets the zero with ``H``; 0.0 when no probe is positive
-    (``gh`` leaves 0 downwards: the event is at the step's start)."""
+    (k = 1, 2, ... down to ``tol``) brackets the zero with ``H``; 0.0 when no probe exceeds ``floor``
+    (``gh`` leaves 0 downwards, or rises by less than the solution's resolution ``floor`` before it
+    comes back: the event is at the step's start)."""
     best, g_best = 0.0, 0.0
     h = H
     while h > 2.0 * tol:
@@ -166,22 +178,22 @@ def _return_root(gh, H, gH, tol=EVENT_TOL):
         g = gh(h)
         if g > g_best:
             best, g_best = h, g
-    if g_best <= 0.0:
+    if g_best <= floor:
         return 0.0
     return _root(gh, best, H, g_best, gH, tol)
 
 
-def _event_step(attempt, E, t, H, g, g0, gH, left_end=False, on_surface=False):
+def _event_step(attempt, E, t, H, g, g0, gH, left_end=False, on_surface=None):
     """Length ``h`` in ``(0, H]`` of the step from ``E`` (at ``t``) that ends on the event ``g(t + h, y(h)) = 0``,
     with ``y(h)`` the ROS2 step of length ``h`` (the integrator's own one-step map, smooth in ``h``):
     Brent's method to ``EVENT_TOL``. ``g0``, ``gH``: the event function at both ends (a sign change).
-    ``on_surface``: the step starts on the event surface (``g0`` zero up to rounding): the zero sought
-    is where ``g`` comes back to 0 after leaving it upwards (:func:`_return_root`); ``h = 0`` when it
-    leaves downwards. Returns ``(h, y(h))``."""
+    ``on_surface``: None, or the step starts on the event surface (``g0`` zero up to rounding) and the
+    zero sought is where ``g`` comes back to 0 after rising above ``on_surface`` (:func:`_return_root`);
+    ``h = 0`` when it does not. Returns ``(h, y(h))``."""
     def gh(h):
         return g(t + h, attempt(E, h, left_end and h >= H)[0])
 
-    h = _return_root(gh, H, gH) if on_surface else _root(gh, 0.0, H, g0, gH)
+    h = _root(gh, 0.0, H, g0, gH) if on_surface is None else _return_root(gh, H, gH, on_surface)
     if h <= 0.0:
         return 0.0, None
     return h, attempt(E, h, left_end and h >= H)[0]
@@ -419,6 +431,7 @@ def integrate(stepper, y0, t0: float, t_end: float, breakpoints=(), tol: float =
     max_steps = max_samples() if budget else max_steps
     bps = merge_breakpoints(t0, t_end, breakpoints)
     eps_t = 1e-12 * max(1.0, abs(t_end))
+    omega_floor = tol / stepper.car.r if not prescribed else 0.0   # [rad/s] the wheel speed's error tolerance
     t = float(t0)
     y = list(map(float, y0))
     mode = PRESCRIBED if prescribed else FREE
@@ -450,8 +463,9 @@ def integrate(stepper, y0, t0: float, t_end: float, breakpoints=(), tol: float =
                 gt = stepper.lock_margin(t, y, True)
                 if gt < 0.0:
                     stepper.rollback(tp)
-                    hs, ys = _event_step(attempt, Ep, tp, t - tp, stepper.lock_margin, gp, gt, True, gp < 0.0)
-                    if 0.0 < hs < t - tp - 1e-12:
+                    hs, ys = _event_step(attempt, Ep, tp, t - tp, stepper.lock_margin, gp, gt, True,
+                                         0.0 if gp < 0.0 else None)
+                    if eps_t < hs < t - tp - 1e-12:
                         ys[1] = 0.0
                         t, y = tp + hs, ys
                         fl = stepper.rhs_at(t, y, LOCKED)
@@ -497,8 +511,10 @@ def integrate(stepper, y0, t0: float, t_end: float, breakpoints=(), tol: float =
             f_left = stepper.rhs_at(t + hh, y_new, step_mode, True)
         if mode == FREE and y_new[1] < 0.0:
             # the wheel would turn backwards: lock where omega reaches 0 (docs/models/lugre_friction.md §7);
-            # from omega = 0 (just unlocked, or at rest): where omega comes back to 0 after rising
-            hs, ys = _event_step(attempt, E, t, hh, lambda tt, yy: yy[1], y[1], y_new[1], at_bp, y[1] == 0.0)
+            # from omega = 0 (just unlocked, or at rest): where omega comes back to 0 after rising above
+            # the error tolerance (a smaller excursion is the locked wheel to the solution's accuracy)
+            hs, ys = _event_step(attempt, E, t, hh, lambda tt, yy: yy[1], y[1], y_new[1], at_bp,
+                                 omega_floor if y[1] == 0.0 else None)
             if hs <= 1e-12:
                 # The wheel leaves omega = 0 backwards (it sticks: Filippov): lock here and take the next step
                 # locked whatever the holding margin says at t (it is 0 to rounding, rising: the margin has
