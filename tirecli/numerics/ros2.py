@@ -18,7 +18,8 @@ exactly on the inputs' breakpoints (kinks of ramps, steps), so no step straddles
 
 Modes of the wheel (docs/models/lugre_friction.md §7): *free* (quarter car), *locked* (``omega = 0`` held while the
 brake torque can balance the tire torque ``|r F| <= T_b``; brake torque never drives the wheel
-backwards) and *prescribed* (open loop: ``v(t)``, ``omega(t)`` given, only the tire states
+backwards; at ``omega = 0`` the wheel sticks, Filippov-style: it is released only when the free
+wheel's speed rises, see :func:`integrate`) and *prescribed* (open loop: ``v(t)``, ``omega(t)`` given, only the tire states
 integrate). **Stop condition:** a run ends at ``t_end``, or when the vehicle speed falls to
 ``v_stop`` (the quarter car has no model of a vehicle at rest; LuGre itself stays defined at
 ``v = 0``: no division by zero anywhere).
@@ -30,8 +31,9 @@ stop) are root-found on that same one-step map, so the run ends a step exactly a
 A stepper (see :mod:`tirecli.numerics.lumped`, :mod:`tirecli.numerics.characteristics`) provides
 ``start(t, y, mode) -> E`` (right-hand side, Jacobian and outputs at ``(t, y)``),
 ``attempt(E, h, left) -> (y_new, err)`` (``left``: the step ends on a breakpoint, use the
-inputs' left limits there), ``holds(E)`` (locked wheel stays locked), ``outputs(E)``
-and the names ``y_names``/``out_names``.
+inputs' left limits there), ``holds(E)`` (locked wheel stays locked), ``outputs(E)``,
+the names ``y_names``/``out_names`` and ``car`` (the quarter car: its radius scales the wheel speed's
+error tolerance).
 """
 from __future__ import annotations
 
@@ -424,6 +426,16 @@ def integrate(stepper, y0, t0: float, t_end: float, breakpoints=(), tol: float =
     ``min(T_b, T_b - |r F|)`` reaching 0 with the wheel locked (at a breakpoint, with the inputs' left
     limits first: a jump of the input releases the wheel exactly at the breakpoint); stop: ``v``
     reaching ``v_stop``.
+
+    Sticking (Filippov): with ``omega = 0`` the free wheel's ``J domega/dt`` equals minus the holding
+    margin, so the wheel really leaves only where the margin crosses 0 downwards. A free step from
+    ``omega = 0`` (just released, or at rest) that ends with ``omega < 0`` locks where ``omega`` comes
+    back to 0 after rising above the wheel speed's error tolerance ``tol / r``; if it never does (the
+    wheel would turn backwards at once: the margin is 0 to rounding but rising, as after a crossing
+    located on a step whose restart relaxes the bristles), the wheel stays locked at that time and the
+    next step is taken locked without the holding test there; its unlock is then the margin's crossing
+    after it has risen (or the step's end). Every mode change thus comes with a step of positive length:
+    no zero-length lock/unlock cycles.
     """
     from tirecli.limits import OPTION, max_samples
 
