@@ -45,6 +45,14 @@ import numpy as np
 
 from tirecli.errors import RunError
 
+class StepUnderflow(RunError):
+    """The step size fell below the time resolution at ``t`` [s] (the run cannot go on)."""
+
+    def __init__(self, message: str, t: float):
+        super().__init__(message)
+        self.t = t
+
+
 #: ROS2 parameter gamma = 1 + 1/sqrt(2) (L-stable).
 GAMMA = 1.0 + 1.0 / math.sqrt(2.0)
 
@@ -514,7 +522,7 @@ def integrate(stepper, y0, t0: float, t_end: float, breakpoints=(), tol: float =
                 n_rej += 1
                 h = hh * (max(0.1, 0.9 / math.sqrt(err)) if math.isfinite(err) else 0.1)
                 if h < 1e-12 * max(1.0, t_end):
-                    raise RunError(f"time step underflow at t = {t:.6g} s (state {list(y)})")
+                    raise StepUnderflow(f"time step underflow at t = {t:.6g} s (state {list(y)})", t)
                 continue
             break
         n_acc += 1
