@@ -45,6 +45,7 @@ import numpy as np
 
 from tirecli.errors import RunError
 
+
 class StepUnderflow(RunError):
     """The step size fell below the time resolution at ``t`` [s] (the run cannot go on)."""
 
