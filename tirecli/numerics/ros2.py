@@ -19,8 +19,8 @@ exactly on the inputs' breakpoints (kinks of ramps, steps), so no step straddles
 Modes of the wheel (docs/models/lugre_friction.md §7): *free* (quarter car), *locked* (``omega = 0`` held while the
 brake torque can balance the tire torque ``|r F| <= T_b``; brake torque never drives the wheel
 backwards; at ``omega = 0`` the wheel sticks, Filippov-style: it is released only when the free
-wheel's speed rises, see :func:`integrate`) and *prescribed* (open loop: ``v(t)``, ``omega(t)`` given, only the tire states
-integrate). **Stop condition:** a run ends at ``t_end``, or when the vehicle speed falls to
+wheel's speed rises, see :func:`integrate`) and *prescribed* (open loop: ``v(t)``, ``omega(t)``
+given, only the tire states integrate). **Stop condition:** a run ends at ``t_end``, or when the vehicle speed falls to
 ``v_stop`` (the quarter car has no model of a vehicle at rest; LuGre itself stays defined at
 ``v = 0``: no division by zero anywhere).
 
