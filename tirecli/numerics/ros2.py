@@ -18,8 +18,9 @@ exactly on the inputs' breakpoints (kinks of ramps, steps), so no step straddles
 
 Modes of the wheel (docs/models/lugre_friction.md §7): *free* (quarter car), *locked* (``omega = 0`` held while the
 brake torque can balance the tire torque ``|r F| <= T_b``; brake torque never drives the wheel
-backwards) and *prescribed* (open loop: ``v(t)``, ``omega(t)`` given, only the tire states
-integrate). **Stop condition:** a run ends at ``t_end``, or when the vehicle speed falls to
+backwards; at ``omega = 0`` the wheel sticks, Filippov-style: it is released only when the free
+wheel's speed rises, see :func:`integrate`) and *prescribed* (open loop: ``v(t)``, ``omega(t)``
+given, only the tire states integrate). **Stop condition:** a run ends at ``t_end``, or when the vehicle speed falls to
 ``v_stop`` (the quarter car has no model of a vehicle at rest; LuGre itself stays defined at
 ``v = 0``: no division by zero anywhere).
 
@@ -30,8 +31,9 @@ stop) are root-found on that same one-step map, so the run ends a step exactly a
 A stepper (see :mod:`tirecli.numerics.lumped`, :mod:`tirecli.numerics.characteristics`) provides
 ``start(t, y, mode) -> E`` (right-hand side, Jacobian and outputs at ``(t, y)``),
 ``attempt(E, h, left) -> (y_new, err)`` (``left``: the step ends on a breakpoint, use the
-inputs' left limits there), ``holds(E)`` (locked wheel stays locked), ``outputs(E)``
-and the names ``y_names``/``out_names``.
+inputs' left limits there), ``holds(E)`` (locked wheel stays locked), ``outputs(E)``,
+the names ``y_names``/``out_names`` and ``car`` (the quarter car: its radius scales the wheel speed's
+error tolerance).
 """
 from __future__ import annotations
 
@@ -42,6 +44,15 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from tirecli.errors import RunError
+
+
+class StepUnderflow(RunError):
+    """The step size fell below the time resolution at ``t`` [s] (the run cannot go on)."""
+
+    def __init__(self, message: str, t: float):
+        super().__init__(message)
+        self.t = t
+
 
 #: ROS2 parameter gamma = 1 + 1/sqrt(2) (L-stable).
 GAMMA = 1.0 + 1.0 / math.sqrt(2.0)
@@ -65,13 +76,20 @@ def hermite(s, h, y0, y1, f0, f1):
 def _root(g, a, b, ga=None, gb=None, tol=EVENT_TOL):
     """A zero of ``g`` on ``[a, b]`` where it changes sign: regula falsi with the Illinois modification
     and bisection safeguard (superlinear, bracketing), to ``tol``. Plain Python: no scipy import on the
-    simulate path."""
+    simulate path. Returns, of the points evaluated in the final bracket (its ends included, ``a`` as
+    given excluded: the zero is sought after it), the one where ``|g|`` is smallest."""
     ga = g(a) if ga is None else ga
     gb = g(b) if gb is None else gb
     if ga == 0.0:
         return a
     if gb == 0.0 or ga * gb > 0.0:
         return b
+    g_raw, a0 = g, a
+    seen = {a: ga, b: gb}
+
+    def g(x):
+        seen[x] = gx = g_raw(x)
+        return gx
     side = 0
     for _ in range(200):
         if b - a <= tol:
@@ -79,6 +97,9 @@ def _root(g, a, b, ga=None, gb=None, tol=EVENT_TOL):
         c = b - gb * (b - a) / (gb - ga)
         if not a < c < b:
             c = 0.5 * (a + b)
+        # at least tol/2 inside the bracket (Brent's rule): a secant point a rounding error away from an end
+        # (an end value ~0, e.g. an event just located) would evaluate g at rounding noise
+        c = min(max(c, a + 0.5 * tol), b - 0.5 * tol)
         gc = g(c)
         if gc == 0.0:
             return c
@@ -100,7 +121,8 @@ def _root(g, a, b, ga=None, gb=None, tol=EVENT_TOL):
                 b, gb = m, gm
             else:
                 a, ga = m, gm
-    return 0.5 * (a + b) if abs(ga) > 0 and abs(gb) > 0 else (a if ga == 0.0 else b)
+    inside = [x for x in seen if a <= x <= b and x != a0]
+    return min(inside, key=lambda x: abs(seen[x])) if inside else 0.5 * (a + b)
 
 
 def _minimize(f, a, b, xtol=1e-12, maxiter=200):
@@ -154,15 +176,35 @@ def _minimize(f, a, b, xtol=1e-12, maxiter=200):
     return x, fx
 
 
-def _event_step(attempt, E, t, H, g, g0, gH, left_end=False):
+def _return_root(gh, H, gH, floor=0.0, tol=EVENT_TOL):
+    """Zero of ``gh`` on ``(0, H]`` where it comes back down through 0 after rising from ``gh(0) ~ 0``
+    (the step starts on the event surface, ``gh(H) = gH < 0``): the largest of the probes ``gh(H 2^-k)``
+    (k = 1, 2, ... down to ``tol``) brackets the zero with ``H``; 0.0 when no probe exceeds ``floor``
+    (``gh`` leaves 0 downwards, or rises by less than the solution's resolution ``floor`` before it
+    comes back: the event is at the step's start)."""
+    best, g_best = 0.0, 0.0
+    h = H
+    while h > 2.0 * tol:
+        h *= 0.5
+        g = gh(h)
+        if g > g_best:
+            best, g_best = h, g
+    if g_best <= floor:
+        return 0.0
+    return _root(gh, best, H, g_best, gH, tol)
+
+
+def _event_step(attempt, E, t, H, g, g0, gH, left_end=False, on_surface=None):
     """Length ``h`` in ``(0, H]`` of the step from ``E`` (at ``t``) that ends on the event ``g(t + h, y(h)) = 0``,
     with ``y(h)`` the ROS2 step of length ``h`` (the integrator's own one-step map, smooth in ``h``):
     Brent's method to ``EVENT_TOL``. ``g0``, ``gH``: the event function at both ends (a sign change).
-    Returns ``(h, y(h))``."""
+    ``on_surface``: None, or the step starts on the event surface (``g0`` zero up to rounding) and the
+    zero sought is where ``g`` comes back to 0 after rising above ``on_surface`` (:func:`_return_root`);
+    ``h = 0`` when it does not. Returns ``(h, y(h))``."""
     def gh(h):
         return g(t + h, attempt(E, h, left_end and h >= H)[0])
 
-    h = _root(gh, 0.0, H, g0, gH)
+    h = _root(gh, 0.0, H, g0, gH) if on_surface is None else _return_root(gh, H, gH, on_surface)
     if h <= 0.0:
         return 0.0, None
     return h, attempt(E, h, left_end and h >= H)[0]
@@ -411,6 +453,16 @@ def integrate(stepper, y0, t0: float, t_end: float, breakpoints=(), tol: float =
     ``min(T_b, T_b - |r F|)`` reaching 0 with the wheel locked (at a breakpoint, with the inputs' left
     limits first: a jump of the input releases the wheel exactly at the breakpoint); stop: ``v``
     reaching ``v_stop``.
+
+    Sticking (Filippov): with ``omega = 0`` the free wheel's ``J domega/dt`` equals minus the holding
+    margin, so the wheel really leaves only where the margin crosses 0 downwards. A free step from
+    ``omega = 0`` (just released, or at rest) that ends with ``omega < 0`` locks where ``omega`` comes
+    back to 0 after rising above the wheel speed's error tolerance ``tol / r``; if it never does (the
+    wheel would turn backwards at once: the margin is 0 to rounding but rising, as after a crossing
+    located on a step whose restart relaxes the bristles), the wheel stays locked at that time and the
+    next step is taken locked without the holding test there; its unlock is then the margin's crossing
+    after it has risen (or the step's end). Every mode change thus comes with a step of positive length:
+    no zero-length lock/unlock cycles.
     """
     from tirecli.limits import OPTION, max_samples
 
@@ -418,6 +470,7 @@ def integrate(stepper, y0, t0: float, t_end: float, breakpoints=(), tol: float =
     max_steps = max_samples() if budget else max_steps
     bps = merge_breakpoints(t0, t_end, breakpoints)
     eps_t = 1e-12 * max(1.0, abs(t_end))
+    omega_floor = tol / stepper.car.r if not prescribed else 0.0   # [rad/s] the wheel speed's error tolerance
     t = float(t0)
     y = list(map(float, y0))
     mode = PRESCRIBED if prescribed else FREE
@@ -435,20 +488,23 @@ def integrate(stepper, y0, t0: float, t_end: float, breakpoints=(), tol: float =
     start, attempt, outputs, deriv = stepper.start, stepper.attempt, stepper.outputs, stepper.deriv
     f_left = None          # slope at the current time as the end of the previous step (None: same as the next start's)
     prev = None            # (t, y, E, mode) of the last accepted step's start
+    sticks = False         # the wheel sticks at t: the next step is locked without the holding test at t
     while True:
         E = start(t, y, mode)
-        if mode == LOCKED and not stepper.holds(E):
+        if mode == LOCKED and not sticks and not stepper.holds(E):
             # The brake no longer holds at t. If it already failed within the last (locked) step,
-            # locate the crossing of the holding margin on that step's dense output and redo the step to it.
+            # locate the crossing of the holding margin on that step's dense output and redo the step to it
+            # (a step that started sticking, margin ~ 0-: the crossing after the margin's rise).
             fl = f_left if f_left is not None else deriv(E)
             if prev is not None and prev[3] == LOCKED and stepper.lock_margin(t, y, True) < 0.0:
                 tp, yp, Ep, _ = prev
                 gp = stepper.lock_margin(tp, yp)
                 gt = stepper.lock_margin(t, y, True)
-                if gp >= 0.0 > gt:
+                if gt < 0.0:
                     stepper.rollback(tp)
-                    hs, ys = _event_step(attempt, Ep, tp, t - tp, stepper.lock_margin, gp, gt, True)
-                    if 0.0 < hs < t - tp - 1e-12:
+                    hs, ys = _event_step(attempt, Ep, tp, t - tp, stepper.lock_margin, gp, gt, True,
+                                         0.0 if gp < 0.0 else None)
+                    if eps_t < hs < t - tp - 1e-12:
                         ys[1] = 0.0
                         t, y = tp + hs, ys
                         fl = stepper.rhs_at(t, y, LOCKED)
@@ -458,6 +514,7 @@ def integrate(stepper, y0, t0: float, t_end: float, breakpoints=(), tol: float =
             mode = FREE
             locks[-1][1] = t
             E = start(t, y, mode)
+        sticks = False
         rec_t.append(t)
         rec_y.append(list(y))
         rec_o.append(outputs(E))
@@ -484,7 +541,7 @@ def integrate(stepper, y0, t0: float, t_end: float, breakpoints=(), tol: float =
                 n_rej += 1
                 h = hh * (max(0.1, 0.9 / math.sqrt(err)) if math.isfinite(err) else 0.1)
                 if h < 1e-12 * max(1.0, t_end):
-                    raise RunError(f"time step underflow at t = {t:.6g} s (state {list(y)})")
+                    raise StepUnderflow(f"time step underflow at t = {t:.6g} s (state {list(y)})", t)
                 continue
             break
         n_acc += 1
@@ -492,18 +549,28 @@ def integrate(stepper, y0, t0: float, t_end: float, breakpoints=(), tol: float =
         if at_bp:  # the slope this step ends with: the inputs' left limits at the breakpoint
             f_left = stepper.rhs_at(t + hh, y_new, step_mode, True)
         if mode == FREE and y_new[1] < 0.0:
-            # the wheel would turn backwards: lock where omega reaches 0 (docs/models/lugre_friction.md §7)
-            hs, ys = _event_step(attempt, E, t, hh, lambda tt, yy: yy[1], y[1], y_new[1], at_bp)
+            # the wheel would turn backwards: lock where omega reaches 0 (docs/models/lugre_friction.md §7);
+            # from omega = 0 (just unlocked, or at rest): where omega comes back to 0 after rising above
+            # the error tolerance (a smaller excursion is the locked wheel to the solution's accuracy)
+            hs, ys = _event_step(attempt, E, t, hh, lambda tt, yy: yy[1], y[1], y_new[1], at_bp,
+                                 omega_floor if y[1] == 0.0 else None)
             if hs <= 1e-12:
-                # omega is already 0 at this step's start: lock here (record this time again, locked)
+                # The wheel leaves omega = 0 backwards (it sticks: Filippov): lock here and take the next step
+                # locked whatever the holding margin says at t (it is 0 to rounding, rising: the margin has
+                # just been root-found, or the free rolling would reverse the wheel); the unlock is the margin's
+                # next downward crossing. Record this time again, locked.
                 fl_prev = rec_fl[-1]
                 for lst in (rec_t, rec_y, rec_o, rec_f, rec_fl, rec_m):
                     lst.pop()
                 y = list(y)
                 y[1] = 0.0
                 mode = LOCKED
-                locks.append([t, None])
+                if locks and locks[-1][1] == t:
+                    locks[-1][1] = None       # the unlock at t did not happen: the lock goes on
+                else:
+                    locks.append([t, None])
                 f_left = fl_prev
+                sticks = True
                 continue
             end_bp = at_bp and hs >= hh
             hh, y_new = hs, ys

@@ -47,10 +47,11 @@ import numpy as np
 from tirecli.config.loader import Config
 from tirecli.config.schema import AnyOf, ListOf, Map, Nullable, Num, Raw, Str, collect
 from tirecli.conventions import THETA_CONVENTIONS, omega_from_slip, slip_from_speeds
-from tirecli.errors import ConfigError, DataError, token
+from tirecli.errors import ConfigError, DataError, RunError, token
 from tirecli.models.profiles import Constant, Table, profile_from_checked, profile_problems, profile_spec, run_times
 from tirecli.models.variants import MODELS
 from tirecli.numerics import runs
+from tirecli.numerics.ros2 import StepUnderflow
 from tirecli.studies.base import StudyResult, common_fields, register_study
 from tirecli.studies.sweep import VARIANT, make_variant
 
@@ -652,6 +653,27 @@ def _measure(trs: dict, labels: list, meas: dict, r: float, gain: float):
     return pd.concat(noisy, ignore_index=True), pd.concat(clean, ignore_index=True)
 
 
+#: A wheel torque above this multiple of ``r F_n`` (the tire's torque at mu = 1) is named as the likely cause
+#: of a step-size underflow (measured: the FM braking still runs at 6e13 r F_n, the wheel locking at once;
+#: at 6e18 r F_n the step underflows), far beyond any brake.
+IMPLAUSIBLE_TORQUE = 1e6
+
+
+def _underflow_cause(err, case, car, t_end) -> RunError:
+    """The step-size underflow of a coupled case as a one-line error naming an implausible wheel torque
+    input (its peak over the run against ``r F_n``) when there is one, else ``err`` with the case's label."""
+    tq = case.torque
+    peak = max(abs(tq.at(float(t))) for t in run_times(t_end, None, tq.breakpoints(t_end)))
+    scale = car.r * car.F_n
+    where = f"case {token(case.label)}: {err}"
+    if not peak > IMPLAUSIBLE_TORQUE * scale:
+        return RunError(where)
+    key = "input.pressure * input.pressure_gain" if case.pressure is not None else "the torque input (input.torque or input.brake_torque)"
+    return RunError(f"case {token(case.label)}: time step underflow at t = {err.t:.6g} s: the wheel torque reaches "
+                    f"{peak:.3g} N m ({key}), {peak / scale:.2g} times r F_n = {scale:.4g} N m, far beyond any brake; "
+                    "the wheel speed changes faster than the time step can resolve")
+
+
 def run_cases(cases, p, car, t_end, sample_times=(), progress=None) -> dict:
     """Run every case (coupled first, then the open-loop ones they drive); ``label -> Trajectory``."""
     trs = {}
@@ -659,8 +681,11 @@ def run_cases(cases, p, car, t_end, sample_times=(), progress=None) -> dict:
         progress.start(len(cases), "simulate")
     for c in sorted(cases, key=lambda c: c.mode != "coupled"):
         if c.mode == "coupled":
-            trs[c.label] = runs.quarter_car(c.variant, p, car, c.torque, c.theta, c.v0, c.omega0, t_end, c.solver,
-                                            sample_times, reuse=True)
+            try:
+                trs[c.label] = runs.quarter_car(c.variant, p, car, c.torque, c.theta, c.v0, c.omega0, t_end, c.solver,
+                                                sample_times, reuse=True)
+            except StepUnderflow as err:
+                raise _underflow_cause(err, c, car, t_end) from err
         else:
             if c.drive_case is not None:
                 drv = trs[c.drive_case]
