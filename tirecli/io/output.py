@@ -74,22 +74,30 @@ def _csv_cells(values) -> list[str]:
     return out
 
 
+#: Rows formatted and written at a time by :func:`write_csv` (memory stays bounded whatever the frame).
+CSV_CHUNK_ROWS = 65536
+
+
 def write_csv(path: str | Path, frame, comments: list[str] | tuple = ()) -> Path:
     """Write a DataFrame as CSV; ``comments`` become leading ``# `` lines (read with ``comment='#'``).
 
-    Floats are written with their shortest round-trip representation (exact and deterministic);
-    this column-wise writer is about three times faster than ``DataFrame.to_csv``.
+    Floats are written with their shortest round-trip representation, the text of ``repr``
+    (exact and deterministic; NaN empty). The rows are formatted and written in chunks of
+    :data:`CSV_CHUNK_ROWS` (vectorized: :func:`tirecli.io.fastcsv.repr_matrix`; chunks on the shared
+    thread pool), so memory stays bounded and large frames are written several times faster than
+    by ``DataFrame.to_csv``.
     """
     path = Path(path)
     header = ",".join(_csv_cells(np.array([str(c) for c in frame.columns], dtype=object)))
-    columns = [_csv_cells(frame[c].to_numpy()) for c in frame.columns]
-    with atomic_write(path, "w", newline="") as fh:
-        for c in comments:
-            fh.write(f"# {c}\n")
-        fh.write(header + "\n")
-        if columns and columns[0]:
-            fh.write("\n".join(map(",".join, zip(*columns))))
-            fh.write("\n")
+    columns = [frame[c].to_numpy() for c in frame.columns]
+    n = len(frame)
+    with atomic_write(path, "wb") as fh:
+        fh.write("".join(f"# {c}\n" for c in comments).encode() + header.encode() + b"\n")
+        if columns and n:
+            from tirecli.io.fastcsv import csv_chunks
+
+            for block in csv_chunks(columns, n, CSV_CHUNK_ROWS, _csv_cells):
+                fh.write(block)
     return path
 
 
