@@ -414,7 +414,9 @@ def _column_matrix(values, cells) -> np.ndarray:
     else:
         import pandas as pd
 
-        codes, uniq = pd.factorize(np.asarray(values, dtype=object), use_na_sentinel=True)
+        if isinstance(values, np.ndarray):
+            values = np.asarray(values, dtype=object)
+        codes, uniq = pd.factorize(values, use_na_sentinel=True)
         texts = cells(np.asarray(uniq, dtype=object)) + [""]  # code -1 (None, NaN): an empty cell
     enc = [t.encode() for t in texts]
     if any(b"\0" in t for t in enc):
@@ -451,7 +453,7 @@ def csv_chunks(columns, n: int, rows: int, cells):
         try:
             return _csv_block(columns, lo, hi, cells)
         except _ZeroByte:
-            cols = [cells(c[lo:hi]) for c in columns]
+            cols = [cells(np.asarray(c[lo:hi], dtype=None if c.dtype.kind in "fiub" else object)) for c in columns]
             return "".join(",".join(r) + "\n" for r in zip(*cols)).encode()
 
     if len(starts) == 1 or nthreads == 1:

@@ -75,7 +75,7 @@ def _csv_cells(values) -> list[str]:
 
 
 #: Rows formatted and written at a time by :func:`write_csv` (memory stays bounded whatever the frame).
-CSV_CHUNK_ROWS = 65536
+CSV_CHUNK_ROWS = 32768
 
 
 def write_csv(path: str | Path, frame, comments: list[str] | tuple = ()) -> Path:
@@ -89,7 +89,9 @@ def write_csv(path: str | Path, frame, comments: list[str] | tuple = ()) -> Path
     """
     path = Path(path)
     header = ",".join(_csv_cells(np.array([str(c) for c in frame.columns], dtype=object)))
-    columns = [frame[c].to_numpy() for c in frame.columns]
+    # float columns as numpy views; others (text) as pandas arrays, sliced chunk by chunk (a text column's
+    # .to_numpy() would make a Python string per row)
+    columns = [frame[c].to_numpy() if frame[c].dtype.kind in "fiub" else frame[c].array for c in frame.columns]
     n = len(frame)
     with atomic_write(path, "wb") as fh:
         fh.write("".join(f"# {c}\n" for c in comments).encode() + header.encode() + b"\n")
@@ -99,6 +101,49 @@ def write_csv(path: str | Path, frame, comments: list[str] | tuple = ()) -> Path
             for block in csv_chunks(columns, n, CSV_CHUNK_ROWS, _csv_cells):
                 fh.write(block)
     return path
+
+
+#: Formats of a run's data files (``--format``).
+DATA_FORMATS = ("csv", "parquet")
+
+
+def check_data_format(data_format: str) -> None:
+    """UsageError unless ``data_format`` is one of :data:`DATA_FORMATS` and can be written (Parquet
+    needs pyarrow)."""
+    if data_format not in DATA_FORMATS:
+        raise UsageError(f"--format {data_format!r}: expected one of {', '.join(DATA_FORMATS)}")
+    if data_format == "parquet":
+        try:
+            import pyarrow  # noqa: F401
+        except ImportError:
+            raise UsageError("--format parquet needs pyarrow: pip install 'tirecli[campaign]'") from None
+
+
+def write_parquet(path: str | Path, frame, comments: list[str] | tuple = ()) -> Path:
+    """Write a DataFrame as Parquet (pyarrow, no index; ``comments`` in the file's key-value metadata
+    under ``tirecli.comments``). Object columns that mix texts and numbers (e.g. ``kappa0``: a number
+    or ``Z``) are written as the texts of the CSV (empty cells as nulls)."""
+    import pyarrow as pa
+    import pyarrow.parquet as pq
+
+    frame = frame.copy(deep=False)
+    for c in frame.columns:
+        col = frame[c]
+        if col.dtype == object and not all(isinstance(v, str) or v is None for v in col.unique()):
+            frame[c] = [None if v is None or (isinstance(v, float) and math.isnan(v)) else str(v) for v in col]
+    schema = pa.Schema.from_pandas(frame.iloc[:0], preserve_index=False)
+    if comments:
+        schema = schema.with_metadata({**(schema.metadata or {}), b"tirecli.comments": "\n".join(comments).encode()})
+    path = Path(path)
+    rows = PARQUET_GROUP_ROWS
+    with atomic_write(path, "wb") as fh, pq.ParquetWriter(fh, schema) as writer:
+        for lo in range(0, max(len(frame), 1), rows):  # a row group at a time: bounded memory
+            writer.write_table(pa.Table.from_pandas(frame.iloc[lo:lo + rows], schema=schema, preserve_index=False))
+    return path
+
+
+#: Rows of a Parquet row group (:func:`write_parquet` converts one group at a time).
+PARQUET_GROUP_ROWS = 65536
 
 
 def write_text(path: str | Path, text: str, encoding: str = "utf-8") -> Path:
@@ -206,7 +251,7 @@ def scenario_assumptions(result) -> list[str]:
 
 
 def write_result(stage, result, figures: dict, checks: list, command: str, wall_time: float,
-                 extra: dict | None = None, progress=None) -> dict:
+                 extra: dict | None = None, progress=None, data_format: str = "csv") -> dict:
     """Write a study result with its drawn figures into a run's staging; return the paths they will
     have in the output directory once the run is committed.
 
@@ -220,6 +265,8 @@ def write_result(stage, result, figures: dict, checks: list, command: str, wall_
         :class:`tirecli.studies.base.Check` objects evaluated on the result.
     progress : object or None
         Progress reporter (``start``, ``advance``, ``close``), advanced per data file and figure.
+    data_format : str
+        ``csv`` (``data/NAME.csv``) or ``parquet`` (``data/NAME.parquet``, :func:`write_parquet`).
     """
     from tirecli.figures.registry import REGISTRY, Table
 
@@ -233,7 +280,8 @@ def write_result(stage, result, figures: dict, checks: list, command: str, wall_
     data_paths, fig_paths = [], []
     try:
         for name, frame in result.data.items():
-            data_paths.append(write_csv(out / "data" / f"{name}.csv", frame, comments))
+            data_paths.append(write_parquet(out / "data" / f"{name}.parquet", frame, comments)
+                              if data_format == "parquet" else write_csv(out / "data" / f"{name}.csv", frame, comments))
             if progress is not None:
                 progress.advance(1)
         for fid, fig in figures.items():
