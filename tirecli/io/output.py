@@ -89,18 +89,71 @@ def write_csv(path: str | Path, frame, comments: list[str] | tuple = ()) -> Path
     """
     path = Path(path)
     header = ",".join(_csv_cells(np.array([str(c) for c in frame.columns], dtype=object)))
+    with atomic_write(path, "wb") as fh:
+        fh.write("".join(f"# {c}\n" for c in comments).encode() + header.encode() + b"\n")
+        if isinstance(frame, SpooledFrame):
+            frame.copy_rows(fh)
+        else:
+            _write_rows(fh, frame)
+    return path
+
+
+def _write_rows(fh, frame) -> None:
+    """The rows of ``frame`` as CSV into the binary file ``fh``, :data:`CSV_CHUNK_ROWS` at a time."""
     # float columns as numpy views; others (text) as pandas arrays, sliced chunk by chunk (a text column's
     # .to_numpy() would make a Python string per row)
     columns = [frame[c].to_numpy() if frame[c].dtype.kind in "fiub" else frame[c].array for c in frame.columns]
-    n = len(frame)
-    with atomic_write(path, "wb") as fh:
-        fh.write("".join(f"# {c}\n" for c in comments).encode() + header.encode() + b"\n")
-        if columns and n:
-            from tirecli.io.fastcsv import csv_chunks
+    if columns and len(frame):
+        from tirecli.io.fastcsv import csv_chunks
 
-            for block in csv_chunks(columns, n, CSV_CHUNK_ROWS, _csv_cells):
-                fh.write(block)
-    return path
+        for block in csv_chunks(columns, len(frame), CSV_CHUNK_ROWS, _csv_cells):
+            fh.write(block)
+
+
+class SpooledFrame:
+    """A long table kept on disk while a run builds it part by part (e.g. the time series of many
+    cases): each part's rows are written as CSV text to an anonymous temporary file at once, so memory
+    holds one part whatever the number of parts; :func:`write_csv` copies the rows into the output.
+
+    ``columns``: the column names, in order (every part has them).
+    """
+
+    def __init__(self, columns):
+        import tempfile
+
+        self.columns = list(columns)
+        self._fh = tempfile.TemporaryFile()  # removed by the system when closed, even after a crash
+        self._rows = 0
+
+    def append(self, frame) -> None:
+        """Add the rows of a DataFrame (its columns as :attr:`columns`)."""
+        if list(frame.columns) != self.columns:
+            raise ValueError(f"columns {list(frame.columns)} differ from {self.columns}")
+        self._fh.seek(0, 2)
+        _write_rows(self._fh, frame)
+        self._rows += len(frame)
+
+    def __len__(self) -> int:
+        return self._rows
+
+    def copy_rows(self, fh) -> None:
+        """Copy the CSV rows (no header) into the binary file ``fh``."""
+        import shutil
+
+        self._fh.flush()
+        self._fh.seek(0)
+        shutil.copyfileobj(self._fh, fh, 1 << 20)
+
+    def to_frame(self):
+        """The whole table as a DataFrame (read back: for small tables and tests)."""
+        import pandas as pd
+
+        self._fh.flush()
+        self._fh.seek(0)
+        if not self._rows:
+            return pd.DataFrame(columns=self.columns)
+        return pd.read_csv(self._fh, header=None, names=self.columns, keep_default_na=False,
+                           na_values=[""], float_precision="round_trip")
 
 
 #: Formats of a run's data files (``--format``).
