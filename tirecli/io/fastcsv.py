@@ -463,3 +463,22 @@ def csv_chunks(columns, n: int, rows: int, cells):
     pool = thread_pool(nthreads)
     for k in range(0, len(starts), nthreads):
         yield from pool.map(block, starts[k:k + nthreads])
+
+
+def field_counts(body: bytes):
+    """``(counts, lines)`` of a CSV text without quotes: the fields of each non-blank line (commas + 1)
+    and the line's index among all lines (blank lines, of spaces and tabs only, are skipped), found
+    with numpy byte searches instead of a CSV parser (identical counts when no cell is quoted)."""
+    arr = np.frombuffer(body, dtype=np.uint8)
+    ends = np.flatnonzero(arr == 10)
+    starts = np.concatenate([[0], ends + 1])
+    ends = np.concatenate([ends, [arr.size]])
+
+    def per_line(positions):  # how many of the sorted byte positions fall in each line
+        return np.searchsorted(positions, ends) - np.searchsorted(positions, starts)
+
+    counts = per_line(np.flatnonzero(arr == 44)) + 1
+    space = np.flatnonzero((arr == 32) | (arr == 9) | (arr == 13))
+    blank = per_line(space) == ends - starts
+    keep = np.flatnonzero(~blank)
+    return counts[keep], keep
