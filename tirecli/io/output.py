@@ -152,8 +152,7 @@ class SpooledFrame:
         self._fh.seek(0)
         if not self._rows:
             return pd.DataFrame(columns=self.columns)
-        return pd.read_csv(self._fh, header=None, names=self.columns, keep_default_na=False,
-                           na_values=[""], float_precision="round_trip")
+        return pd.read_csv(self._fh, header=None, names=self.columns, keep_default_na=False, na_values=[""])
 
 
 #: Formats of a run's data files (``--format``).
