@@ -177,7 +177,7 @@ def test_million_point_sweep_config_passes_the_check():
               "  speeds: {start: 5, stop: 50, num: 10}\n"
     sw.plan(config_from_text(million, label="<test>"))  # not refused (the peak rows are not counted)
     with pytest.raises(ConfigError, match="1,100,000 samples"):
-        sw.plan(config_from_text(million.replace("num: 10\n", "num: 11\n"), label="<test>"))
+        sw.plan(config_from_text(million.replace("num: 10}", "num: 11}"), label="<test>"))
 
 
 # --------------------------------------------------------------------------- simulate
