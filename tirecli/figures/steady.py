@@ -29,6 +29,20 @@ def curve(df, model=None, speed=None, theta=None, direction="braking"):
     return s[order], mu[order]
 
 
+def curve_groups(df, keys) -> list:
+    """The distinct ``keys`` tuples of a sweep frame's rows, in order of first appearance (as
+    ``df.groupby(keys, sort=False).groups``): taken at the rows where a key changes (a sweep's rows run
+    curve by curve), so a large sweep is not hashed row by row."""
+    change = np.zeros(len(df), dtype=bool)
+    change[:1] = True
+    for k in keys:
+        col = df[k]
+        change[1:] |= (col.to_numpy()[1:] != col.to_numpy()[:-1]) if col.dtype.kind == "f" else \
+            col.ne(col.shift()).to_numpy(dtype=bool)[1:]
+    starts = df.loc[change, keys]
+    return list(dict.fromkeys(tuple(row) for row in starts.itertuples(index=False, name=None)))
+
+
 #: Points drawn of one curve at most (a figure is about 800 pixels wide); denser curves are thinned.
 _MAX_DRAWN = 4000
 
@@ -133,8 +147,8 @@ def _legend_label(parts: dict, varying: set) -> str:
 def draw_sweep_mu_slip(result):
     df = result.data["sweep"]
     keys = ["model", "speed", "theta"]
-    varying = [k for k in keys if df[k].nunique() > 1]
-    groups = list(df.groupby(keys, sort=False).groups)
+    groups = curve_groups(df, keys)
+    varying = [k for i, k in enumerate(keys) if len({g[i] for g in groups}) > 1]
     title = result.meta.get("title") or "Steady-state friction"
     if len(groups) * df["direction"].nunique() > _FEW_CURVES:  # legend entries
         return _sweep_many_curves(result, df, groups, varying, title)

@@ -406,8 +406,11 @@ def _column_matrix(values, cells) -> np.ndarray:
         if np.isnan(x).all():
             return np.zeros((n, 0), dtype=np.uint8)
         if x[0] == x[-1] and (x == x[0]).all():
-            return np.broadcast_to(repr_matrix(x[:1]), (n, _WR))
-        return repr_matrix(x)
+            m = repr_matrix(x[:1])
+            return np.broadcast_to(m[:, :int(np.count_nonzero(m))], (n, int(np.count_nonzero(m))))
+        m = repr_matrix(x)
+        used = np.flatnonzero(m.any(axis=0))  # the texts are left-aligned: drop the all-padding tail
+        return m[:, :int(used[-1]) + 1 if used.size else 0]
     if values.dtype.kind in "iub":
         texts = cells(values)
         codes = None
@@ -435,7 +438,8 @@ def _csv_block(columns, lo: int, hi: int, cells) -> bytes:
             parts.append(np.broadcast_to(np.uint8(44), (n, 1)))  # ','
         parts.append(_column_matrix(col[lo:hi], cells))
     parts.append(np.broadcast_to(np.uint8(10), (n, 1)))  # '\n'
-    return np.concatenate(parts, axis=1).tobytes().replace(b"\0", b"")
+    m = np.concatenate(parts, axis=1).ravel()
+    return m[m != 0].tobytes()  # without the padding
 
 
 def csv_chunks(columns, n: int, rows: int, cells):
