@@ -98,8 +98,8 @@ def write_points(path: Path, n: int) -> None:
             fh.write("".join(f"{a!r},{b!r},{c!r},{d!r}\n" for a, b, c, d in zip(*(x[lo:lo + 100_000].tolist() for x in cols))))
 
 
-def measured(cmd: list[str]) -> tuple[float, float]:
-    """``(wall [s], peak resident memory [MB])`` of the command run to its end (exit 0 required)."""
+def measured(cmd: list[str]) -> tuple[float, float, float]:
+    """``(wall [s], peak resident memory [MB], CPU [s])`` of the command run to its end (exit 0 required)."""
     t0 = time.perf_counter()
     proc = subprocess.Popen(cmd, stdout=subprocess.DEVNULL)
     _, status, usage = os.wait4(proc.pid, 0)
@@ -107,7 +107,7 @@ def measured(cmd: list[str]) -> tuple[float, float]:
     proc.returncode = os.waitstatus_to_exitcode(status)
     if proc.returncode != 0:
         raise SystemExit(f"failed ({proc.returncode}): {' '.join(cmd)}")
-    return wall, usage.ru_maxrss / 1024.0
+    return wall, usage.ru_maxrss / 1024.0, usage.ru_utime + usage.ru_stime
 
 
 def cli(*args: str) -> list[str]:
@@ -115,15 +115,16 @@ def cli(*args: str) -> list[str]:
 
 
 def scale_sections(only: set, repeat: int) -> list[tuple]:
-    """Rows ``(what, wall, peak MB, target, load average)`` of the sweep, simulate and mf sections (best of ``repeat``)."""
+    """Rows ``(what, wall, peak MB, CPU, target, load average)`` of the sweep, simulate and mf sections (best
+    wall time of ``repeat`` runs)."""
     rows = []
 
     def best(label, target, cmd):
         load = os.getloadavg()[0]
         runs = [measured(cmd) for _ in range(repeat)]
-        wall = min(r[0] for r in runs)
-        rows.append((label, wall, max(r[1] for r in runs), target, load))
-        print(f"  {label}: {wall:.2f} s, {rows[-1][2]:.0f} MB (load {load:.1f})", file=sys.stderr)
+        wall, cpu = min((r[0], r[2]) for r in runs)
+        rows.append((label, wall, max(r[1] for r in runs), cpu, target, load))
+        print(f"  {label}: {wall:.2f} s, {rows[-1][2]:.0f} MB, CPU {cpu:.2f} s (load {load:.1f})", file=sys.stderr)
 
     with tempfile.TemporaryDirectory() as d:
         d = Path(d)
@@ -177,10 +178,10 @@ def main() -> None:
     rows = scale_sections(only, args.repeat)
     if rows:
         print()
-        print("| command | wall [s] | peak RSS [MB] | target | load average |")
-        print("|---|---:|---:|---|---:|")
-        for label, wall, mb, target, load in rows:
-            print(f"| {label} | {wall:.2f} | {mb:.0f} | {target} | {load:.1f} |")
+        print("| command | wall [s] | peak RSS [MB] | CPU [s] | target | load average |")
+        print("|---|---:|---:|---:|---|---:|")
+        for label, wall, mb, cpu, target, load in rows:
+            print(f"| {label} | {wall:.2f} | {mb:.0f} | {cpu:.2f} | {target} | {load:.1f} |")
         print()
     if "campaign" in only:
         campaign(args)
