@@ -238,7 +238,7 @@ def test_field_counts_like_the_csv_reader():
     import csv
     import io
 
-    body = "a, b ,c\n1,2,3\n\n  \n4,5\n\t\n6,7,8,\n9,,\n"
+    body = "a, b ,c\n1,2,3\n\n  \n4,5\n\t\n6,7,8,\n\x0c\n9,,\n"
     counts, lines = fastcsv.field_counts(body.encode())
     rows = [(i, r) for i, r in enumerate(csv.reader(io.StringIO(body), skipinitialspace=True))
             if r and not (len(r) == 1 and not r[0].strip())]

@@ -144,7 +144,7 @@ def _check_fields(body: str, path) -> list[str]:
     row is such a field). Blank lines are skipped, rows counted as in every other message."""
     import csv
 
-    if '"' not in body and "\0" not in body:  # no quoted cells: the commas of every line, counted with numpy
+    if body.isascii() and '"' not in body and "\0" not in body:  # no quoted cells: commas counted with numpy
         from tirecli.io.fastcsv import field_counts
 
         counts, lines = field_counts(body.encode("utf-8"))

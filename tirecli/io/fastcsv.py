@@ -471,7 +471,7 @@ def csv_chunks(columns, n: int, rows: int, cells):
 
 def field_counts(body: bytes):
     """``(counts, lines)`` of a CSV text without quotes: the fields of each non-blank line (commas + 1)
-    and the line's index among all lines (blank lines, of spaces and tabs only, are skipped), found
+    and the line's index among all lines (blank lines, of ASCII blanks only, are skipped), found
     with numpy byte searches instead of a CSV parser (identical counts when no cell is quoted)."""
     arr = np.frombuffer(body, dtype=np.uint8)
     ends = np.flatnonzero(arr == 10)
@@ -483,7 +483,7 @@ def field_counts(body: bytes):
 
     counts = per_line(np.flatnonzero(arr == 44)) + 1
     blank = ends == starts
-    if b" " in body or b"\t" in body or b"\r" in body:  # lines of blanks only are blank lines too
-        blank = per_line(np.flatnonzero((arr == 32) | (arr == 9) | (arr == 13))) == ends - starts
+    if any(c in body for c in (b" ", b"\t", b"\r", b"\x0b", b"\x0c")):  # lines of blanks only are blank too
+        blank = per_line(np.flatnonzero((arr == 32) | ((arr >= 9) & (arr <= 13)))) == ends - starts
     keep = np.flatnonzero(~blank)
     return counts[keep], keep
