@@ -1,9 +1,22 @@
-"""Benchmark: campaigns at scale (``tirecli campaign``).
+"""Benchmark: tirecli at scale (issue 15): large sweeps, many-case simulations, ``mf eval`` of many
+rows, and campaigns (``tirecli campaign``).
 
-Run: ``python benchmarks/bench_scale.py [--points N] [--skip-serial] [--skip-dask]`` (after
-``pip install '.[campaign]'``). Prints a Markdown table; the README quotes its numbers.
+Run: ``python benchmarks/bench_scale.py [--only sweep,simulate,mf,campaign] [--points N] [--skip-serial]
+[--skip-dask]`` (after ``pip install '.[campaign]'``). Prints Markdown tables; the README quotes their
+numbers. Every number is the real command in a subprocess: wall time and its peak resident memory
+(``os.wait4``), with the machine's load average beside it.
 
-Scenario: a Monte Carlo campaign of lumped-LuGre emergency brakings (FM Table 2 tyre, kappa0(Z),
+Sections:
+
+- ``sweep``: a 10^6-point LuGre sweep (distributed model, uniform load; 100 000 slips x 10 speeds) with
+  ``--format csv`` and ``--format parquet``. Targets: under 3 s wall and 300 MB peak.
+- ``simulate``: one config of 100 lumped-LuGre emergency brakings (cases with different kappa0 and
+  brake torques, 6 s, output every 1 ms), and the same with 50 cases (memory flat in the cases).
+  Target: under 5 s.
+- ``mf``: ``tirecli mf eval`` of a 10^6-row points CSV (built-in MF 6.1 tyre). Target: under 2.5 s.
+- ``campaign``: below.
+
+Campaign scenario: a Monte Carlo campaign of lumped-LuGre emergency brakings (FM Table 2 tyre, kappa0(Z),
 OBS quarter car, 20 m/s, brake torque ramped over 0.3 s to a sampled peak and held until the car
 stops or 6 s), N latin-hypercube samples of the tyre's sigma0, mu_c, mu_s, the road adhesion theta
 and the peak torque; outputs peak |slip|, stopping distance, final speed; a campaign check
@@ -53,6 +66,85 @@ figures: {figures}
 """
 
 
+SWEEP = """study: sweep
+title: "10^6-point sweep"
+tire: canudas2003-table1
+sweep:
+  slip: {start: -1, stop: 1, num: 100000}
+  speeds: [5, 10, 15, 20, 25, 30, 35, 40, 45, 50]
+  models: [distributed]
+"""
+
+
+def simulate_config(cases: int) -> str:
+    """A simulate config of ``cases`` lumped brakings (kappa0 1.5 or Z, peak torques 600-1200 N m)."""
+    rows = [f"  - {{model: lumped, kappa0: {'Z' if i % 2 else 1.5}, label: c{i:03d}, input: {{brake_torque: "
+            f"{{initial: 0, changes: [{{at: 0.1, duration: 0.3, to: {600 + 600 * i // max(cases - 1, 1)}, "
+            f"shape: linear}}]}}}}}}" for i in range(cases)]
+    return BASE.split("cases:")[0].replace("emergency braking from 20 m/s, lumped kappa0(Z)",
+                                          f"{cases} emergency brakings") + "cases:\n" + "\n".join(rows) + "\n"
+
+
+def write_points(path: Path, n: int) -> None:
+    """A points CSV of ``n`` rows (kappa, alpha, gamma, fz), seeded."""
+    import numpy as np
+
+    rng = np.random.default_rng(1)
+    cols = [np.round(rng.uniform(-0.3, 0.3, n), 6), np.round(rng.uniform(-0.2, 0.2, n), 6),
+            np.round(rng.uniform(-0.05, 0.05, n), 6), np.round(rng.uniform(2000, 6000, n), 1)]
+    with path.open("w") as fh:
+        fh.write("kappa,alpha,gamma,fz\n")
+        for lo in range(0, n, 100_000):
+            fh.write("".join(f"{a!r},{b!r},{c!r},{d!r}\n" for a, b, c, d in zip(*(x[lo:lo + 100_000].tolist() for x in cols))))
+
+
+def measured(cmd: list[str]) -> tuple[float, float, float]:
+    """``(wall [s], peak resident memory [MB], CPU [s])`` of the command run to its end (exit 0 required)."""
+    t0 = time.perf_counter()
+    proc = subprocess.Popen(cmd, stdout=subprocess.DEVNULL)
+    _, status, usage = os.wait4(proc.pid, 0)
+    wall = time.perf_counter() - t0
+    proc.returncode = os.waitstatus_to_exitcode(status)
+    if proc.returncode != 0:
+        raise SystemExit(f"failed ({proc.returncode}): {' '.join(cmd)}")
+    return wall, usage.ru_maxrss / 1024.0, usage.ru_utime + usage.ru_stime
+
+
+def cli(*args: str) -> list[str]:
+    return [sys.executable, "-m", "tirecli.cli.main", "--quiet", *args]
+
+
+def scale_sections(only: set, repeat: int) -> list[tuple]:
+    """Rows ``(what, wall, peak MB, CPU, target, load average)`` of the sweep, simulate and mf sections (best
+    wall time of ``repeat`` runs)."""
+    rows = []
+
+    def best(label, target, cmd):
+        load = os.getloadavg()[0]
+        runs = [measured(cmd) for _ in range(repeat)]
+        wall, cpu = min((r[0], r[2]) for r in runs)
+        rows.append((label, wall, max(r[1] for r in runs), cpu, target, load))
+        print(f"  {label}: {wall:.2f} s, {rows[-1][2]:.0f} MB, CPU {cpu:.2f} s (load {load:.1f})", file=sys.stderr)
+
+    with tempfile.TemporaryDirectory() as d:
+        d = Path(d)
+        if "sweep" in only:
+            (d / "sweep.yaml").write_text(SWEEP)
+            for fmt in ("csv", "parquet"):
+                best(f"`sweep` 10^6 points, `--format {fmt}`", "< 3 s, < 300 MB",
+                     cli("sweep", str(d / "sweep.yaml"), "--out", str(d / f"sweep-{fmt}"), "--format", fmt))
+        if "simulate" in only:
+            for n in (50, 100):
+                (d / f"sim{n}.yaml").write_text(simulate_config(n))
+                best(f"`simulate` {n} brakings in one config", "< 5 s (100), memory flat",
+                     cli("simulate", str(d / f"sim{n}.yaml"), "--out", str(d / f"sim{n}")))
+        if "mf" in only:
+            write_points(d / "points.csv", 1_000_000)
+            best("`mf eval` 10^6 rows", "< 2.5 s",
+                 cli("mf", "eval", "pacejka2006-205-60r15", "--points", str(d / "points.csv"), "--out", str(d / "mf.csv")))
+    return rows
+
+
 def run(workdir: Path, n: int, jobs: int, scheduler: str | None = None, figures: bool = False) -> tuple[float, dict]:
     camp = workdir / f"c{n}.yaml"
     camp.write_text(CAMPAIGN.format(n=n, figures="true" if figures else "false"))
@@ -66,14 +158,38 @@ def run(workdir: Path, n: int, jobs: int, scheduler: str | None = None, figures:
     return wall, json.loads((out / "o" / "summary.json").read_text())
 
 
+SECTIONS = ("sweep", "simulate", "mf", "campaign")
+
+
 def main() -> None:
     ap = argparse.ArgumentParser()
+    ap.add_argument("--only", default=",".join(SECTIONS), help=f"sections to run, comma-separated ({', '.join(SECTIONS)})")
+    ap.add_argument("--repeat", type=int, default=1, help="runs of each sweep/simulate/mf command (best wall time)")
     ap.add_argument("--points", type=int, default=10_000)
     ap.add_argument("--scaling-points", type=int, default=2_000, help="points of the 1-vs-2-worker and Dask runs")
     ap.add_argument("--skip-serial", action="store_true")
     ap.add_argument("--skip-dask", action="store_true")
     args = ap.parse_args()
+    only = {s.strip() for s in args.only.split(",") if s.strip()}
+    unknown = only - set(SECTIONS)
+    if unknown:
+        ap.error(f"--only: unknown section(s) {', '.join(sorted(unknown))} (choose from {', '.join(SECTIONS)})")
     print(f"load average before: {os.getloadavg()[0]:.2f} (2 cores; above ~0.5 the numbers are not comparable)")
+    rows = scale_sections(only, args.repeat)
+    if rows:
+        print()
+        print("| command | wall [s] | peak RSS [MB] | CPU [s] | target | load average |")
+        print("|---|---:|---:|---:|---|---:|")
+        for label, wall, mb, cpu, target, load in rows:
+            print(f"| {label} | {wall:.2f} | {mb:.0f} | {cpu:.2f} | {target} | {load:.1f} |")
+        print()
+    if "campaign" in only:
+        campaign(args)
+    print(f"load average after: {os.getloadavg()[0]:.2f}")
+
+
+def campaign(args) -> None:
+    """The campaign section (see the module doc)."""
     with tempfile.TemporaryDirectory() as d:
         d = Path(d)
         (d / "base.yaml").write_text(BASE)
@@ -105,7 +221,6 @@ def main() -> None:
         print(f"{args.points} points: {rows[0][1]:.1f} s (target < 60 s); batch {rows[0][2]['execution'].get('batch')} points")
         st = rows[0][2]["analysis"]["statistics"]["stopping_distance"]
         print(f"stopping distance: median {st['median']:.2f} m, p95 {st['p95']:.2f} m, max {st['max']:.2f} m")
-    print(f"load average after: {os.getloadavg()[0]:.2f}")
 
 
 if __name__ == "__main__":

@@ -102,7 +102,7 @@ def default_out(config: Config, command: str) -> Path:
 
 
 def run_config(command: str, config_path: str | Path, overrides=(), out: str | Path | None = None,
-               progress=None, max_samples: int | None = None) -> RunSummary:
+               progress=None, max_samples: int | None = None, data_format: str = "csv") -> RunSummary:
     """Run the study of ``config_path`` as ``tirecli COMMAND`` and write its outputs.
 
     The run holds the output directory's lock from the study to the last file and writes into a
@@ -122,11 +122,14 @@ def run_config(command: str, config_path: str | Path, overrides=(), out: str | P
     max_samples : int or None
         Sample budget (``--max-samples``; default: the config's ``run.max_samples``, else
         :data:`tirecli.limits.DEFAULT_MAX_SAMPLES`).
+    data_format : str
+        ``csv`` (default) or ``parquet`` (needs pyarrow): the format of ``data/NAME.*``.
     """
     from tirecli.io.atomic import out_path, staged_dir
     from tirecli.io.files import check_output_dir
 
     t0 = time.perf_counter()
+    output.check_data_format(data_format)  # a missing pyarrow fails before the run
     out = out_path(out) if out is not None else None  # an empty --out fails before the study runs
     config = load_config(config_path, overrides)
     out = out or default_out(config, command)
@@ -138,7 +141,8 @@ def run_config(command: str, config_path: str | Path, overrides=(), out: str | P
             result = run_study(config, expected=command, progress=progress)
         figs, checks = draw(result, progress=progress)
         wall = time.perf_counter() - t0
-        paths = output.write_result(stage, result, figs, checks, command_line(), wall, progress=progress)
+        paths = output.write_result(stage, result, figs, checks, command_line(), wall, progress=progress,
+                                    data_format=data_format)
         close_figures(figs)
     paths.update(removed=stage.removed, kept=stage.kept)
     return RunSummary(result=result, out=out, paths=paths, checks=checks, wall_time=time.perf_counter() - t0)

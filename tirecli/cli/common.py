@@ -106,9 +106,10 @@ def max_samples(text: Optional[str]) -> Optional[int]:
 
 
 def run(command: str, config: Path, set_: Optional[List[str]], out: Optional[str], junit: Optional[str],
-        extra: list[str] | tuple = (), max_samples_: Optional[str] = None):
+        extra: list[str] | tuple = (), max_samples_: Optional[str] = None, data_format: str = "csv"):
     """Run ``config`` as ``tirecli COMMAND`` (:func:`tirecli.app.run_config`; ``extra``: more overrides;
-    ``max_samples_``: the text of ``--max-samples``, checked before the run).
+    ``max_samples_``: the text of ``--max-samples``, checked before the run; ``data_format``: ``csv`` or
+    ``parquet``, of the data files).
 
     ``--junit FILE`` is checked before the run (exit 2 for a directory, an empty name); a run that
     fails (exit 1) is recorded in FILE as an error, so a CI test report shows it.
@@ -121,7 +122,8 @@ def run(command: str, config: Path, set_: Optional[List[str]], out: Optional[str
     target = jx.target(junit, inputs=[config]) if junit is not None else None
     t0 = time.perf_counter()
     try:
-        return run_config(command, config, overrides(set_) + list(extra), out, progress(), budget)
+        return run_config(command, config, overrides(set_) + list(extra), out, progress(), budget,
+                          data_format=data_format)
     except (UsageError, Interrupted):
         raise
     except Exception as exc:

@@ -4,17 +4,23 @@ from __future__ import annotations
 from pathlib import Path
 from typing import List, Optional
 
+import typer
+
 from tirecli.cli.common import ConfigArg, JunitOpt, MaxSamplesOpt, OutOpt, SetOpt, StrictOpt, finish, run
+
+FormatOpt = typer.Option("csv", "--format", metavar="csv|parquet",
+                         help="Format of the data files: csv (data/NAME.csv) or parquet (data/NAME.parquet, "
+                              "smaller and faster for large sweeps; needs pyarrow: pip install 'tirecli[campaign]').")
 
 
 def sweep(config: Path = ConfigArg, out: Optional[str] = OutOpt, set_: Optional[List[str]] = SetOpt,
           junit: Optional[str] = JunitOpt, strict: bool = StrictOpt,
-          max_samples_: Optional[str] = MaxSamplesOpt) -> None:
+          max_samples_: Optional[str] = MaxSamplesOpt, data_format: str = FormatOpt) -> None:
     """Steady-state friction sweep: mu over slip x speed x theta x model variant.
 
     Writes run.json, data/sweep.csv (long format: model, v, theta, slip, mu, ...), for LuGre
     tires data/peaks.csv (the root-found peak and sliding level of each curve) and the figures
-    as PNG and SVG.
+    as PNG and SVG; with --format parquet the data files are .parquet.
     """
-    summary = run("sweep", config, set_, out, junit, max_samples_=max_samples_)
+    summary = run("sweep", config, set_, out, junit, max_samples_=max_samples_, data_format=data_format)
     finish(summary, "sweep", config, junit, strict, overridden=bool(set_))

@@ -17,18 +17,46 @@ S_TOL = 2e-3    # peak slip, printed to 3 decimals
 
 def curve(df, model=None, speed=None, theta=None, direction="braking"):
     """``(|s|, |mu|)`` of one curve of a sweep frame, sorted by ``|s|``."""
-    sel = df["direction"] == direction
+    sel = (df["direction"] == direction).to_numpy(dtype=bool, copy=True)
     if model is not None:
-        sel &= df["model"] == model
-    if speed is not None:
-        sel &= np.isclose(df["speed"], speed)
-    if theta is not None:
-        sel &= np.isclose(df["theta"], theta)
-    d = df[sel]
-    s = np.abs(d["slip"].to_numpy())
-    mu = np.abs(d["mu"].to_numpy())
-    order = np.argsort(s)
+        sel &= (df["model"] == model).to_numpy()
+    for col, value in (("speed", speed), ("theta", theta)):
+        if value is not None:  # np.isclose(column, value), with fewer temporaries
+            sel &= np.abs(df[col].to_numpy() - value) <= 1e-8 + 1e-5 * abs(value)
+    s = np.abs(df["slip"].to_numpy()[sel])  # only the two columns drawn are selected (large sweeps)
+    mu = np.abs(df["mu"].to_numpy()[sel])
+    order = np.argsort(s, kind="stable")
     return s[order], mu[order]
+
+
+def curve_groups(df, keys) -> list:
+    """The distinct ``keys`` tuples of a sweep frame's rows, in order of first appearance (as
+    ``df.groupby(keys, sort=False).groups``): taken at the rows where a key changes (a sweep's rows run
+    curve by curve), so a large sweep is not hashed row by row."""
+    change = np.zeros(len(df), dtype=bool)
+    change[:1] = True
+    for k in keys:
+        col = df[k]
+        change[1:] |= (col.to_numpy()[1:] != col.to_numpy()[:-1]) if col.dtype.kind == "f" else \
+            col.ne(col.shift()).to_numpy(dtype=bool)[1:]
+    starts = df.loc[change, keys]
+    return list(dict.fromkeys(tuple(row) for row in starts.itertuples(index=False, name=None)))
+
+
+#: Points drawn of one curve at most (a figure is about 800 pixels wide); denser curves are thinned.
+_MAX_DRAWN = 4000
+
+
+def drawn(s, mu):
+    """``(s, mu)`` thinned to about :data:`_MAX_DRAWN` points for drawing (every k-th point, the last
+    and the largest ``mu`` kept); the curve's data and peak are not changed."""
+    n = len(s)
+    if n <= _MAX_DRAWN:
+        return s, mu
+    keep = np.zeros(n, dtype=bool)
+    keep[::-(-n // _MAX_DRAWN)] = True
+    keep[[n - 1, int(np.argmax(mu))]] = True
+    return s[keep], mu[keep]
 
 
 def curve_peak(result, model, speed, theta=1.0, direction="braking"):
@@ -119,8 +147,8 @@ def _legend_label(parts: dict, varying: set) -> str:
 def draw_sweep_mu_slip(result):
     df = result.data["sweep"]
     keys = ["model", "speed", "theta"]
-    varying = [k for k in keys if df[k].nunique() > 1]
-    groups = list(df.groupby(keys, sort=False).groups)
+    groups = curve_groups(df, keys)
+    varying = [k for i, k in enumerate(keys) if len({g[i] for g in groups}) > 1]
     title = result.meta.get("title") or "Steady-state friction"
     if len(groups) * df["direction"].nunique() > _FEW_CURVES:  # legend entries
         return _sweep_many_curves(result, df, groups, varying, title)
@@ -136,7 +164,7 @@ def draw_sweep_mu_slip(result):
             pk = curve_peak(result, model, speed, theta, direction)
             if peak_text(pk):
                 lab += f": {peak_text(pk)}"
-            ax.plot(s, mu, ls, color=COLORS[i % len(COLORS)], label=lab)
+            ax.plot(*drawn(s, mu), ls, color=COLORS[i % len(COLORS)], label=lab)
             mark_peak(ax, pk, COLORS[i % len(COLORS)], xmax=s.max())
     finish(ax, "slip |s| [-]", "friction |mu| = |F|/F_n [-]", title, legend=False)
     _with_peak_legend(ax)
@@ -177,7 +205,7 @@ def _sweep_many_curves(result, df, groups, varying, title):
         for g in groups:
             s, mu = curve(df, *g, direction)
             if len(s):
-                ax.plot(s, mu, ls=style[tuple(g[keys_index(k)] for k in others)], lw=1.0,
+                ax.plot(*drawn(s, mu), ls=style[tuple(g[keys_index(k)] for k in others)], lw=1.0,
                         color=colour[g[keys_index(c_key)]])
                 mark_peak(ax, curve_peak(result, *g, direction), colour[g[keys_index(c_key)]], xmax=s.max(),
                           ms=3.5, mew=1.0)

@@ -104,13 +104,13 @@ def _case_legend(fig, axes, ncol=2, scale=None, all_axes=None):
 def draw_histories(result):
     require(result, "simulate", "transient-histories")
     cases = result.payload["cases"]
-    ts = result.data["timeseries"]
+    per_case = case_frames(result)
     fig, (a, b, c) = new_figure(nrows=3, width=7.0, height=8.5, sharex=True)
     shown_torque = marked = False
     styles, scale = _case_styles(cases)
     for i, case in enumerate(cases):
         tr = run_of(result, case.label)
-        d = ts[ts["case"] == case.label]   # the integrator's dense output on the output grid
+        d = per_case[case.label]   # the integrator's dense output on the output grid
         st = styles[i]
         a.plot(d["t"], d["v"], color=st["color"], ls=st["ls"], lw=st["lw"])
         if case.mode == "coupled":
@@ -138,6 +138,16 @@ def draw_histories(result):
     _case_legend(fig, c, scale=scale, all_axes=[a, b, c])
     _mark(fig, result)
     return fig
+
+
+def case_frames(result) -> dict:
+    """``{case label: its rows of the time series}``: the frame split once by case, or, when the run
+    streamed its time series to disk (many cases), the rows kept for drawing."""
+    drawn = result.payload.get("timeseries_drawn")
+    if drawn is not None:
+        return drawn
+    ts = result.data["timeseries"]
+    return {label: d for label, d in ts.groupby("case", sort=False)}
 
 
 def _steady_curves(ax, result, speeds, smax):

@@ -119,7 +119,7 @@ def read_table(path: str | Path):
     # whole-line comments only: pandas' comment="#" would also cut a row at a "#" inside a cell
     # (tirecli's own case labels are "braking #1", ...) and leave NaN in the rest of it
     text = text.replace("\r\n", "\n").replace("\r", "\n")  # CRLF and CR-only files
-    body = "\n".join(line for line in text.split("\n") if not line.lstrip().startswith("#"))
+    body = "\n".join(line for line in text.split("\n") if not line.lstrip().startswith("#")) if "#" in text else text
     header = _check_fields(body, path)
     try:
         with warnings.catch_warnings():  # trailing separators: pandas warns, the frame is right
@@ -144,6 +144,20 @@ def _check_fields(body: str, path) -> list[str]:
     row is such a field). Blank lines are skipped, rows counted as in every other message."""
     import csv
 
+    if body.isascii() and '"' not in body and "\0" not in body:  # no quoted cells: commas counted with numpy
+        from tirecli.io.fastcsv import field_counts
+
+        counts, lines = field_counts(body.encode("utf-8"))
+        if counts.size == 0:
+            return []
+        h = int(lines[0])
+        header = [c.strip() for c in body.split("\n", h + 1)[h].split(",")]
+        bad = np.flatnonzero(counts[1:] != counts[0])
+        if bad.size:
+            i = int(bad[0])
+            raise DataError(f"{path}: data row {i + 1} has {int(counts[i + 1])} fields but the header names "
+                            f"{len(header)} columns ({names(header)})")
+        return header
     header, row_no = None, 0
     try:
         for row in csv.reader(io.StringIO(body, newline=""), skipinitialspace=True):

@@ -244,3 +244,246 @@ def write_rows(path, header: str, prefixes, tails) -> None:
                 fh.write(b"".join(tails[s:s + step]))
             else:
                 fh.write(b"".join(chain.from_iterable(zip(prefixes[s:s + step], tails[s:s + step]))))
+
+
+# --------------------------------------------------------------------------- repr-identical text
+
+
+_WR = 24  # widest repr of a double: '-0.00012345678901234567' (23) or '-1.2345678901234567e-308' (24)
+_MARGIN = 0.02  # decisions closer than this (in units of the 17th digit) to a boundary are redone with repr
+_DIG_BYTES = _DIGITS4.view(np.uint8).reshape(-1, 4)  # row c: the 4 ASCII digits of c
+_EXP3 = np.array([list(f"{k:03d}".encode()) for k in range(1000)], dtype=np.uint8)
+
+
+def _repr_digits(a):
+    """``(D, e, unsure)`` for finite ``a > 0``: ``D`` the 17-digit integer of the shortest digits of
+    ``repr(a)`` padded with zeros, ``e`` the decimal exponent of the first digit; ``unsure`` marks the
+    values where a rounding decision came within the error of the extended-precision arithmetic
+    (their text is taken from ``repr`` instead)."""
+    e = np.floor(np.log10(a)).astype(np.int64)
+    al = a.astype(np.longdouble)
+    y = al * _P10[_P10_OFF + 16 - e]
+    d = np.rint(y)
+    for _ in range(2):
+        hi = d >= 1e17
+        lo = d < 1e16
+        if not (hi.any() or lo.any()):
+            break
+        e = e + hi - lo
+        y = al * _P10[_P10_OFF + 16 - e]
+        d = np.rint(y)
+    frac = (y - d).astype(np.float64)
+    D = d.astype(np.uint64)
+    unsure = (D < np.uint64(10 ** 16)) | (D >= np.uint64(10 ** 17))
+    with np.errstate(over="ignore", invalid="ignore"):
+        scale = _P10D[_P10_OFF + 16 - e]
+        g_up = np.spacing(a) * scale * 0.5
+        g_dn = np.spacing(np.nextafter(a, 0.0)) * scale * 0.5
+    unsure |= ~(np.isfinite(g_up) & np.isfinite(g_dn))
+    best = D.copy()
+    done = np.zeros(a.size, dtype=bool)
+    for step in (100, 10):  # 15, then 16 significant digits; the nearest candidate of each length
+        rem = (D % np.uint64(step)).astype(np.int64)
+        r = rem + frac  # y above the candidate below, in units
+        up = r > step / 2
+        c = D - rem.astype(np.uint64) + np.where(up, np.uint64(step), np.uint64(0))
+        diff = np.where(up, step - r, -r)  # candidate - y
+        gap = np.where(diff >= 0, g_up, g_dn)
+        ok = ~done & (np.abs(diff) < gap)
+        near_half = (np.abs(r - step / 2) < _MARGIN) & (np.maximum(g_up, g_dn) > step / 2 - _MARGIN)  # which is nearer?
+        unsure |= ~done & (near_half | (np.abs(np.abs(diff) - gap) < _MARGIN))  # inside the interval?
+        best = np.where(ok, c, best)
+        done |= ok
+    unsure |= ~done & (np.abs(frac) > 0.5 - _MARGIN)  # 17 digits, rounded near a half
+    top = best >= np.uint64(10 ** 17)
+    if top.any():
+        best = np.where(top, np.uint64(10 ** 16), best)
+        e = e + top
+    return best, e, unsure
+
+
+def _layouts() -> np.ndarray:
+    """Gather table of :func:`repr_matrix`: row ``class`` gives, for each of the 24 text bytes, the
+    column of the source row (17 digits, then ``0 . e - + NUL``, three exponent digits, exponent sign)."""
+    ZERO, POINT, E, MINUS, NUL, X0, XS = 17, 18, 19, 20, 22, 23, 26
+    table = np.full((2, _NCLASS, _WR), NUL, dtype=np.intp)
+    for neg in (0, 1):
+        for cls in range(_NCLASS):
+            text = [MINUS] if neg else []
+            if cls < _NFIXED:
+                e, k = cls // 17 - 4, cls % 17 + 1
+                if e >= 0:
+                    text += list(range(e + 1)) + [POINT] + list(range(e + 1, max(k, e + 2)))
+                else:
+                    text += [ZERO, POINT] + [ZERO] * (-e - 1) + list(range(k))
+            else:
+                k, three = (cls - _NFIXED) // 2 + 1, (cls - _NFIXED) % 2
+                text += [0] + ([POINT] + list(range(1, k)) if k > 1 else []) + [E, XS]
+                text += [X0, X0 + 1, X0 + 2] if three else [X0 + 1, X0 + 2]
+            table[neg, cls, :len(text)] = text
+    return table.reshape(2 * _NCLASS, _WR)
+
+
+_NFIXED = 20 * 17  # fixed notation: decimal exponent -4..15 x 1..17 digits
+_NCLASS = _NFIXED + 17 * 2  # and scientific: 1..17 digits x 2 or 3 exponent digits
+_LAYOUT = _layouts()
+_SRC_CONST = np.frombuffer(b"0.e-+\0", dtype=np.uint8)
+
+
+def _gather(src, cls) -> np.ndarray:
+    """``m[i] = src[i, _LAYOUT[cls[i]]]``, class by class (a real column has a few dozen classes)."""
+    order = np.argsort(cls, kind="stable")  # a radix sort of 16-bit keys
+    sorted_cls = cls[order]
+    cuts = np.flatnonzero(sorted_cls[1:] != sorted_cls[:-1]) + 1
+    s = src[order]
+    m = np.empty((cls.size, _WR), dtype=np.uint8)
+    out = np.empty_like(m)
+    for lo, hi in zip(np.concatenate([[0], cuts]), np.concatenate([cuts, [cls.size]])):
+        out[lo:hi] = s[lo:hi][:, _LAYOUT[sorted_cls[lo]]]
+    m[order] = out
+    return m
+
+
+def repr_matrix(x) -> np.ndarray:
+    """The text of ``repr(float(v))`` of every value of ``x`` as rows of a ``(n, 24)`` byte matrix,
+    zero bytes after the text (NaN: an empty text). Byte for byte the text of ``repr`` (fixed
+    notation for decimal exponents -4 to 15, else ``d.ddde+XX``), vectorized: the digits of
+    :func:`_repr_digits`, gathered into place by a table of the 2 x 374 layouts (sign, notation,
+    exponent, number of digits); the few values near a rounding boundary and the infinities are
+    formatted with ``repr``."""
+    x = np.ascontiguousarray(x, dtype=float).ravel()
+    n = x.size
+    if n == 0:
+        return np.zeros((0, _WR), dtype=np.uint8)
+    a = np.abs(x)
+    regular = np.isfinite(x) & (a != 0)
+    D, e, unsure = _repr_digits(np.where(regular, a, 1.0))
+    src = np.empty((n, 27), dtype=np.uint8)
+    hi = (D // np.uint64(10 ** 8)).astype(np.uint32)  # the first 9 digits (32-bit arithmetic from here)
+    lo = (D - hi.astype(np.uint64) * np.uint64(10 ** 8)).astype(np.uint32)
+    d0 = hi // np.uint32(10 ** 8)
+    hi = hi - d0 * np.uint32(10 ** 8)
+    src[:, 0] = 48 + d0.astype(np.uint8)
+    for j, (part, p) in enumerate(((hi, 10 ** 4), (hi, 1), (lo, 10 ** 4), (lo, 1))):
+        c = part // np.uint32(p) if p > 1 else part % np.uint32(10 ** 4)
+        src[:, 1 + 4 * j:5 + 4 * j] = _DIG_BYTES[c]
+    src[:, 17:23] = _SRC_CONST
+    ae = np.abs(e)
+    src[:, 23:26] = _EXP3[np.minimum(ae, 999)]
+    src[:, 26] = np.where(e < 0, 45, 43)
+    nz = src[:, 16:0:-1] != 48
+    k = np.where(nz.any(axis=1), 17 - np.argmax(nz, axis=1), 1)  # significant digits
+    fixed = (e >= -4) & (e < 16)
+    cls = np.where(fixed, (e + 4) * 17 + (k - 1), _NFIXED + (k - 1) * 2 + (ae >= 100))
+    cls = np.where(fixed | (ae < 1000), cls, 0) + _NCLASS * np.signbit(x)
+    m = _gather(src, cls.astype(np.int16))
+    zero = np.flatnonzero(a == 0)
+    if zero.size:
+        m[zero] = 0
+        m[zero, :4] = np.where(np.signbit(x[zero])[:, None], np.frombuffer(b"-0.0", dtype=np.uint8),
+                               np.frombuffer(b"0.0\0", dtype=np.uint8))
+    m[np.isnan(x)] = 0
+    slow = np.flatnonzero((unsure & regular) | np.isinf(x))
+    if slow.size:
+        texts = np.array([repr(v).encode() for v in x[slow].tolist()], dtype=f"S{_WR}")
+        m[slow] = texts.view(np.uint8).reshape(slow.size, _WR)
+    return m
+
+
+class _ZeroByte(Exception):
+    """A text holds a zero byte (the padding of the byte matrices): format the chunk with ``cells``."""
+
+
+def _column_matrix(values, cells) -> np.ndarray:
+    """The CSV text of one column as an ``(n, width)`` byte matrix, zero bytes after each text.
+
+    Floats: :func:`repr_matrix` (a constant or all-NaN column formatted once); integers, booleans:
+    ``cells(values)`` (the slow, exact text); other values (text) formatted once per distinct value.
+    """
+    n = len(values)
+    if values.dtype.kind == "f":
+        x = np.asarray(values, dtype=float)
+        if np.isnan(x).all():
+            return np.zeros((n, 0), dtype=np.uint8)
+        if x[0] == x[-1] and (x == x[0]).all():
+            m = repr_matrix(x[:1])
+            return np.broadcast_to(m[:, :int(np.count_nonzero(m))], (n, int(np.count_nonzero(m))))
+        m = repr_matrix(x)
+        used = np.flatnonzero(m.any(axis=0))  # the texts are left-aligned: drop the all-padding tail
+        return m[:, :int(used[-1]) + 1 if used.size else 0]
+    if values.dtype.kind in "iub":
+        texts = cells(values)
+        codes = None
+    else:
+        import pandas as pd
+
+        if isinstance(values, np.ndarray):
+            values = np.asarray(values, dtype=object)
+        codes, uniq = pd.factorize(values, use_na_sentinel=True)
+        texts = cells(np.asarray(uniq, dtype=object)) + [""]  # code -1 (None, NaN): an empty cell
+    enc = [t.encode() for t in texts]
+    if any(b"\0" in t for t in enc):
+        raise _ZeroByte
+    width = max(max(map(len, enc), default=0), 1)
+    mat = np.array(enc, dtype=f"S{width}").view(np.uint8).reshape(len(enc), width)
+    return mat if codes is None else mat[codes]
+
+
+def _csv_block(columns, lo: int, hi: int, cells) -> bytes:
+    """Rows ``lo:hi`` of ``columns`` as CSV text, each row ending with a newline."""
+    n = hi - lo
+    parts = []
+    for j, col in enumerate(columns):
+        if j:
+            parts.append(np.broadcast_to(np.uint8(44), (n, 1)))  # ','
+        parts.append(_column_matrix(col[lo:hi], cells))
+    parts.append(np.broadcast_to(np.uint8(10), (n, 1)))  # '\n'
+    m = np.concatenate(parts, axis=1).ravel()
+    return m[m != 0].tobytes()  # without the padding
+
+
+def csv_chunks(columns, n: int, rows: int, cells):
+    """The CSV text of ``n`` rows of ``columns`` (arrays), ``rows`` rows at a time (in order), formatted
+    on the shared thread pool a few chunks ahead; ``cells(values)`` gives the exact texts of an array
+    of integers or objects (quoting them as needed). A text holding a zero byte cannot be laid out in
+    a byte matrix and is formatted by ``cells`` alone."""
+    from tirecli.numerics.pool import default_threads, thread_pool
+
+    starts = list(range(0, n, rows))
+    nthreads = default_threads()
+
+    def block(lo):
+        hi = min(lo + rows, n)
+        try:
+            return _csv_block(columns, lo, hi, cells)
+        except _ZeroByte:
+            cols = [cells(np.asarray(c[lo:hi], dtype=None if c.dtype.kind in "fiub" else object)) for c in columns]
+            return "".join(",".join(r) + "\n" for r in zip(*cols)).encode()
+
+    if len(starts) == 1 or nthreads == 1:
+        for lo in starts:
+            yield block(lo)
+        return
+    pool = thread_pool(nthreads)
+    for k in range(0, len(starts), nthreads):
+        yield from pool.map(block, starts[k:k + nthreads])
+
+
+def field_counts(body: bytes):
+    """``(counts, lines)`` of a CSV text without quotes: the fields of each non-blank line (commas + 1)
+    and the line's index among all lines (blank lines, of ASCII blanks only, are skipped), found
+    with numpy byte searches instead of a CSV parser (identical counts when no cell is quoted)."""
+    arr = np.frombuffer(body, dtype=np.uint8)
+    ends = np.flatnonzero(arr == 10)
+    starts = np.concatenate([[0], ends + 1])
+    ends = np.concatenate([ends, [arr.size]])
+
+    def per_line(positions):  # how many of the sorted byte positions fall in each line
+        return np.searchsorted(positions, ends) - np.searchsorted(positions, starts)
+
+    counts = per_line(np.flatnonzero(arr == 44)) + 1
+    blank = ends == starts
+    if any(c in body for c in (b" ", b"\t", b"\r", b"\x0b", b"\x0c")):  # lines of blanks only are blank too
+        blank = per_line(np.flatnonzero((arr == 32) | ((arr >= 9) & (arr <= 13)))) == ends - starts
+    keep = np.flatnonzero(~blank)
+    return counts[keep], keep

@@ -616,9 +616,40 @@ def _frame(tr, case: Case, dt: float, r: float, gain: float) -> pd.DataFrame:
     out["distance"] = distance
     out["pressure"] = out["brake_torque"] / gain
     out["slip"] = slip_from_speeds(out["v"], out["omega"], r)
-    order = ["case", "mode", "model", "t", "v", "omega", "romega", "slip", "vr", "mu", "torque", "brake_torque",
-             "pressure", "theta", "zbar", "zdot", "kappa0", "locked", "distance"]
-    return pd.DataFrame({k: out[k] for k in order})
+    return pd.DataFrame({k: out[k] for k in TIMESERIES_COLUMNS})
+
+
+#: Above this many cases the time series is streamed to disk case by case (memory flat in the cases).
+SPOOL_CASES = 12
+#: Points of one case's time series kept for the figures when it is streamed (a figure is ~1000 pixels wide).
+DRAWN_POINTS = 2000
+TIMESERIES_COLUMNS = ["case", "mode", "model", "t", "v", "omega", "romega", "slip", "vr", "mu", "torque", "brake_torque",
+                      "pressure", "theta", "zbar", "zdot", "kappa0", "locked", "distance"]
+
+
+def _timeseries(trs: dict, cases: list, dt: float, r: float, gain: float):
+    """``(timeseries, drawn)``: the frame ``timeseries`` of every case (:func:`_frame`) and, when it is
+    streamed, ``{label: frame}`` of each case's rows thinned for the figures (else None).
+
+    Up to :data:`SPOOL_CASES` cases the frame is a DataFrame. With more, each case's rows are written
+    to disk as soon as they are sampled (:class:`tirecli.io.output.SpooledFrame`, copied into
+    ``data/timeseries.csv``; the same text) and the figures draw every k-th row (at most
+    :data:`DRAWN_POINTS` a case, the last kept)."""
+    import pandas as pd
+
+    if len(cases) <= SPOOL_CASES:
+        return pd.concat([_frame(trs[c.label], c, dt, r, gain) for c in cases], ignore_index=True), None
+    from tirecli.io.output import SpooledFrame
+
+    spool, drawn = SpooledFrame(TIMESERIES_COLUMNS), {}
+    for c in cases:
+        f = _frame(trs[c.label], c, dt, r, gain)
+        spool.append(f)
+        keep = np.zeros(len(f), dtype=bool)
+        keep[::-(-len(f) // DRAWN_POINTS)] = True
+        keep[-1:] = True
+        drawn[c.label] = f[keep].reset_index(drop=True)
+    return spool, drawn
 
 
 def _measure(trs: dict, labels: list, meas: dict, r: float, gain: float):
@@ -717,9 +748,9 @@ def run_simulate(config: Config, progress=None) -> StudyResult:
     t_end = checked["t_end"]
     gain = (checked["input"] or {}).get("pressure_gain") or DEFAULT_PRESSURE_GAIN
     trs = run_cases(cases, p, car, t_end, _sample_times(meas, t_end), progress)
-    frames = [_frame(trs[c.label], c, checked["output"]["dt"], car.r, gain) for c in cases]
+    timeseries, drawn = _timeseries(trs, cases, checked["output"]["dt"], car.r, gain)
     events = [_events(trs[c.label], c, car.r) for c in cases]
-    data = {"timeseries": pd.concat(frames, ignore_index=True),
+    data = {"timeseries": timeseries,
             "events": pd.DataFrame([row for e in events for row in _event_rows(e)])}
     synthetic = False
     if meas is not None:
@@ -748,6 +779,7 @@ def run_simulate(config: Config, progress=None) -> StudyResult:
                            "(docs/models/lugre_friction.md §10, FM Fig. 4) [assumed]; override with --set input.pressure_gain=VALUE"]
     return StudyResult(
         study="simulate", config=config, parameter_sets={"tire": tire, "vehicle": vehicle}, data=data, meta=meta,
-        figures=figures, payload={"params": p, "car": car, "cases": cases, "runs": trs, "checked": checked},
+        figures=figures, payload={"params": p, "car": car, "cases": cases, "runs": trs, "checked": checked,
+                                  "timeseries_drawn": drawn},
         synthetic=synthetic,
     )

@@ -114,47 +114,67 @@ def make_variant(raw) -> FrictionVariant:
     )
 
 
-def sweep_frame(variants, p, slips, speeds, thetas_fm, progress=None) -> pd.DataFrame:
-    """Evaluate every variant over slip x speed x theta; long-format frame (see module doc)."""
+#: Grid points evaluated at a time by :func:`sweep_frame` (the model's temporaries stay a few MB).
+BLOCK_POINTS = 65536
+
+
+def sweep_frame(variants, p, slips, speeds, thetas_fm, progress=None, block: int | None = None) -> pd.DataFrame:
+    """Evaluate every variant over slip x speed x theta; long-format frame (see module doc).
+
+    Rows: for each variant, theta, held speed, the slips in order. The points are evaluated in blocks
+    of ``block`` (default :data:`BLOCK_POINTS`) into the frame's columns, so memory holds the frame
+    and one block's temporaries; every point is computed on its own, so the values do not depend
+    on the block size.
+    """
     import pandas as pd
 
     slips = np.asarray(slips, dtype=float)
     speeds = np.asarray(speeds, dtype=float)
-    S, V = np.meshgrid(slips, speeds, indexing="xy")  # rows: speed, cols: slip
-    v, romega = speeds_from_slip(S, V)
-    vr = romega - v
-    frames = []
+    block = max(int(block or BLOCK_POINTS), 1)
+    grid = slips.size * speeds.size  # rows of one (variant, theta)
+    n = grid * len(variants) * len(thetas_fm)
+    order = ("speed", "v", "romega", "theta", "theta_obs", "slip", "mu", "kappa0", "Z")
+    values = np.empty((len(order), n))  # the frame's float block, filled in place (no copy into the frame)
+    cols = dict(zip(order, values))
+    model = np.empty(n, dtype=np.intp)  # index of the variant
+    braking = np.empty(n, dtype=bool)
     if progress is not None:
-        progress.start(len(variants) * len(thetas_fm), "sweep")
+        progress.start(max(n // block, 1), "sweep")
+    at = 0
     for var in variants:
+        k0 = var.lumped_kappa0(p) if var.model == "lumped" else None
         for th in thetas_fm:
-            mu = var.mu_ss(vr, romega, p, th)
-            n = mu.size
-            kappa0, z_len = np.full(n, np.nan), np.full(n, np.nan)
-            if var.model == "lumped":
-                x = lugre.patch_ratio(vr, romega, p, th).ravel()
-                k0 = var.lumped_kappa0(p)
-                kappa0 = lugre.kappa0_of_x(x) if k0 == "Z" else np.full(n, float(k0))
-                with np.errstate(divide="ignore"):
-                    z_len = p.L / x  # x = L/Z; 0 -> inf (no slip), inf -> 0 (locked wheel)
-            frames.append(pd.DataFrame({
-                "model": var.label,
-                "direction": np.where(S.ravel() <= 0.0, "braking", "driving"),
-                "speed": V.ravel(),
-                "v": v.ravel(),
-                "romega": romega.ravel(),
-                "theta": np.full(n, th),
-                "theta_obs": np.full(n, float(theta_obs_from_fm(th))),
-                "slip": S.ravel(),
-                "mu": mu.ravel(),
-                "kappa0": kappa0,
-                "Z": z_len,
-            }))
-            if progress is not None:
-                progress.advance(1)
+            model[at:at + grid] = variants.index(var)
+            cols["theta"][at:at + grid] = th
+            cols["theta_obs"][at:at + grid] = float(theta_obs_from_fm(th))
+            for lo in range(0, grid, block):
+                hi = min(lo + block, grid)
+                idx = np.arange(lo, hi)
+                S, V = slips[idx % slips.size], speeds[idx // slips.size]  # rows: speed, then slip
+                v, romega = speeds_from_slip(S, V)
+                vr = romega - v
+                rows = slice(at + lo, at + hi)
+                cols["speed"][rows], cols["v"][rows], cols["romega"][rows], cols["slip"][rows] = V, v, romega, S
+                braking[rows] = S <= 0.0
+                cols["mu"][rows] = var.mu_ss(vr, romega, p, th)
+                if var.model == "lumped":
+                    x = lugre.patch_ratio(vr, romega, p, th)
+                    cols["kappa0"][rows] = lugre.kappa0_of_x(x) if k0 == "Z" else float(k0)
+                    with np.errstate(divide="ignore"):
+                        cols["Z"][rows] = p.L / x  # x = L/Z; 0 -> inf (no slip), inf -> 0 (locked wheel)
+                else:
+                    cols["kappa0"][rows] = np.nan
+                    cols["Z"][rows] = np.nan
+                if progress is not None:
+                    progress.advance(1)
+            at += grid
     if progress is not None:
         progress.close()
-    return pd.concat(frames, ignore_index=True)
+    df = pd.DataFrame(values.T, columns=list(order), copy=False)
+    # text columns taken from their few values (no Python string per row)
+    df.insert(0, "direction", pd.array(np.array(["driving", "braking"], dtype=object), dtype="str").take(braking.view(np.int8)))
+    df.insert(0, "model", pd.array(np.array([v.label for v in variants], dtype=object), dtype="str").take(model))
+    return df
 
 
 PEAK_COLUMNS = ["model", "variant", "load", "lambda", "kappa0", "direction", "speed", "theta", "theta_obs",
@@ -220,16 +240,22 @@ def plan(config: Config):
         dup = next(l for l in labels if labels.count(l) > 1)
         raise ConfigError(config.origins.problem(("sweep", "models"), f"two models share the label {token(dup)}; give each a distinct 'label'"))
     thetas_fm = [float(t) for t in to_theta_fm(sw["theta"], sw["theta_convention"])]
-    curves = len(variants) * len(thetas_fm) * len(sw["speeds"]) * len({np.sign(s) for s in sw["slip"]} - {0.0})
-    Estimate().add_product({("sweep", "models"): len(variants), ("sweep", "theta"): len(thetas_fm),
-                            ("sweep", "speeds"): len(sw["speeds"]), ("sweep", "slip"): len(sw["slip"])},
-                           "the sweep", BYTES_PER_ROW) \
-        .add(curves, ("sweep", "speeds"), "the peaks of its curves", BYTES_PER_ROW).check(config.origins)
+    sweep_estimate(len(variants), len(thetas_fm), len(sw["speeds"]), len(sw["slip"])).check(config.origins)
     return checked, tire, variants, thetas_fm
 
 
-#: Memory per row of a sweep (frame, CSV text, figures) [bytes], measured: 1.4 GB for 10^6 rows.
-BYTES_PER_ROW = 1400
+#: Memory per row of a sweep [bytes]: the frame's 11 columns (88 bytes), the figure's selections of
+#: its curves; the model's temporaries and the CSV text are per block (:data:`BLOCK_POINTS`,
+#: :data:`tirecli.io.output.CSV_CHUNK_ROWS`), a few MB whatever the sweep. Measured: 10^6 rows
+#: peak at ~250 MB of which ~120 MB are the libraries.
+BYTES_PER_ROW = 160
+
+
+def sweep_estimate(models: int, thetas: int, speeds: int, slips: int) -> Estimate:
+    """The sample budget's estimate of a sweep: one sample per grid point the config asks for
+    (models x theta x speeds x slip; the one row per curve of ``peaks`` is not counted)."""
+    return Estimate().add_product({("sweep", "models"): models, ("sweep", "theta"): thetas,
+                                   ("sweep", "speeds"): speeds, ("sweep", "slip"): slips}, "the sweep", BYTES_PER_ROW)
 
 
 def check_sweep(config: Config):

@@ -1,0 +1,276 @@
+"""Large outputs (issue 15, scale): the chunked CSV writer, block-wise sweeps, Parquet, the sample
+budget of a large sweep, simulate with many cases, ``mf eval``. No timings here (benchmarks/bench_scale.py)."""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pandas as pd
+import pytest
+
+from tirecli.io import fastcsv, output
+
+
+def previous_csv_text(frame, comments=()) -> str:
+    """The CSV text of the previous (one-piece, ``repr`` per cell) writer: the reference format."""
+    header = ",".join(output._csv_cells(np.array([str(c) for c in frame.columns], dtype=object)))
+    columns = [output._csv_cells(frame[c].to_numpy()) for c in frame.columns]
+    text = "".join(f"# {c}\n" for c in comments) + header + "\n"
+    if columns and columns[0]:
+        text += "\n".join(map(",".join, zip(*columns))) + "\n"
+    return text
+
+
+def _awkward_doubles(rng, n):
+    x = rng.standard_normal(n) * 10.0 ** rng.integers(-12, 22, n)
+    special = [0.1, 0.5, 1e16, 9.999999999999999e15, 1e15, 1e-4, 9.99e-5, 1e-5, 123.0, 100.0, 1e22, -0.0, 0.0,
+               5e-324, 2.2250738585072014e-308, 1.7976931348623157e308, 1.2345e-300, -1.5e-7, 2.0 ** 53, 2.0 ** 60,
+               0.30000000000000004, 1 / 3, math.pi * 1e-200, np.nan, np.inf, -np.inf]
+    return np.concatenate([special, x, np.round(x, 3), rng.integers(-10 ** 6, 10 ** 6, n) / 64.0,
+                           np.linspace(-1, 1, n), np.nextafter(10.0 ** rng.integers(-300, 300, n), 0.0)])
+
+
+def test_repr_matrix_is_repr_byte_for_byte():
+    x = _awkward_doubles(np.random.default_rng(7), 40_000)
+    m = fastcsv.repr_matrix(x)
+    got = [bytes(r).rstrip(b"\0").decode() for r in m]
+    want = ["" if v != v else repr(v) for v in x.tolist()]
+    assert [(g, w) for g, w in zip(got, want) if g != w] == []
+
+
+def test_chunked_csv_identical_to_previous_writer(tmp_path, monkeypatch):
+    rng = np.random.default_rng(3)
+    n = 5003
+    frame = pd.DataFrame({
+        "a": _awkward_doubles(rng, 1000)[:n], "nan": np.full(n, np.nan), "const": np.full(n, 2.5),
+        "model": np.where(rng.random(n) < 0.5, "x,y", "plain"), "i": rng.integers(-5, 100, n),
+        "flag": rng.random(n) < 0.5, "obj": np.array([None, 'q"t', 1.5, " sp", "é", np.nan] * (n // 6 + 1),
+                                                     dtype=object)[:n],
+    })
+    frame.loc[3, "const"] = -0.0
+    monkeypatch.setattr(output, "CSV_CHUNK_ROWS", 997)  # many chunks, the last one short
+    path = output.write_csv(tmp_path / "f.csv", frame, ["SYNTHETIC", "second comment"])
+    assert path.read_bytes().decode() == previous_csv_text(frame, ["SYNTHETIC", "second comment"])
+    # a text with a zero byte, an empty frame, a frame without columns
+    odd = pd.DataFrame({"t": ["a\0b", "c"], "x": [1.0, 2.0]})
+    assert output.write_csv(tmp_path / "z.csv", odd).read_bytes().decode() == previous_csv_text(odd)
+    empty = frame.iloc[:0]
+    assert output.write_csv(tmp_path / "e.csv", empty, ["c"]).read_bytes().decode() == previous_csv_text(empty, ["c"])
+
+
+# --------------------------------------------------------------------------- sweep
+
+SWEEP = """study: sweep
+tire: canudas2003-table2
+sweep:
+  slip: {start: -1, stop: 1, num: 41}
+  speeds: [0, 5, 20]
+  theta: [0.5, 1.0]
+  models:
+    - distributed
+    - {model: distributed, load: exponential, lambda: 2}
+    - {model: lumped, kappa0: Z}
+    - {model: lumped, kappa0: 1.5, label: k15}
+"""
+
+
+def _sweep_inputs(text=SWEEP):
+    from tirecli.config.loader import config_from_text
+    from tirecli.studies import sweep as sw
+
+    checked, tire, variants, thetas = sw.plan(config_from_text(text, label="<test>"))
+    s = checked["sweep"]
+    return variants, tire.model(), s["slip"], s["speeds"], thetas
+
+
+def test_blockwise_sweep_equals_one_block():
+    from tirecli.studies.sweep import sweep_frame
+
+    variants, p, slips, speeds, thetas = _sweep_inputs()
+    with np.errstate(all="ignore"):
+        whole = sweep_frame(variants, p, slips, speeds, thetas, block=10 ** 9)
+        for block in (1, 7, 41, 100):
+            pd.testing.assert_frame_equal(sweep_frame(variants, p, slips, speeds, thetas, block=block), whole,
+                                          check_exact=True)
+    assert len(whole) == 4 * 2 * 3 * 41
+    # rows: variant, theta, speed, slip (the order of the previous one-piece frame)
+    first = whole.iloc[:41]
+    assert (first["model"] == variants[0].label).all() and (first["speed"] == 0.0).all()
+    assert np.array_equal(first["slip"].to_numpy(), np.asarray(slips, dtype=float))
+    assert set(whole["direction"]) == {"braking", "driving"}
+    assert whole.loc[whole["model"] == "k15", "kappa0"].eq(1.5).all()
+    assert whole.loc[whole["model"] == variants[0].label, ["kappa0", "Z"]].isna().all().all()
+
+
+def _exact_csv(path):
+    """A CSV of tirecli as a frame, numbers parsed by Python's float (exact), text kept."""
+    raw = pd.read_csv(path, comment="#", dtype=str, keep_default_na=False)
+    out = {}
+    for col in raw.columns:
+        try:
+            out[col] = np.array([float(v) if v != "" else np.nan for v in raw[col]])
+        except ValueError:
+            out[col] = raw[col].replace("", None)
+    return pd.DataFrame(out)
+
+
+def test_sweep_parquet_equals_csv(cli, tmp_path):
+    pytest.importorskip("pyarrow")
+    cfg = tmp_path / "s.yaml"
+    cfg.write_text(SWEEP)
+    for fmt in ("csv", "parquet"):
+        code, _, err = cli("--quiet", "sweep", cfg, "--out", tmp_path / fmt, "--format", fmt)
+        assert code == 0, err
+    for name in ("sweep", "peaks"):
+        from_csv = _exact_csv(tmp_path / "csv" / "data" / f"{name}.csv")
+        from_pq = pd.read_parquet(tmp_path / "parquet" / "data" / f"{name}.parquet")
+        assert list(from_pq.columns) == list(from_csv.columns)
+        assert len(from_pq) == len(from_csv) > 0
+        for col in from_csv.columns:
+            a, b = from_csv[col], from_pq[col]
+            if a.dtype.kind == "f" and b.dtype.kind == "f":
+                assert np.array_equal(a.to_numpy(), b.to_numpy(), equal_nan=True), col
+            else:  # text (kappa0 of peaks: a number or Z)
+                assert [None if pd.isna(v) else str(v) for v in a] == [None if pd.isna(v) else str(v) for v in b], col
+    run = (tmp_path / "parquet" / "run.json").read_text()
+    assert "data/sweep.parquet" in run and "sweep.csv" not in run
+
+
+def test_format_errors_are_one_line(cli, tmp_path, monkeypatch):
+    import builtins
+
+    cfg = tmp_path / "s.yaml"
+    cfg.write_text(SWEEP)
+    code, _, err = cli("sweep", cfg, "--out", tmp_path / "o", "--format", "xlsx")
+    assert code == 2 and "--format 'xlsx'" in err and len(err.strip().splitlines()) == 1
+    real_import = builtins.__import__
+
+    def no_pyarrow(name, *args, **kw):
+        if name == "pyarrow" or name.startswith("pyarrow."):
+            raise ImportError(name)
+        return real_import(name, *args, **kw)
+
+    monkeypatch.setattr(builtins, "__import__", no_pyarrow)
+    code, _, err = cli("sweep", cfg, "--out", tmp_path / "o", "--format", "parquet")
+    assert code == 2 and "pip install 'tirecli[campaign]'" in err and len(err.strip().splitlines()) == 1
+    assert not (tmp_path / "o").exists()  # refused before the run
+
+
+def test_million_point_sweep_within_the_default_budget():
+    from tirecli import limits
+    from tirecli.studies.sweep import sweep_estimate
+
+    est = sweep_estimate(1, 1, 10, 100_000)  # 10^6 points: within the default budget of 10^6 samples
+    assert est.samples == 1_000_000 == limits.DEFAULT_MAX_SAMPLES
+    assert est.problem(None, "<test>") is None
+    assert est.memory < 300e6  # the estimate reflects the block-wise run
+    over = sweep_estimate(2, 1, 10, 100_000).problem(None, "<test>")  # still refused above the budget
+    assert over is not None and "2,000,000 samples" in over.message
+
+
+def test_million_point_sweep_config_passes_the_check():
+    from tirecli.config.loader import config_from_text
+    from tirecli.errors import ConfigError
+    from tirecli.studies import sweep as sw
+
+    million = "study: sweep\ntire: canudas2003-table1\nsweep:\n  slip: {start: -1, stop: 1, num: 100000}\n" \
+              "  speeds: {start: 5, stop: 50, num: 10}\n"
+    sw.plan(config_from_text(million, label="<test>"))  # not refused (the peak rows are not counted)
+    with pytest.raises(ConfigError, match="1,100,000 samples"):
+        sw.plan(config_from_text(million.replace("num: 10}", "num: 11}"), label="<test>"))
+
+
+# --------------------------------------------------------------------------- simulate
+
+
+def _many_cases(n: int) -> str:
+    cases = "\n".join(f"  - {{model: lumped, kappa0: {'Z' if i % 2 else 1.0 + 0.05 * i}, label: c{i:02d}}}"
+                      for i in range(n))
+    return f"""study: simulate
+tire: canudas2003-table2
+initial: {{v: 20, slip: 0}}
+input:
+  brake_torque: {{initial: 0, changes: [{{at: 0.05, duration: 0.1, to: 900, shape: linear}}]}}
+t_end: 0.3
+output: {{dt: 0.002}}
+cases:
+{cases}
+"""
+
+
+def test_many_cases_stream_the_same_timeseries(cli, tmp_path, monkeypatch):
+    from tirecli.studies import simulate
+
+    cfg = tmp_path / "many.yaml"
+    cfg.write_text(_many_cases(14))
+    assert 14 > simulate.SPOOL_CASES
+    code, _, err = cli("--quiet", "simulate", cfg, "--out", tmp_path / "streamed")
+    assert code == 0, err
+    monkeypatch.setattr(simulate, "SPOOL_CASES", 100)  # the frame kept in memory, as before
+    code, _, err = cli("--quiet", "simulate", cfg, "--out", tmp_path / "frame")
+    assert code == 0, err
+    for name in ("timeseries", "events"):
+        assert (tmp_path / "streamed" / "data" / f"{name}.csv").read_bytes() == \
+            (tmp_path / "frame" / "data" / f"{name}.csv").read_bytes()
+    ts = pd.read_csv(tmp_path / "streamed" / "data" / "timeseries.csv")
+    assert list(dict.fromkeys(ts["case"])) == [f"c{i:02d}" for i in range(14)]
+    assert (tmp_path / "streamed" / "figures" / "transient-histories.png").stat().st_size > 10_000
+
+
+def test_spooled_frame_reads_back():
+    from tirecli.io.output import SpooledFrame
+
+    parts = [pd.DataFrame({"case": [f"c{k}"] * 3, "t": [0.0, 0.1, 0.30000000000000004], "x": [1.5, np.nan, -2e-7]})
+             for k in range(3)]
+    spool = SpooledFrame(["case", "t", "x"])
+    for p in parts:
+        spool.append(p)
+    assert len(spool) == 9
+    pd.testing.assert_frame_equal(spool.to_frame(), pd.concat(parts, ignore_index=True), check_dtype=False)
+    with pytest.raises(ValueError):
+        spool.append(parts[0][["t", "case", "x"]])
+
+
+# --------------------------------------------------------------------------- mf eval
+
+
+def test_field_counts_like_the_csv_reader():
+    import csv
+    import io
+
+    body = "a, b ,c\n1,2,3\n\n  \n4,5\n\t\n6,7,8,\n\x0c\n9,,\n"
+    counts, lines = fastcsv.field_counts(body.encode())
+    rows = [(i, r) for i, r in enumerate(csv.reader(io.StringIO(body), skipinitialspace=True))
+            if r and not (len(r) == 1 and not r[0].strip())]
+    assert counts.tolist() == [len(r) for _, r in rows]
+    assert lines.tolist() == [i for i, _ in rows]
+
+
+def test_mf_eval_field_check_messages(cli, tmp_path):
+    pts = tmp_path / "p.csv"
+    pts.write_text("kappa,alpha,gamma,fz\n0.01,0,0,4000\n\n0.02,0,0\n")
+    code, _, err = cli("mf", "eval", "pacejka2006-205-60r15", "--points", pts, "--out", tmp_path / "o.csv")
+    assert code == 2
+    assert "data row 2 has 3 fields but the header names 4 columns" in err
+
+
+def test_mf_eval_results_unchanged(cli, tmp_path):
+    """The output of ``mf eval`` against the model evaluated directly (17-digit text, exact)."""
+    from tirecli.app_mf import load_tire
+    from tirecli.models.magic_formula import evaluate
+
+    rng = np.random.default_rng(5)
+    n = 3000
+    cols = {"kappa": np.round(rng.uniform(-0.3, 0.3, n), 5), "alpha": np.round(rng.uniform(-0.2, 0.2, n), 5),
+            "gamma": np.round(rng.uniform(-0.05, 0.05, n), 5), "fz": np.round(rng.uniform(2000, 6000, n), 1)}
+    pts = tmp_path / "p.csv"
+    pd.DataFrame(cols).to_csv(pts, index=False)
+    code, _, err = cli("--quiet", "mf", "eval", "pacejka2006-205-60r15", "--points", pts, "--out", tmp_path / "o.csv")
+    assert code == 0, err
+    got = _exact_csv(tmp_path / "o.csv")
+    _, tire = load_tire("pacejka2006-205-60r15")
+    res = evaluate(tire, cols["kappa"], cols["alpha"], cols["gamma"], cols["fz"], tire.reference_speed,
+                   tire.default_pressure)
+    for k in ("fx", "fy", "mz", "mx", "my"):
+        assert np.array_equal(got[k].to_numpy(), np.asarray(getattr(res, k), dtype=float)), k
+    assert np.array_equal(got["kappa"].to_numpy(), cols["kappa"])
