@@ -93,7 +93,7 @@ def slip_from_speeds(v, omega, r):
 def slip_of(v: float, omega: float, r: float) -> float:
     """:func:`slip_from_speeds` of one pair of floats, without arrays: the same value, bit for bit
     (the same operations; 0 where ``max(|v|, |r omega|)`` is not positive or either speed is NaN)."""
-    rw = r * omega
+    v, rw = float(v), r * float(omega)
     if v != v or rw != rw:
         return 0.0
     den = max(abs(v), abs(rw))
