@@ -169,8 +169,13 @@ def dask_client(scheduler: str, jobs: int):
     import logging
 
     if scheduler == "local":
-        cluster = LocalCluster(n_workers=jobs, threads_per_worker=1, processes=True, dashboard_address=None,
-                               silence_logs=logging.ERROR)
+        import dask
+
+        # the workers' statistical profiler samples the running task every 10 ms: a few per cent of a
+        # pure-Python braking, for a dashboard this cluster does not have
+        with dask.config.set({"distributed.worker.profile.enabled": False}):
+            cluster = LocalCluster(n_workers=jobs, threads_per_worker=1, processes=True, dashboard_address=None,
+                                   silence_logs=logging.ERROR)
         return Client(cluster), cluster
     if "://" not in scheduler:
         raise UsageError(f"--scheduler {scheduler!r}: expected 'local' or an address such as tcp://HOST:8786")
