@@ -144,8 +144,10 @@ class StudyCache:
 
     def store_study(self, record: dict, deps: dict, src: Path, data_names: list[str]) -> None:
         """Keep the study's files (read from the report folder ``src``) with its run ``record``
-        (facts the cards need) and ``deps`` (built-in set -> SHA-256). Any failure is ignored:
-        the cache is an optimisation."""
+        (facts the cards need) and ``deps`` (built-in set -> SHA-256), unless a valid entry with
+        these deps is there (it keeps its figures). Any failure is ignored: the cache is an optimisation."""
+        if self.manifest(lambda name: deps.get(name, "")) is not None:
+            return
         with contextlib.suppress(OSError):
             rels = [f"data/{n}.csv" for n in data_names] + ["study.json"]
             with self._new_dir(self.dir) as tmp:
@@ -227,3 +229,21 @@ def write_timings(root: str | Path, timings: dict) -> None:
 def read_bytes(path: str | Path) -> bytes:
     """The bytes of a file (a figure written by this run, to embed in the page)."""
     return Path(path).read_bytes()
+
+
+def memo_text(root: str | Path | None, parts: dict, make) -> str:
+    """``make()`` (a text), kept under ``root`` by the key of ``parts`` (e.g. a documentation page
+    rendered to HTML); a stored text is used only if its recorded SHA-256 matches. ``root`` None:
+    no cache."""
+    if root is None:
+        return make()
+    path = Path(root) / f"v{FORMAT}" / "memo" / f"{key_of(dict(parts, code=code_fingerprint()))}.txt"
+    with contextlib.suppress(OSError, ValueError, UnicodeDecodeError):
+        head, _, text = path.read_bytes().decode("utf-8").partition("\n")
+        if head == sha256(text.encode("utf-8")):
+            return text
+    text = make()
+    with contextlib.suppress(OSError):
+        path.parent.mkdir(parents=True, exist_ok=True)
+        _write(path, sha256(text.encode("utf-8")) + "\n" + text)
+    return text

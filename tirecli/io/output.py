@@ -161,21 +161,26 @@ def png_bytes(fig, dpi: int = 110) -> bytes:
 
 
 def environment() -> dict:
-    """Versions that matter for reproducing a run."""
-    import matplotlib
-    import pandas
-    import scipy
+    """Versions that matter for reproducing a run (read from the installed packages' metadata: a
+    report taken from the cache imports neither scipy, pandas nor matplotlib)."""
+    from importlib import metadata
 
     from tirecli import __version__
+
+    def version(name: str) -> str:
+        try:
+            return metadata.version(name)
+        except metadata.PackageNotFoundError:  # pragma: no cover - a dependency always is installed
+            return "-"
 
     return {
         "tirecli": __version__,
         "python": sys.version.split()[0],
         "platform": platform.platform(),
         "numpy": np.__version__,
-        "scipy": scipy.__version__,
-        "pandas": pandas.__version__,
-        "matplotlib": matplotlib.__version__,
+        "scipy": version("scipy"),
+        "pandas": version("pandas"),
+        "matplotlib": version("matplotlib"),
     }
 
 

@@ -177,7 +177,7 @@ def _write_report(stage, entries: list, t_start: float, progress, campaigns=(), 
     if ran:
         write_timings(settings["cache"], ran)
 
-    docs = write_docs(out, __version__)
+    docs = write_docs(out, __version__, settings["cache"])
     cards, all_checks = [], []
     for f in entries:
         card = {"id": f.id, "paper": f.paper, "label": f.label, "title": f.title, "caption": f.caption_for(None),
