@@ -38,6 +38,8 @@ from tirecli.io.atomic import TMP, atomic_write
 
 #: Bumped when the layout or the meaning of an entry changes (older entries are then ignored).
 FORMAT = 1
+#: Entries kept per study (the newest; older ones are of earlier code, configs or parameters).
+KEEP = 3
 #: Default cache folder inside the report's directory (not a report output: a report never removes it).
 DEFAULT_NAME = ".tirecli-cache"
 
@@ -159,6 +161,23 @@ class StudyCache:
                     files[rel] = sha256(data)
                 _write(tmp / "manifest.json", _dump({"format": FORMAT, "key": self.key, "study": self.study,
                                                      "deps": deps, "files": files, "record": record}))
+            self._prune()
+
+    def _prune(self, keep: int = KEEP) -> None:
+        """Remove the oldest entries of the study beyond ``keep`` (those of earlier code or configs),
+        and temporary folders of writers killed over an hour ago."""
+        import time
+
+        entries = []
+        for d in self.dir.parent.iterdir():
+            with contextlib.suppress(OSError):
+                if d.name.startswith("."):
+                    if time.time() - d.stat().st_mtime > 3600:
+                        shutil.rmtree(d, ignore_errors=True)
+                elif d.is_dir() and d != self.dir:
+                    entries.append((d.stat().st_mtime, d))
+        for _, d in sorted(entries, key=lambda e: e[0], reverse=True)[keep - 1:]:
+            shutil.rmtree(d, ignore_errors=True)
 
     def store_figure(self, card: dict, fid: str, fkey: str, src: Path) -> None:
         """Keep a figure's card (JSON-able facts) and its files (``card['files']``, read under ``src``)."""
