@@ -171,3 +171,23 @@ def test_save_figure_lays_out_once_for_several_formats(tmp_path):
     assert [p.name for p in paths] == ["f.png", "f.svg"] and len(calls) == 1
     assert fig.get_layout_engine() is engine
     assert [p.name for p in save_figure(fig, tmp_path, "g", formats=("png",))] == ["g.png"]
+
+
+def _sum_on_threads() -> int:
+    from tirecli.numerics.pool import thread_pool
+
+    return thread_pool(2).submit(sum, [1, 2]).result(timeout=20)
+
+
+def test_a_forked_worker_starts_its_own_thread_pool():
+    """The parent's thread pool (MF evaluator, CSV formatter) has no threads in a forked worker: work
+    given to it there would wait for ever."""
+    import multiprocessing
+
+    from tirecli.report import work
+
+    assert _sum_on_threads() == 3  # the pool exists in this process
+    ctx = multiprocessing.get_context("fork")
+    q = ctx.Queue()
+    with ctx.Pool(1, initializer=work._init_worker, initargs=(q,)) as pool:
+        assert pool.apply_async(_sum_on_threads).get(timeout=60) == 3

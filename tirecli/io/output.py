@@ -150,16 +150,6 @@ def save_figure(fig, directory: str | Path, name: str, dpi: int = 150, formats=(
     return paths
 
 
-def png_bytes(fig, dpi: int = 110) -> bytes:
-    """PNG of a figure in memory."""
-    import io
-
-    buf = io.BytesIO()
-    with _quiet_mpl3d():
-        fig.savefig(buf, format="png", dpi=dpi, metadata={"Software": None})
-    return buf.getvalue()
-
-
 def environment() -> dict:
     """Versions that matter for reproducing a run (read from the installed packages' metadata: a
     report taken from the cache imports neither scipy, pandas nor matplotlib)."""

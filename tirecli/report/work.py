@@ -235,11 +235,18 @@ _QUEUE = None
 
 
 def _init_worker(q) -> None:
-    """A pool worker: Ctrl-C is the parent's to handle (it ends the pool), SIGTERM ends the worker."""
+    """A pool worker: Ctrl-C is the parent's to handle (it ends the pool), SIGTERM ends the worker.
+
+    A forked worker has none of the parent's threads: the shared thread pool of the numerical code
+    (:mod:`tirecli.numerics.pool`), if the parent had started it, is dropped so that the worker
+    starts its own (work given to the parent's would wait for threads that do not exist here)."""
     global _QUEUE
     _QUEUE = q
     signal.signal(signal.SIGINT, signal.SIG_IGN)
     signal.signal(signal.SIGTERM, signal.SIG_DFL)
+    pool = sys.modules.get("tirecli.numerics.pool")
+    if pool is not None:
+        pool._POOL, pool._SIZE, pool._LOCK = None, 0, threading.Lock()
     import matplotlib
 
     matplotlib.use("Agg")
