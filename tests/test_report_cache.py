@@ -191,3 +191,28 @@ def test_a_forked_worker_starts_its_own_thread_pool():
     q = ctx.Queue()
     with ctx.Pool(1, initializer=work._init_worker, initargs=(q,)) as pool:
         assert pool.apply_async(_sum_on_threads).get(timeout=60) == 3
+
+
+@pytest.mark.parametrize("jobs", ["1", "2"])
+def test_a_failing_study_is_an_error_card_and_is_not_cached(cli, tmp_path, monkeypatch, jobs):
+    from tirecli.studies import base
+
+    real = base.run_study
+
+    def run_study(config, *args, **kwargs):
+        if config.label == "<built-in mcps-fig3>":
+            raise RuntimeError("the slider broke")
+        return real(config, *args, **kwargs)
+
+    monkeypatch.setattr(base, "run_study", run_study)
+    out = tmp_path / "rep"
+    code, _, err = cli("--quiet", "report", "--out", out, *ONLY, "--jobs", jobs, "--strict")
+    assert code == 1, err
+    summary = json.loads((out / "summary.json").read_text())
+    assert summary["study_errors"] == {"mcps-fig3": "RuntimeError: the slider broke"}
+    assert [c["id"] for c in summary["checks"] if not c["passed"]] == ["mcps-fig3/study-ran"]
+    assert summary["study_cached"] == {"fm-fig1-left": False, "mf-golden": False}
+    assert "the slider broke" in (out / "index.html").read_text()
+    monkeypatch.setattr(base, "run_study", real)
+    assert _report(cli, out, "--jobs", jobs)["study_cached"] == {"fm-fig1-left": True, "mf-golden": True,
+                                                                 "mcps-fig3": False}

@@ -17,7 +17,7 @@ Layout::
     CACHE/v1/STUDY/KEY/manifest.json       key, the built-in data the study read (with hashes), files
     CACHE/v1/STUDY/KEY/files/...           data/NAME.csv, study.json
     CACHE/v1/STUDY/KEY/fig-ID-FKEY/        card.json and the figure's files
-    CACHE/v1/timings.json                  seconds each study took (the slowest start first)
+    CACHE/v1/timings.json                  seconds each study and its figures took (the slowest start first)
 
 ``KEY`` hashes the resolved config, the built-in configs it names, tirecli's version and source
 code, and the versions of Python and the numerical libraries; the manifest adds the hash of every
@@ -231,7 +231,7 @@ def _copy(src: Path, dst: Path) -> None:
 
 
 def read_timings(root: str | Path) -> dict:
-    """Seconds each study took when it last ran (study -> seconds); empty when unknown."""
+    """Seconds each study (with its figures) took when it last ran (study -> seconds); empty when unknown."""
     data = _read_json(Path(root) / f"v{FORMAT}" / "timings.json")
     return {k: float(v) for k, v in data.items() if isinstance(v, (int, float))} if isinstance(data, dict) else {}
 

@@ -157,11 +157,11 @@ def _write_report(stage, entries: list, t_start: float, progress, campaigns=(), 
             facts[task["study"]] = hit
             for _ in range(1 + len(task["figures"])):
                 bar("study-done", task["study"])
-        bar("study", "")
-        for _ in errors:
+        for _ in [f for f in entries if f.study in errors] + list(errors):  # configs that did not load
             bar("study-done", "")
         earlier = read_timings(settings["cache"])
-        todo.sort(key=lambda t: -earlier.get(t["study"], float("inf")))  # the slowest (or unknown) first
+        # the slowest units (study and figures, as last measured; unknown ones) start first
+        todo.sort(key=lambda t: -earlier.get(t["study"], float("inf")))
         for res in work.run_units(todo, settings["jobs"], bar):
             facts[res["study"]] = res
     finally:
@@ -173,7 +173,7 @@ def _write_report(stage, entries: list, t_start: float, progress, campaigns=(), 
         timings[name] = res["wall"]
         if res["error"] is not None:
             errors[name] = res["error"]
-    ran = {name: res["wall"] for name, res in facts.items() if not res["cached"] and res["error"] is None}
+    ran = {name: res["unit_wall"] for name, res in facts.items() if not res["cached"] and res["error"] is None}
     if ran:
         write_timings(settings["cache"], ran)
 

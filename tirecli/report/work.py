@@ -165,7 +165,8 @@ def run_unit(task: dict, note=None) -> dict:
     try:
         res = run_study(task["config"])
     except Exception as exc:  # noqa: BLE001 - reported in the page and as a failed check
-        note("study-done", name)
+        for _ in range(1 + len(task["figures"])):  # its figures will not be drawn
+            note("study-done", name)
         return {"study": name, "error": f"{type(exc).__name__}: {exc}\n" + traceback.format_exc(limit=4),
                 "wall": time.perf_counter() - t0, "cached": False, "record": None, "cards": {}}
     wall = time.perf_counter() - t0
@@ -194,7 +195,8 @@ def run_unit(task: dict, note=None) -> dict:
             cache.store_figure(card, fid, task["fkey"], root)
         cards[fid] = card
         note("figure-done", fid)
-    return {"study": name, "error": None, "wall": wall, "cached": False, "record": record, "cards": cards}
+    return {"study": name, "error": None, "wall": wall, "cached": False, "record": record, "cards": cards,
+            "unit_wall": time.perf_counter() - t0}
 
 
 def _draw_card(f, res, root: Path, formats) -> dict:
