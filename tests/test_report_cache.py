@@ -216,3 +216,25 @@ def test_a_failing_study_is_an_error_card_and_is_not_cached(cli, tmp_path, monke
     monkeypatch.setattr(base, "run_study", real)
     assert _report(cli, out, "--jobs", jobs)["study_cached"] == {"fm-fig1-left": True, "mf-golden": True,
                                                                  "mcps-fig3": False}
+
+
+def test_a_worker_that_dies_is_an_error_and_the_previous_report_stays(cli, tmp_path, monkeypatch):
+    import os
+
+    from tirecli.studies import base
+
+    out = tmp_path / "rep"
+    _report(cli, out, "--jobs", "1", "--cache", tmp_path / "cache")
+    before = _files(out, "**/*.*")
+    real = base.run_study
+
+    def run_study(config, *args, **kwargs):
+        if config.label == "<built-in mcps-fig3>":
+            os._exit(9)  # as if killed
+        return real(config, *args, **kwargs)
+
+    monkeypatch.setattr(base, "run_study", run_study)
+    code, _, err = cli("report", "--out", out, *ONLY, "--jobs", "2", "--no-cache", "--cache", tmp_path / "cache")
+    assert code == 1 and "a worker process of the report ended abruptly" in err and f"previous results in {out} kept" in err
+    assert _files(out, "**/*.*") == before and len(before) > 10
+    assert sorted(os.listdir(tmp_path)) == ["cache", "rep"]

@@ -263,7 +263,8 @@ def run_units(tasks: list[dict], jobs: int, note) -> list[dict]:
 
     ``note(kind, name)`` is called in this process for every step (and ``("tick", "")`` at least
     every quarter second while the work runs). A failure of a unit (other than its study's or a
-    figure's, which it reports) ends the pool and is raised here; so is Ctrl-C.
+    figure's, which it reports) ends the pool and is raised here; so is Ctrl-C, and a worker that
+    died (killed, out of memory) is a :class:`~tirecli.errors.RunError`.
     """
     if not tasks:
         return []
@@ -271,32 +272,48 @@ def run_units(tasks: list[dict], jobs: int, note) -> list[dict]:
         with _ticking(note):
             return [run_unit(t, note=note) for t in tasks]
     import multiprocessing
+    from concurrent.futures import ProcessPoolExecutor
+    from concurrent.futures.process import BrokenProcessPool
+
+    from tirecli.errors import RunError
 
     _preload_matplotlib()
-    ctx = multiprocessing.get_context("fork")
+    ctx = multiprocessing.get_context("fork")  # the workers start with this process's imports (and test patches)
     q = ctx.Queue()
-    pool = ctx.Pool(min(jobs, len(tasks)), initializer=_init_worker, initargs=(q,))
+    pool = ProcessPoolExecutor(min(jobs, len(tasks)), mp_context=ctx, initializer=_init_worker, initargs=(q,))
     try:
-        pending = [pool.apply_async(_run_in_worker, (t,)) for t in tasks]
+        futures = [pool.submit(_run_in_worker, t) for t in tasks]
         while True:
             _drain(q, note, timeout=0.25)
-            for r in pending:
-                if r.ready() and not r.successful():
-                    r.get()  # raises the worker's exception
-            if all(r.ready() for r in pending):
+            done = [f for f in futures if f.done()]
+            for f in done:
+                if f.exception() is not None:
+                    raise f.exception()
+            if len(done) == len(futures):
                 break
         _drain(q, note, timeout=0.0)
-        results = [r.get() for r in pending]
-        pool.close()
-        pool.join()
-        return results
+        pool.shutdown()
+        return [f.result() for f in futures]
+    except BrokenProcessPool:
+        _stop(pool)
+        raise RunError("a worker process of the report ended abruptly (killed, or out of memory?); "
+                       "--jobs 1 runs the studies in the tirecli process itself") from None
     except BaseException:
-        pool.terminate()
-        pool.join()
+        _stop(pool)
         raise
     finally:
         q.close()
         q.cancel_join_thread()
+
+
+def _stop(pool) -> None:
+    """End a process pool now: queued work cancelled, running workers terminated."""
+    procs = list((getattr(pool, "_processes", None) or {}).values())
+    pool.shutdown(wait=False, cancel_futures=True)
+    for p in procs:
+        p.terminate()
+    for p in procs:
+        p.join()
 
 
 def _drain(q, note, timeout: float) -> None:
