@@ -170,7 +170,6 @@ def run_unit(task: dict, note=None) -> dict:
         return {"study": name, "error": f"{type(exc).__name__}: {exc}\n" + traceback.format_exc(limit=4),
                 "wall": time.perf_counter() - t0, "cached": False, "record": None, "cards": {}}
     wall = time.perf_counter() - t0
-    deps = {n: set_digest(n) for n in sorted(sets.BUILTINS_READ)}
     (root / "data" / name).mkdir(parents=True, exist_ok=True)
     comments = [output.SYNTHETIC_NOTE] if res.synthetic else []
     for dname, frame in res.data.items():
@@ -181,20 +180,20 @@ def run_unit(task: dict, note=None) -> dict:
         "citations": res.citations(), "meta": res.meta, "synthetic": res.synthetic,
         "wall_time_s": round(wall, 4),
     })
-    record = {"data": list(res.data), "wall_time_s": round(wall, 4)}
-    cache = StudyCache(task["cache"], name, task["key"]) if task["cache"] else None
-    if cache is not None:
-        cache.store_study(record, deps, root, list(res.data))
     note("study-done", name)
     reg = load_all()
     cards = {}
     for fid in task["figures"]:
         note("figure", fid)
-        card = _plain(_draw_card(reg[fid], res, root, task["formats"]))
-        if cache is not None and card["error"] is None:
-            cache.store_figure(card, fid, task["fkey"], root)
-        cards[fid] = card
+        cards[fid] = _plain(_draw_card(reg[fid], res, root, task["formats"]))
         note("figure-done", fid)
+    record = {"data": list(res.data), "wall_time_s": round(wall, 4)}
+    if task["cache"]:  # keyed also on the built-in sets read by the study, its figures and their checks
+        cache = StudyCache(task["cache"], name, task["key"])
+        cache.store_study(record, {n: set_digest(n) for n in sorted(sets.BUILTINS_READ)}, root, list(res.data))
+        for fid, card in cards.items():
+            if card["error"] is None:
+                cache.store_figure(card, fid, task["fkey"], root)
     return {"study": name, "error": None, "wall": wall, "cached": False, "record": record, "cards": cards,
             "unit_wall": time.perf_counter() - t0}
 
