@@ -77,19 +77,20 @@ def test_a_changed_parameter_or_config_reruns_only_the_studies_it_affects(cli, t
         fn.cache_clear()
     try:
         second = _report(cli, out, "--jobs", "1")
-    finally:
+    finally:  # the real set again, for this process's later tests
+        monkeypatch.setattr(sets, "builtin_path", real_path)
         for fn in (sets._parsed_builtin, work.set_digest):
             fn.cache_clear()
     assert second["study_cached"] == {"fm-fig1-left": False, "mf-golden": True, "mcps-fig3": True}
     assert counted[3:] == ["<built-in fm-fig1-left>"]
 
-    # a changed config value: only its study runs
+    # a changed config value: its study runs (and fm-fig1-left, whose parameter set is back to the real one)
     real = build.builtin_config
     monkeypatch.setattr(build, "builtin_config",
                         lambda name, overrides=(): real(name, list(overrides) + (["period=2.5"] if name == "mcps-fig3" else [])))
     third = _report(cli, out, "--jobs", "1")
-    assert third["study_cached"]["mcps-fig3"] is False and third["study_cached"]["mf-golden"] is True
-    assert counted[4:] == ["<built-in mcps-fig3>"]
+    assert third["study_cached"] == {"fm-fig1-left": False, "mf-golden": True, "mcps-fig3": False}
+    assert sorted(counted[4:]) == ["<built-in fm-fig1-left>", "<built-in mcps-fig3>"]
 
 
 @pytest.mark.parametrize("damage", ["manifest", "csv", "png", "card"])
@@ -238,3 +239,35 @@ def test_a_worker_that_dies_is_an_error_and_the_previous_report_stays(cli, tmp_p
     assert code == 1 and "a worker process of the report ended abruptly" in err and f"previous results in {out} kept" in err
     assert _files(out, "**/*.*") == before and len(before) > 10
     assert sorted(os.listdir(tmp_path)) == ["cache", "rep"]
+
+
+def test_a_parameter_set_read_by_a_figure_invalidates_its_card(cli, tmp_path, monkeypatch):
+    """A figure (or its checks) may read a built-in set its study did not: the card is keyed on it too."""
+    import dataclasses
+
+    from tirecli.figures.registry import REGISTRY, load_all
+    from tirecli.parameters import sets
+    from tirecli.report import work
+
+    load_all()
+    fdef = REGISTRY["mcps-fig3"]
+
+    def draw(res):
+        sets.load_builtin("canudas2003-table2")
+        return fdef.draw(res)
+
+    monkeypatch.setitem(REGISTRY, "mcps-fig3", dataclasses.replace(fdef, draw=draw))
+    out = tmp_path / "rep"
+    _report(cli, out, "--jobs", "1")
+    real_path = sets.builtin_path
+    changed = tmp_path / "canudas2003-table2.yaml"
+    changed.write_text(real_path("canudas2003-table2").read_text() + "\n# changed\n")
+    monkeypatch.setattr(sets, "builtin_path", lambda name: changed if name == "canudas2003-table2" else real_path(name))
+    work.set_digest.cache_clear()
+    try:
+        summary = _report(cli, out, "--jobs", "1")
+    finally:  # the real set again, for this process's later tests
+        monkeypatch.setattr(sets, "builtin_path", real_path)
+        for fn in (sets._parsed_builtin, work.set_digest):
+            fn.cache_clear()
+    assert summary["study_cached"] == {"fm-fig1-left": True, "mf-golden": True, "mcps-fig3": False}

@@ -21,7 +21,8 @@ Layout::
 
 ``KEY`` hashes the resolved config, the built-in configs it names, tirecli's version and source
 code, and the versions of Python and the numerical libraries; the manifest adds the hash of every
-built-in parameter set the study read, so a changed parameter re-runs only the studies that read it.
+built-in parameter set the study read (and each card those its figure and checks read), so a
+changed parameter re-runs only the studies that read it.
 """
 from __future__ import annotations
 
@@ -124,11 +125,15 @@ class StudyCache:
             return None
         return m
 
-    def figure(self, fid: str, fkey: str) -> dict | None:
-        """The cached card of figure ``fid`` (``fkey``: formats and resolution), its files checked; or None."""
+    def figure(self, fid: str, fkey: str, deps_now) -> dict | None:
+        """The cached card of figure ``fid`` (``fkey``: formats and resolution), its files checked and
+        the built-in sets read for it (``card['deps']``, as in :meth:`manifest`) unchanged; or None."""
         d = self.dir / f"fig-{fid}-{fkey}"
         card = _read_json(d / "card.json")
         if not isinstance(card, dict) or card.get("id") != fid or not _valid_files(d, card.get("hashes")):
+            return None
+        deps = card.get("deps")
+        if not isinstance(deps, dict) or any(deps_now(name) != digest for name, digest in deps.items()):
             return None
         return card
 

@@ -193,7 +193,7 @@ def _write_report(stage, entries: list, t_start: float, progress, campaigns=(), 
             all_checks.append(chk.record())
             cards.append(card)
             continue
-        card.update({k: v for k, v in res["cards"][f.id].items() if k != "id"})
+        card.update({k: v for k, v in res["cards"][f.id].items() if k not in ("id", "deps")})
         all_checks += card["checks"]
         png = next((p for p in card["files"] if p.endswith(".png")), None)
         if png is not None:  # the page embeds the file written (or copied from the cache), not a new rendering

@@ -132,7 +132,7 @@ def probe(task: dict) -> dict | None:
         return None
     cards = {}
     for fid in task["figures"]:
-        card = cache.figure(fid, task["fkey"])
+        card = cache.figure(fid, task["fkey"], set_digest)
         if card is None:
             return None
         cards[fid] = card
@@ -182,15 +182,18 @@ def run_unit(task: dict, note=None) -> dict:
     })
     note("study-done", name)
     reg = load_all()
-    cards = {}
+    study_reads, cards = set(sets.BUILTINS_READ), {}
     for fid in task["figures"]:
         note("figure", fid)
+        sets.BUILTINS_READ.clear()
         cards[fid] = _plain(_draw_card(reg[fid], res, root, task["formats"]))
+        # the card holds for the built-in sets read by the study and by this figure and its checks
+        cards[fid]["deps"] = {n: set_digest(n) for n in sorted(study_reads | sets.BUILTINS_READ)}
         note("figure-done", fid)
     record = {"data": list(res.data), "wall_time_s": round(wall, 4)}
-    if task["cache"]:  # keyed also on the built-in sets read by the study, its figures and their checks
+    if task["cache"]:
         cache = StudyCache(task["cache"], name, task["key"])
-        cache.store_study(record, {n: set_digest(n) for n in sorted(sets.BUILTINS_READ)}, root, list(res.data))
+        cache.store_study(record, {n: set_digest(n) for n in sorted(study_reads)}, root, list(res.data))
         for fid, card in cards.items():
             if card["error"] is None:
                 cache.store_figure(card, fid, task["fkey"], root)
