@@ -26,6 +26,27 @@ def _files(out: Path, pattern: str) -> dict:
     return {str(p.relative_to(out)): p.read_bytes() for p in sorted(out.glob(pattern))}
 
 
+def _with_changed_set(monkeypatch, tmp_path: Path, name: str, change, run):
+    """``run()`` while the file of built-in parameter set ``name`` reads as ``change(text)``; then the real one again."""
+    from tirecli.parameters import sets
+    from tirecli.report import work
+
+    real_path = sets.builtin_path
+    changed = tmp_path / f"{name}.yaml"
+    changed.write_text(change(real_path(name).read_text()))
+    assert changed.read_text() != real_path(name).read_text()
+    monkeypatch.setattr(sets, "builtin_path", lambda n: changed if n == name else real_path(n))
+    caches = (sets._parsed_builtin, work.set_digest)
+    for fn in caches:
+        fn.cache_clear()
+    try:
+        return run()
+    finally:  # the real set again, for this process's later tests
+        monkeypatch.setattr(sets, "builtin_path", real_path)
+        for fn in caches:
+            fn.cache_clear()
+
+
 @pytest.fixture
 def counted(monkeypatch) -> list:
     """The studies run in this process (``--jobs 1``), by name."""
@@ -62,25 +83,14 @@ def test_a_second_report_takes_every_study_from_the_cache(cli, tmp_path, counted
 
 
 def test_a_changed_parameter_or_config_reruns_only_the_studies_it_affects(cli, tmp_path, monkeypatch, counted):
-    from tirecli.parameters import sets
-    from tirecli.report import build, work
+    from tirecli.report import build
 
     out = tmp_path / "rep"
     _report(cli, out, "--jobs", "1")
     # canudas2003-table1 (read by fm-fig1-left only) gets another value of sigma2
-    real_path = sets.builtin_path
-    changed = tmp_path / "canudas2003-table1.yaml"
-    changed.write_text(real_path("canudas2003-table1").read_text().replace("sigma2: 0.0018", "sigma2: 0.0019"))
-    assert changed.read_text() != real_path("canudas2003-table1").read_text()
-    monkeypatch.setattr(sets, "builtin_path", lambda name: changed if name == "canudas2003-table1" else real_path(name))
-    for fn in (sets._parsed_builtin, work.set_digest):
-        fn.cache_clear()
-    try:
-        second = _report(cli, out, "--jobs", "1")
-    finally:  # the real set again, for this process's later tests
-        monkeypatch.setattr(sets, "builtin_path", real_path)
-        for fn in (sets._parsed_builtin, work.set_digest):
-            fn.cache_clear()
+    second = _with_changed_set(monkeypatch, tmp_path, "canudas2003-table1",
+                               lambda text: text.replace("sigma2: 0.0018", "sigma2: 0.0019"),
+                               lambda: _report(cli, out, "--jobs", "1"))
     assert second["study_cached"] == {"fm-fig1-left": False, "mf-golden": True, "mcps-fig3": True}
     assert counted[3:] == ["<built-in fm-fig1-left>"]
 
@@ -247,7 +257,6 @@ def test_a_parameter_set_read_by_a_figure_invalidates_its_card(cli, tmp_path, mo
 
     from tirecli.figures.registry import REGISTRY, load_all
     from tirecli.parameters import sets
-    from tirecli.report import work
 
     load_all()
     fdef = REGISTRY["mcps-fig3"]
@@ -259,15 +268,6 @@ def test_a_parameter_set_read_by_a_figure_invalidates_its_card(cli, tmp_path, mo
     monkeypatch.setitem(REGISTRY, "mcps-fig3", dataclasses.replace(fdef, draw=draw))
     out = tmp_path / "rep"
     _report(cli, out, "--jobs", "1")
-    real_path = sets.builtin_path
-    changed = tmp_path / "canudas2003-table2.yaml"
-    changed.write_text(real_path("canudas2003-table2").read_text() + "\n# changed\n")
-    monkeypatch.setattr(sets, "builtin_path", lambda name: changed if name == "canudas2003-table2" else real_path(name))
-    work.set_digest.cache_clear()
-    try:
-        summary = _report(cli, out, "--jobs", "1")
-    finally:  # the real set again, for this process's later tests
-        monkeypatch.setattr(sets, "builtin_path", real_path)
-        for fn in (sets._parsed_builtin, work.set_digest):
-            fn.cache_clear()
+    summary = _with_changed_set(monkeypatch, tmp_path, "canudas2003-table2", lambda text: text + "\n# changed\n",
+                                lambda: _report(cli, out, "--jobs", "1"))
     assert summary["study_cached"] == {"fm-fig1-left": True, "mf-golden": True, "mcps-fig3": False}

@@ -18,7 +18,7 @@ from pathlib import Path
 import jinja2
 
 from tirecli import __version__
-from tirecli.figures.registry import PAPERS, Table, load_all
+from tirecli.figures.registry import PAPERS, load_all
 from tirecli.io import output
 from tirecli.io.atomic import out_path, staged_dir
 from tirecli.io.cache import read_bytes, read_timings, write_timings
