@@ -50,10 +50,13 @@ def warn(msg: str) -> None:
 
 
 class TerminalProgress:
-    """A progress bar on stderr that appears only once work has taken over a second.
+    """A progress bar on stderr that appears only once work has taken over a second, with the
+    name of the item in work (:meth:`item`); :meth:`refresh` redraws it (elapsed time, eta).
 
     Silent with ``--quiet`` or when stderr is not a terminal.
     """
+
+    WIDTH = 100  # characters of the line at most (less in a narrower terminal)
 
     def __init__(self, delay: float = 1.0):
         self.delay = delay
@@ -63,14 +66,27 @@ class TerminalProgress:
         self.t0 = 0.0
         self.shown = False
         self.label = ""
+        self.current = ""
+        if self.enabled:
+            import shutil
+
+            self.WIDTH = min(self.WIDTH, max(shutil.get_terminal_size((self.WIDTH + 1, 20)).columns - 1, 40))
 
     def start(self, total: int, label: str = "") -> None:
-        self.total, self.done, self.label = max(int(total), 1), 0, label
+        self.total, self.done, self.label, self.current = max(int(total), 1), 0, label, ""
         self.t0 = time.perf_counter()
         self.shown = False
 
+    def item(self, name: str) -> None:
+        """Name the item now in work (shown after the bar)."""
+        self.current = name
+        self.refresh()
+
     def advance(self, n: int = 1) -> None:
         self.done += n
+        self.refresh()
+
+    def refresh(self) -> None:
         if not self.enabled:
             return
         elapsed = time.perf_counter() - self.t0
@@ -80,13 +96,14 @@ class TerminalProgress:
         frac = min(self.done / self.total, 1.0)
         width = 30
         bar = "#" * int(frac * width) + "-" * (width - int(frac * width))
-        eta = elapsed / frac - elapsed if frac > 0 else 0.0
-        sys.stderr.write(f"\r{self.label:>10} [{bar}] {frac * 100:5.1f}%  eta {eta:5.1f} s")
+        eta = f"eta {elapsed / frac - elapsed:5.1f} s" if frac > 0 else f"{elapsed:5.1f} s"
+        line = f"{self.label:>10} [{bar}] {frac * 100:5.1f}%  {eta}" + (f"  {self.current}" if self.current else "")
+        sys.stderr.write("\r" + line[:self.WIDTH].ljust(self.WIDTH))
         sys.stderr.flush()
 
     def close(self) -> None:
         if self.enabled and self.shown:
-            sys.stderr.write("\r" + " " * 70 + "\r")
+            sys.stderr.write("\r" + " " * self.WIDTH + "\r")
             sys.stderr.flush()
 
 

@@ -18,11 +18,22 @@ def report(
     only: Optional[List[str]] = typer.Option(None, "--only", metavar="NAME",
                                              help="Only this paper (FM, OBS, MF, MCPS) or figure id (repeatable)."),
     junit: Optional[str] = JunitOpt,
+    jobs: Optional[int] = typer.Option(None, "--jobs", "-j", metavar="N", show_default=False,
+                                       help="Processes for the studies and figures [default: every core]; "
+                                            "1 runs them all in this process."),
+    cache: Optional[str] = typer.Option(None, "--cache", metavar="DIR", show_default=False,
+                                        help="Folder of the study cache [default: DIR/.tirecli-cache of --out]: a "
+                                             "study whose config, parameters and tirecli version are unchanged "
+                                             "is not run again."),
+    no_cache: bool = typer.Option(False, "--no-cache", help="Run every study (the cache is refreshed, not read)."),
+    formats: str = typer.Option("png", "--formats", metavar="LIST",
+                                help="Figure files to write: png, or png,svg (the page embeds the PNG)."),
 ) -> None:
     """Run the built-in study of every registered figure and write DIR/index.html.
 
-    Also writes summary.json (every reference check), the figures as PNG/SVG and the data as CSV.
-    With a campaign file: its section (the campaign runs, or resumes, in its default folder),
+    Also writes summary.json (every reference check), the figures as PNG (and SVG with
+    --formats png,svg) and the data as CSV. Studies run on every core and are cached: a second
+    report with nothing changed copies their results. With a campaign file: its section (the campaign runs, or resumes, in its default folder),
     and its checks in summary.json.
     """
     from tirecli.report.build import build_report
@@ -31,7 +42,9 @@ def report(
         from tirecli.io import junit as jx
 
         jx.target(junit)  # a bad --junit fails before the studies run
-    summary = build_report(out, only=only or None, progress=progress(), campaigns=[campaign] if campaign else [])
+    summary = build_report(out, only=only or None, progress=progress(), campaigns=[campaign] if campaign else [],
+                           jobs=_jobs(jobs), cache=_cache_dir(cache), use_cache=not no_cache,
+                           formats=_formats(formats))
     failed = [c for c in summary["checks"] if not c["passed"]]
     echo(f"{summary['n_figures']} figure{'' if summary['n_figures'] == 1 else 's'}, {len(summary['checks'])} reference checks, {len(failed)} failed, "
          f"{summary['wall_time_s']:.1f} s")
@@ -41,6 +54,36 @@ def report(
     if junit is not None:
         result_line(f"wrote {jx.write(junit, report_suites(summary), 'tirecli report', done=f'the report is in {out}')}")
     strict_exit(summary["checks"], strict)
+
+
+def _jobs(value: Optional[int]) -> Optional[int]:
+    from tirecli.errors import UsageError
+
+    if value is not None and value < 1:
+        raise UsageError(f"--jobs {value}: give a number of processes >= 1")
+    return value
+
+
+def _cache_dir(value: Optional[str]) -> Optional[str]:
+    from tirecli.errors import UsageError
+
+    if value is not None and not value.strip():
+        raise UsageError("--cache '': empty; give a folder")
+    return value
+
+
+def _formats(text: str) -> tuple:
+    """``--formats png,svg`` as a tuple; UsageError for an unknown format or one without PNG."""
+    from tirecli.errors import UsageError
+    from tirecli.report.work import FORMATS
+
+    names = [t.strip().lower() for t in text.split(",") if t.strip()]
+    bad = [n for n in names if n not in FORMATS]
+    if bad:
+        raise UsageError(f"--formats {text!r}: unknown format {bad[0]!r} (choose from {', '.join(FORMATS)})")
+    if "png" not in names:
+        raise UsageError(f"--formats {text!r}: must include png (the page embeds the PNG)")
+    return tuple(dict.fromkeys(names))
 
 
 def report_suites(summary: dict) -> list:

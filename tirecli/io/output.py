@@ -226,54 +226,56 @@ def _quiet_mpl3d():
         yield
 
 
-def save_figure(fig, directory: str | Path, name: str, dpi: int = 150) -> list[Path]:
-    """Save a matplotlib figure as ``NAME.png`` and ``NAME.svg`` (deterministic metadata)."""
+def save_figure(fig, directory: str | Path, name: str, dpi: int = 150, formats=("png", "svg")) -> list[Path]:
+    """Save a matplotlib figure as ``NAME.png`` and ``NAME.svg`` (``formats``: which of the two;
+    deterministic metadata). The layout is computed once for all formats."""
     directory = Path(directory)
-    png = directory / f"{name}.png"
-    svg = directory / f"{name}.svg"
     import matplotlib
 
+    paths = []
     engine = fig.get_layout_engine()
+    relayout = engine is not None and len(formats) > 1
     with _quiet_mpl3d():
-        if engine is not None:  # lay out once, then save both formats without re-running the engine
+        if relayout:  # lay out once, then save every format without re-running the engine
             fig.draw_without_rendering()
             fig.set_layout_engine("none")
-        with atomic_write(png, "wb") as fh:
-            fig.savefig(fh, format="png", dpi=dpi, metadata={"Software": None})
-        # text stays text: smaller, faster, editable
-        with matplotlib.rc_context({"svg.fonttype": "none"}), atomic_write(svg, "wb") as fh:
-            fig.savefig(fh, format="svg", metadata={"Date": None, "Creator": None})
-    if engine is not None:
+        for fmt in formats:
+            path = directory / f"{name}.{fmt}"
+            if fmt == "png":
+                with atomic_write(path, "wb") as fh:
+                    fig.savefig(fh, format="png", dpi=dpi, metadata={"Software": None})
+            elif fmt == "svg":  # text stays text: smaller, faster, editable
+                with matplotlib.rc_context({"svg.fonttype": "none"}), atomic_write(path, "wb") as fh:
+                    fig.savefig(fh, format="svg", metadata={"Date": None, "Creator": None})
+            else:
+                raise ValueError(f"unknown figure format {fmt!r}")
+            paths.append(path)
+    if relayout:
         fig.set_layout_engine(engine)
-    return [png, svg]
-
-
-def png_bytes(fig, dpi: int = 110) -> bytes:
-    """PNG of a figure in memory (for embedding in the HTML report)."""
-    import io
-
-    buf = io.BytesIO()
-    with _quiet_mpl3d():
-        fig.savefig(buf, format="png", dpi=dpi, metadata={"Software": None})
-    return buf.getvalue()
+    return paths
 
 
 def environment() -> dict:
-    """Versions that matter for reproducing a run."""
-    import matplotlib
-    import pandas
-    import scipy
+    """Versions that matter for reproducing a run (read from the installed packages' metadata: a
+    report taken from the cache imports neither scipy, pandas nor matplotlib)."""
+    from importlib import metadata
 
     from tirecli import __version__
+
+    def version(name: str) -> str:
+        try:
+            return metadata.version(name)
+        except metadata.PackageNotFoundError:  # pragma: no cover - a dependency always is installed
+            return "-"
 
     return {
         "tirecli": __version__,
         "python": sys.version.split()[0],
         "platform": platform.platform(),
         "numpy": np.__version__,
-        "scipy": scipy.__version__,
-        "pandas": pandas.__version__,
-        "matplotlib": matplotlib.__version__,
+        "scipy": version("scipy"),
+        "pandas": version("pandas"),
+        "matplotlib": version("matplotlib"),
     }
 
 

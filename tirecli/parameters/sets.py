@@ -216,9 +216,15 @@ def parse_set(data: Any, origins: Origins, label: str) -> ParameterSet:
     )
 
 
+#: Names of the built-in sets this process loaded (:func:`load_builtin`): ``tirecli report`` clears it
+#: before a study and keys the study's cached outputs on the files of the sets it read.
+BUILTINS_READ: set[str] = set()
+
+
 def load_builtin(name: str) -> ParameterSet:
     """A built-in parameter set by name (a fresh copy: the caller may change it)."""
     ps = _parsed_builtin(name)
+    BUILTINS_READ.add(name)
     return dataclasses.replace(ps, values=dict(ps.values), source=dict(ps.source), assumed=dict(ps.assumed),
                                notes=dict(ps.notes), extra=copy.deepcopy(ps.extra))
 

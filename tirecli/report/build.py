@@ -10,6 +10,7 @@ Writes ``DIR/index.html`` (self-contained: figures embedded as PNG, no network r
 from __future__ import annotations
 
 import base64
+import threading
 import time
 import traceback
 from pathlib import Path
@@ -17,13 +18,15 @@ from pathlib import Path
 import jinja2
 
 from tirecli import __version__
-from tirecli.figures.registry import PAPERS, Table, load_all
+from tirecli.figures.registry import PAPERS, load_all
 from tirecli.io import output
 from tirecli.io.atomic import out_path, staged_dir
+from tirecli.io.cache import read_bytes, read_timings, write_timings
 from tirecli.io.files import check_output_dir
 from tirecli.report.cards import card_files
+from tirecli.report import work
 from tirecli.report.docs import card_doc, link_sources, write_docs
-from tirecli.studies.base import Check, builtin_config, run_study
+from tirecli.studies.base import Check, builtin_config
 
 PAPER_ORDER = ["FM", "OBS", "MF", "MCPS"]
 
@@ -62,16 +65,25 @@ def _select(reg: dict, only) -> list:
     return sorted(entries, key=lambda f: (PAPER_ORDER.index(f.paper) if f.paper in PAPER_ORDER else 99, f.order, f.id))
 
 
-def build_report(out: str | Path, only=None, progress=None, campaigns=()) -> dict:
+def build_report(out: str | Path, only=None, progress=None, campaigns=(), jobs: int | None = None,
+                 cache: str | Path | None = None, use_cache: bool = True, formats=("png",)) -> dict:
     """Build the report into ``out``; returns the summary (also written as ``summary.json``).
 
     A study that fails is shown as an error card and recorded as a failed check, so the report
     is always written and ``--strict`` fails. ``campaigns``: campaign files whose sections the
     report shows (:mod:`tirecli.report.campaign`); with campaigns and no ``only``, the report has
     only their sections.
+
+    ``jobs``: processes for the studies and figures (None: every core; 1: this process only).
+    ``cache``: folder of the study cache (:mod:`tirecli.io.cache`; None: ``out/.tirecli-cache``);
+    ``use_cache=False`` runs every study (and refreshes the cache). ``formats``: the figure files
+    (``png``, and ``svg`` if asked).
     """
+    from tirecli.io.cache import DEFAULT_NAME
+
     t_start = time.perf_counter()
     out = out_path(out)
+    formats = tuple(dict.fromkeys(formats))
     reg = load_all()
     entries = _select(reg, only) if only or not campaigns else []
     if campaigns:
@@ -81,46 +93,99 @@ def build_report(out: str | Path, only=None, progress=None, campaigns=()) -> dic
             load_campaign(path)
     # a bad location fails before the studies run
     check_output_dir(out, files=("index.html", "summary.json"), dirs=("data", "figures"))
+    settings = {"jobs": jobs or work.default_jobs(), "use_cache": use_cache, "formats": formats,
+                "cache": str(cache if cache is not None else out / DEFAULT_NAME)}
     with staged_dir(out, marker="summary.json") as stage:
-        return _write_report(stage, entries, t_start, progress, campaigns)
+        return _write_report(stage, entries, t_start, progress, campaigns, settings)
 
 
-def _write_report(stage, entries: list, t_start: float, progress, campaigns=()) -> dict:
-    """Run the studies of ``entries`` and write the report under ``stage.root``; the summary."""
+class _Progress:
+    """One bar over the report's studies and figures, naming the one in work (thread-safe)."""
+
+    def __init__(self, progress, total: int):
+        self.progress, self.lock = progress, threading.Lock()
+        if progress is not None:
+            progress.start(total, "report")
+
+    def __call__(self, kind: str, name: str) -> None:
+        if self.progress is None:
+            return
+        with self.lock:
+            if kind in ("study", "figure"):
+                self.progress.item(f"{kind} {name}")
+            elif kind in ("study-done", "figure-done"):
+                self.progress.advance(1)
+            else:
+                self.progress.refresh()
+
+    def close(self) -> None:
+        if self.progress is not None:
+            self.progress.close()
+
+
+def _write_report(stage, entries: list, t_start: float, progress, campaigns=(), settings=None) -> dict:
+    """Run (or take from the cache) the studies of ``entries`` and write the report under
+    ``stage.root``; the summary."""
     out = stage.root
-    (out / "data").mkdir()
-    (out / "figures").mkdir()
+    for sub in ("data", "figures", "studies"):
+        (out / sub).mkdir()
     studies = list(dict.fromkeys(f.study for f in entries))
-    results, errors, timings = {}, {}, {}
-    if progress is not None:
-        progress.start(len(studies), "report")
+    errors, timings, facts = {}, {}, {}
+    tasks = []
+    fkey = work.figure_key(settings["formats"])
     for name in studies:
         t0 = time.perf_counter()
         try:
-            results[name] = run_study(builtin_config(name))
+            config = builtin_config(name)
+            key = work.study_key(name, config)
         except Exception as exc:  # noqa: BLE001 - reported in the page and as a failed check
             errors[name] = f"{type(exc).__name__}: {exc}\n" + traceback.format_exc(limit=4)
-        timings[name] = time.perf_counter() - t0
-        if progress is not None:
-            progress.advance(1)
-    if progress is not None:
-        progress.close()
+            timings[name] = time.perf_counter() - t0
+            continue
+        tasks.append({"study": name, "figures": [f.id for f in entries if f.study == name], "config": config,
+                      "key": key, "fkey": fkey, "root": str(out), "cache": settings["cache"],
+                      "use_cache": settings["use_cache"], "formats": settings["formats"]})
+    bar = _Progress(progress, len(studies) + len(entries))
+    try:
+        todo = []
+        for task in tasks:
+            bar("study", task["study"])
+            hit = work.probe(task)
+            if hit is None:
+                todo.append(task)
+                continue
+            facts[task["study"]] = hit
+            for _ in range(1 + len(task["figures"])):
+                bar("study-done", task["study"])
+        for _ in [f for f in entries if f.study in errors] + list(errors):  # configs that did not load
+            bar("study-done", "")
+        earlier = read_timings(settings["cache"])
+        # the slowest units (study and figures, as last measured; unknown ones) start first
+        todo.sort(key=lambda t: -earlier.get(t["study"], float("inf")))
+        for res in work.run_units(todo, settings["jobs"], bar):
+            facts[res["study"]] = res
+    finally:
+        bar.close()
+    for name in studies:
+        res = facts.get(name)
+        if res is None:
+            continue
+        timings[name] = res["wall"]
+        if res["error"] is not None:
+            errors[name] = res["error"]
+    ran = {name: res["unit_wall"] for name, res in facts.items() if not res["cached"] and res["error"] is None}
+    if ran:
+        write_timings(settings["cache"], ran)
 
-    for name, res in results.items():
-        (out / "data" / name).mkdir(parents=True, exist_ok=True)
-        comments = [output.SYNTHETIC_NOTE] if res.synthetic else []
-        for dname, frame in res.data.items():
-            output.write_csv(out / "data" / name / f"{dname}.csv", frame, comments)
-
-    docs = write_docs(out, __version__)
+    docs = write_docs(out, __version__, settings["cache"])
     cards, all_checks = [], []
     for f in entries:
-        card = {"id": f.id, "paper": f.paper, "label": f.label, "title": f.title, "caption": f.caption_for(results.get(f.study)),
+        card = {"id": f.id, "paper": f.paper, "label": f.label, "title": f.title, "caption": f.caption_for(None),
                 "paper_shows": f.paper_shows, "study": f.study, "image": None, "table": None, "error": None,
                 "checks": [], "parameters": [], "files": [], "synthetic": False, "assumed": [],
                 "doc": card_doc(f.paper, docs)}
-        res = results.get(f.study)
-        if res is None:
+        res = facts.get(f.study)
+        if res is None or res["error"] is not None:
             card["error"] = errors.get(f.study, "study did not run")
             chk = Check("study-ran", f"built-in study {f.study} ran", float("nan"), 0.0, 0.0, "-", "report")
             chk.id = f"{f.id}/study-ran"
@@ -128,47 +193,17 @@ def _write_report(stage, entries: list, t_start: float, progress, campaigns=()) 
             all_checks.append(chk.record())
             cards.append(card)
             continue
-        card["synthetic"] = res.synthetic
-        card["assumed"] = output.scenario_assumptions(res)
-        card["parameters"] = [{"group": g, "set": ps.name, "citation": ps.citation, "rows": ps.rows()}
-                              for g, ps in res.parameter_sets.items()]
-        try:
-            fig = f.draw(res)
-            checks = f.checks(res) if f.checks else []
-        except Exception as exc:  # noqa: BLE001
-            card["error"] = f"{type(exc).__name__}: {exc}\n" + traceback.format_exc(limit=4)
-            chk = Check("figure-drawn", f"figure {f.id} drawn", float("nan"), 0.0, 0.0, "-", "report")
-            checks, fig = [chk], None
-        for c in checks:
-            c.id = f"{f.id}/{c.id}"
-            card["checks"].append(c.record())
-            all_checks.append(c.record())
-        if isinstance(fig, Table):
-            import pandas as pd
-
-            card["table"] = {"columns": fig.columns, "rows": fig.rows, "notes": fig.notes}
-            card["files"] = [str(output.write_csv(out / "figures" / f"{f.id}.csv",
-                                                  pd.DataFrame(fig.rows, columns=fig.columns),
-                                                  [output.SYNTHETIC_NOTE] if res.synthetic else []).relative_to(out))]
-        elif fig is not None:
-            paths = output.save_figure(fig, out / "figures", f.id)
-            card["files"] = [str(p.relative_to(out)) for p in paths]
-            card["image"] = base64.b64encode(output.png_bytes(fig)).decode("ascii")
-            fig.clf()
+        card.update({k: v for k, v in res["cards"][f.id].items() if k not in ("id", "deps")})
+        all_checks += card["checks"]
+        png = next((p for p in card["files"] if p.endswith(".png")), None)
+        if png is not None:  # the page embeds the file written (or copied from the cache), not a new rendering
+            card["image"] = base64.b64encode(read_bytes(out / png)).decode("ascii")
         cards.append(card)
 
-    (out / "studies").mkdir(exist_ok=True)
-    for name, res in results.items():
-        output.write_json(out / "studies" / f"{name}.json", {
-            "study": res.study, "config": res.config.label, "sha256": res.config.digest(),
-            "parameters": res.parameter_records(), "assumed": output.assumed_list(res),
-            "citations": res.citations(), "meta": res.meta, "synthetic": res.synthetic,
-            "wall_time_s": round(timings[name], 4),
-        })
-
     for card in cards:  # the card's links (PNG, SVG, data CSVs, run record) and display size
-        res = results.get(card["study"])
-        card.update(card_files(out, card["files"], card["study"], list(res.data) if res else [], res is not None))
+        res = facts.get(card["study"])
+        ok = res is not None and res["error"] is None
+        card.update(card_files(out, card["files"], card["study"], res["record"]["data"] if ok else [], ok))
 
     sections = []
     for paper in PAPER_ORDER + sorted({c["paper"] for c in cards} - set(PAPER_ORDER)):
@@ -194,6 +229,8 @@ def _write_report(stage, entries: list, t_start: float, progress, campaigns=()) 
         "checks": all_checks, "n_checks": len(all_checks), "n_failed": len(failed),
         "study_errors": {k: v.splitlines()[0] for k, v in errors.items()},
         "study_wall_time_s": {k: round(v, 3) for k, v in timings.items()},
+        "study_cached": {k: bool(facts[k]["cached"]) for k in studies if k in facts and facts[k]["error"] is None},
+        "jobs": settings["jobs"], "formats": list(settings["formats"]),
         "wall_time_s": wall, "environment": output.environment(),
     }
     html = _env().get_template("report.html.j2").render(

@@ -20,6 +20,7 @@ from pathlib import Path
 from markupsafe import Markup
 
 from tirecli.io import output
+from tirecli.io.cache import memo_text
 
 #: Paper of a figure (registry ``paper``) -> model page under docs/models/.
 PAPER_DOC = {"FM": "lugre_friction", "OBS": "observer_model", "MF": "magic_formula_tyre", "MCPS": "mcps_tire"}
@@ -80,8 +81,9 @@ h2 {{ border-bottom: 1px solid #ccc; padding-bottom: .15em; margin-top: 1.6em; }
 """
 
 
-def write_docs(out: Path, version: str) -> dict[str, str]:
-    """Render every page into ``out/docs/`` (same layout as the repository's ``docs/``).
+def write_docs(out: Path, version: str, cache=None) -> dict[str, str]:
+    """Render every page into ``out/docs/`` (same layout as the repository's ``docs/``); ``cache``:
+    the report's cache folder, which keeps the rendered pages (:func:`tirecli.io.cache.memo_text`).
 
     Returns ``{"models/lugre_friction": "docs/models/lugre_friction.html", ...}`` (paths relative to ``out``); empty
     when the documentation is not installed (the cards then name the page without a link).
@@ -94,7 +96,8 @@ def write_docs(out: Path, version: str) -> dict[str, str]:
     written = {}
     for page in pages:
         rel = page.relative_to(src).with_suffix("")
-        body = _render_markdown(page.read_text(encoding="utf-8"))
+        text = page.read_text(encoding="utf-8")
+        body = memo_text(cache, {"markdown": text}, lambda text=text: _render_markdown(text))
         here = rel.parent.as_posix()
 
         def relink(m, here=here):

@@ -1,0 +1,60 @@
+"""Ctrl-C in the middle of a report that runs its studies in a process pool (issue 14): the previous
+report stays byte-identical (its cache may have gained entries), and no staging, lock or worker
+process is left."""
+from __future__ import annotations
+
+import json
+import os
+import signal
+import subprocess
+import time
+from pathlib import Path
+
+from harness import BASE_CMD, run, snapshot
+
+#: fm-fig4 and fm-fig7 (two transient studies of a few seconds each) run in two workers; fm-fig1-left is quick.
+ONLY = ["--only", "fm-fig1-left", "--only", "fm-fig4", "--only", "fm-fig7"]
+
+
+def _report_files(out: Path) -> dict:
+    return {k: v for k, v in snapshot(out).items() if not k.startswith(".tirecli-cache/")}
+
+
+def _children(pid: int) -> list[int]:
+    try:
+        return [int(p) for p in Path(f"/proc/{pid}/task/{pid}/children").read_text().split()]
+    except OSError:
+        return []
+
+
+def test_ctrl_c_during_a_parallel_report_keeps_the_previous_report(tmp_path):
+    out = tmp_path / "rep"
+    r = run(["report", "--out", out, "--quiet", "--only", "fm-fig1-left", "--jobs", "1"], timeout=120)
+    assert r.code == 0, r.err
+    before = _report_files(out)
+    env = dict(os.environ, MPLBACKEND="Agg")
+    proc = subprocess.Popen(BASE_CMD + ["report", "--out", str(out), "--jobs", "2", "--no-cache", *ONLY],
+                            cwd=tmp_path, env=env, text=True, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                            stdin=subprocess.DEVNULL, start_new_session=True,
+                            preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
+    workers = []
+    try:
+        t0 = time.monotonic()
+        while len(workers) < 2:  # both workers started: the studies are running
+            assert proc.poll() is None, proc.communicate()
+            assert time.monotonic() - t0 < 60, "no worker processes appeared"
+            workers = _children(proc.pid)
+            time.sleep(0.05)
+        time.sleep(0.5)
+        os.killpg(proc.pid, signal.SIGINT)  # as a terminal does: to the report and its workers (one group)
+        code = proc.wait(timeout=60)
+    finally:
+        proc.kill()
+    err = proc.stderr.read()
+    assert (code, err) == (130, f"error: interrupted: previous results in {out} kept\n")
+    assert _report_files(out) == before
+    assert sorted(os.listdir(tmp_path)) == ["rep"]  # no staging, no lock
+    time.sleep(0.5)
+    assert all(not Path(f"/proc/{pid}").exists() or "zombie" in Path(f"/proc/{pid}/status").read_text()
+               for pid in workers), "a worker outlived the report"
+    assert json.loads((out / "summary.json").read_text())["study_cached"] == {"fm-fig1-left": False}

@@ -1,0 +1,273 @@
+"""The report's speed machinery (issue 14): the study cache, the process pool, figures rendered once.
+
+No timings here (see benchmarks/bench_report.py): each test checks what ran (``study_cached`` in
+summary.json, the calls of ``run_study``) and that the outputs do not depend on the cache or on
+the number of processes.
+"""
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import pytest
+
+#: Three small studies of three papers: a sweep (with a table), the golden MF data and one MCPS slider.
+ONLY = ["--only", "fm-fig1-left", "--only", "fm-table1", "--only", "mf-golden-fx0", "--only", "mcps-fig3"]
+STUDIES = {"fm-fig1-left", "mf-golden", "mcps-fig3"}
+
+
+def _report(cli, out: Path, *extra) -> dict:
+    code, stdout, err = cli("--quiet", "report", "--out", out, *ONLY, *extra)
+    assert code == 0, err
+    return json.loads((out / "summary.json").read_text())
+
+
+def _files(out: Path, pattern: str) -> dict:
+    return {str(p.relative_to(out)): p.read_bytes() for p in sorted(out.glob(pattern))}
+
+
+def _with_changed_set(monkeypatch, tmp_path: Path, name: str, change, run):
+    """``run()`` while the file of built-in parameter set ``name`` reads as ``change(text)``; then the real one again."""
+    from tirecli.parameters import sets
+    from tirecli.report import work
+
+    real_path = sets.builtin_path
+    changed = tmp_path / f"{name}.yaml"
+    changed.write_text(change(real_path(name).read_text()))
+    assert changed.read_text() != real_path(name).read_text()
+    monkeypatch.setattr(sets, "builtin_path", lambda n: changed if n == name else real_path(n))
+    caches = (sets._parsed_builtin, work.set_digest)
+    for fn in caches:
+        fn.cache_clear()
+    try:
+        return run()
+    finally:  # the real set again, for this process's later tests
+        monkeypatch.setattr(sets, "builtin_path", real_path)
+        for fn in caches:
+            fn.cache_clear()
+
+
+@pytest.fixture
+def counted(monkeypatch) -> list:
+    """The studies run in this process (``--jobs 1``), by name."""
+    from tirecli.studies import base
+
+    calls, real = [], base.run_study
+
+    def run_study(config, *args, **kwargs):
+        calls.append(config.label)
+        return real(config, *args, **kwargs)
+
+    monkeypatch.setattr(base, "run_study", run_study)
+    return calls
+
+
+def test_a_second_report_takes_every_study_from_the_cache(cli, tmp_path, counted):
+    out = tmp_path / "rep"
+    first = _report(cli, out, "--jobs", "1")
+    assert first["study_cached"] == dict.fromkeys(STUDIES, False) and len(counted) == 3
+    before = {**_files(out, "data/*/*.csv"), **_files(out, "figures/*"), **_files(out, "studies/*.json")}
+    second = _report(cli, out, "--jobs", "1")
+    assert len(counted) == 3, "a study ran again"
+    assert second["study_cached"] == dict.fromkeys(STUDIES, True)
+    assert second["checks"] == first["checks"] and second["n_checks"] > 10
+    assert {**_files(out, "data/*/*.csv"), **_files(out, "figures/*"), **_files(out, "studies/*.json")} == before
+    # the cache lives in the report's folder, survives its staged write and is no output of the report
+    assert (out / ".tirecli-cache").is_dir()
+    assert not any(rel.startswith(".tirecli-cache") for rel in second["outputs"])
+    assert "data:image/png;base64," in (out / "index.html").read_text()
+
+    third = _report(cli, out, "--jobs", "1", "--no-cache")
+    assert len(counted) == 6 and third["study_cached"] == dict.fromkeys(STUDIES, False)
+    assert third["checks"] == first["checks"]
+
+
+def test_a_changed_parameter_or_config_reruns_only_the_studies_it_affects(cli, tmp_path, monkeypatch, counted):
+    from tirecli.report import build
+
+    out = tmp_path / "rep"
+    _report(cli, out, "--jobs", "1")
+    # canudas2003-table1 (read by fm-fig1-left only) gets another value of sigma2
+    second = _with_changed_set(monkeypatch, tmp_path, "canudas2003-table1",
+                               lambda text: text.replace("sigma2: 0.0018", "sigma2: 0.0019"),
+                               lambda: _report(cli, out, "--jobs", "1"))
+    assert second["study_cached"] == {"fm-fig1-left": False, "mf-golden": True, "mcps-fig3": True}
+    assert counted[3:] == ["<built-in fm-fig1-left>"]
+
+    # a changed config value: its study runs (and fm-fig1-left, whose parameter set is back to the real one)
+    real = build.builtin_config
+    monkeypatch.setattr(build, "builtin_config",
+                        lambda name, overrides=(): real(name, list(overrides) + (["period=2.5"] if name == "mcps-fig3" else [])))
+    third = _report(cli, out, "--jobs", "1")
+    assert third["study_cached"] == {"fm-fig1-left": False, "mf-golden": True, "mcps-fig3": False}
+    assert sorted(counted[4:]) == ["<built-in fm-fig1-left>", "<built-in mcps-fig3>"]
+
+
+@pytest.mark.parametrize("damage", ["manifest", "csv", "png", "card"])
+def test_a_damaged_cache_entry_is_recomputed(cli, tmp_path, damage):
+    out = tmp_path / "rep"
+    first = _report(cli, out, "--jobs", "1")
+    before = {**_files(out, "data/*/*.csv"), **_files(out, "figures/*")}
+    entry = next((out / ".tirecli-cache").glob("v1/mcps-fig3/*"))
+    target = {"manifest": entry / "manifest.json", "csv": next(entry.glob("files/data/*.csv")),
+              "png": next(entry.glob("fig-*/*.png")), "card": next(entry.glob("fig-*/card.json"))}[damage]
+    target.write_bytes(target.read_bytes()[: len(target.read_bytes()) // 2])
+    second = _report(cli, out, "--jobs", "1")
+    assert second["study_cached"] == {"fm-fig1-left": True, "mf-golden": True, "mcps-fig3": False}
+    assert second["checks"] == first["checks"]
+    assert {**_files(out, "data/*/*.csv"), **_files(out, "figures/*")} == before
+    assert _report(cli, out, "--jobs", "1")["study_cached"]["mcps-fig3"] is True  # the entry was replaced
+
+
+def test_a_cache_elsewhere_and_an_unreadable_one(cli, tmp_path):
+    out, cache = tmp_path / "rep", tmp_path / "cache"
+    _report(cli, out, "--jobs", "1", "--cache", cache)
+    assert not (out / ".tirecli-cache").exists() and (cache / "v1" / "mcps-fig3").is_dir()
+    assert set(_report(cli, tmp_path / "other", "--jobs", "1", "--cache", cache)["study_cached"].values()) == {True}
+    (cache / "v1" / "mcps-fig3").chmod(0o000)  # (root reads it anyway: then it is simply a hit)
+    try:
+        summary = _report(cli, tmp_path / "third", "--jobs", "1", "--cache", cache)
+    finally:
+        (cache / "v1" / "mcps-fig3").chmod(0o755)
+    assert summary["n_failed"] == 0
+
+
+def test_one_process_or_two_give_the_same_report(cli, tmp_path):
+    one = _report(cli, tmp_path / "one", "--jobs", "1", "--no-cache")
+    two = _report(cli, tmp_path / "two", "--jobs", "2", "--no-cache")
+    assert (one["jobs"], two["jobs"]) == (1, 2)
+    assert one["checks"] == two["checks"] and one["n_checks"] > 10
+    assert one["outputs"] == two["outputs"]
+    for pattern in ("data/*/*.csv", "figures/*.csv", "studies/*.json"):
+        a, b = _files(tmp_path / "one", pattern), _files(tmp_path / "two", pattern)
+        assert a.keys() == b.keys() and a
+        if pattern != "studies/*.json":  # the run records hold each study's wall time
+            assert a == b
+
+
+def test_formats(cli, tmp_path):
+    out = tmp_path / "rep"
+    summary = _report(cli, out, "--jobs", "1")
+    assert summary["formats"] == ["png"]
+    assert not list(out.rglob("*.svg")) and not list((out / ".tirecli-cache").rglob("*.svg"))
+    assert (out / "figures" / "fm-fig1-left.png").is_file()
+    html = (out / "index.html").read_text()
+    assert 'href="figures/fm-fig1-left.png"' in html and ".svg" not in html
+
+    summary = _report(cli, out, "--jobs", "1", "--formats", "png,svg")
+    assert summary["study_cached"] == dict.fromkeys(STUDIES, False)  # the SVGs need the figures drawn again
+    assert (out / "figures" / "fm-fig1-left.svg").read_text().lstrip().startswith("<?xml")
+    assert 'href="figures/fm-fig1-left.svg"' in (out / "index.html").read_text()
+    summary = _report(cli, out, "--jobs", "1")  # back to PNG only: from the cache, and the SVGs removed
+    assert set(summary["study_cached"].values()) == {True} and not list((out / "figures").glob("*.svg"))
+
+    for bad, msg in (("svg", "must include png"), ("png,gif", "unknown format 'gif'")):
+        code, _, err = cli("report", "--out", tmp_path / "x", "--only", "fm-table1", "--formats", bad)
+        assert code == 2 and msg in err, err
+    code, _, err = cli("report", "--out", tmp_path / "x", "--only", "fm-table1", "--jobs", "0")
+    assert code == 2 and "--jobs 0" in err
+
+
+def test_save_figure_lays_out_once_for_several_formats(tmp_path):
+    from tirecli.figures.style import new_figure
+    from tirecli.io.output import save_figure
+
+    fig, ax = new_figure(width=4, height=3)
+    ax.plot([0, 1], [0, 1])
+    calls = []
+    engine = fig.get_layout_engine()
+    real = engine.execute
+    engine.execute = lambda f: calls.append(1) or real(f)
+    paths = save_figure(fig, tmp_path, "f", formats=("png", "svg"))
+    assert [p.name for p in paths] == ["f.png", "f.svg"] and len(calls) == 1
+    assert fig.get_layout_engine() is engine
+    assert [p.name for p in save_figure(fig, tmp_path, "g", formats=("png",))] == ["g.png"]
+
+
+def _sum_on_threads() -> int:
+    from tirecli.numerics.pool import thread_pool
+
+    return thread_pool(2).submit(sum, [1, 2]).result(timeout=20)
+
+
+def test_a_forked_worker_starts_its_own_thread_pool():
+    """The parent's thread pool (MF evaluator, CSV formatter) has no threads in a forked worker: work
+    given to it there would wait for ever."""
+    import multiprocessing
+
+    from tirecli.report import work
+
+    assert _sum_on_threads() == 3  # the pool exists in this process
+    ctx = multiprocessing.get_context("fork")
+    q = ctx.Queue()
+    with ctx.Pool(1, initializer=work._init_worker, initargs=(q,)) as pool:
+        assert pool.apply_async(_sum_on_threads).get(timeout=60) == 3
+
+
+@pytest.mark.parametrize("jobs", ["1", "2"])
+def test_a_failing_study_is_an_error_card_and_is_not_cached(cli, tmp_path, monkeypatch, jobs):
+    from tirecli.studies import base
+
+    real = base.run_study
+
+    def run_study(config, *args, **kwargs):
+        if config.label == "<built-in mcps-fig3>":
+            raise RuntimeError("the slider broke")
+        return real(config, *args, **kwargs)
+
+    monkeypatch.setattr(base, "run_study", run_study)
+    out = tmp_path / "rep"
+    code, _, err = cli("--quiet", "report", "--out", out, *ONLY, "--jobs", jobs, "--strict")
+    assert code == 1, err
+    summary = json.loads((out / "summary.json").read_text())
+    assert summary["study_errors"] == {"mcps-fig3": "RuntimeError: the slider broke"}
+    assert [c["id"] for c in summary["checks"] if not c["passed"]] == ["mcps-fig3/study-ran"]
+    assert summary["study_cached"] == {"fm-fig1-left": False, "mf-golden": False}
+    assert "the slider broke" in (out / "index.html").read_text()
+    monkeypatch.setattr(base, "run_study", real)
+    assert _report(cli, out, "--jobs", jobs)["study_cached"] == {"fm-fig1-left": True, "mf-golden": True,
+                                                                 "mcps-fig3": False}
+
+
+def test_a_worker_that_dies_is_an_error_and_the_previous_report_stays(cli, tmp_path, monkeypatch):
+    import os
+
+    from tirecli.studies import base
+
+    out = tmp_path / "rep"
+    _report(cli, out, "--jobs", "1", "--cache", tmp_path / "cache")
+    before = _files(out, "**/*.*")
+    real = base.run_study
+
+    def run_study(config, *args, **kwargs):
+        if config.label == "<built-in mcps-fig3>":
+            os._exit(9)  # as if killed
+        return real(config, *args, **kwargs)
+
+    monkeypatch.setattr(base, "run_study", run_study)
+    code, _, err = cli("report", "--out", out, *ONLY, "--jobs", "2", "--no-cache", "--cache", tmp_path / "cache")
+    assert code == 1 and "a worker process of the report ended abruptly" in err and f"previous results in {out} kept" in err
+    assert _files(out, "**/*.*") == before and len(before) > 10
+    assert sorted(os.listdir(tmp_path)) == ["cache", "rep"]
+
+
+def test_a_parameter_set_read_by_a_figure_invalidates_its_card(cli, tmp_path, monkeypatch):
+    """A figure (or its checks) may read a built-in set its study did not: the card is keyed on it too."""
+    import dataclasses
+
+    from tirecli.figures.registry import REGISTRY, load_all
+    from tirecli.parameters import sets
+
+    load_all()
+    fdef = REGISTRY["mcps-fig3"]
+
+    def draw(res):
+        sets.load_builtin("canudas2003-table2")
+        return fdef.draw(res)
+
+    monkeypatch.setitem(REGISTRY, "mcps-fig3", dataclasses.replace(fdef, draw=draw))
+    out = tmp_path / "rep"
+    _report(cli, out, "--jobs", "1")
+    summary = _with_changed_set(monkeypatch, tmp_path, "canudas2003-table2", lambda text: text + "\n# changed\n",
+                                lambda: _report(cli, out, "--jobs", "1"))
+    assert summary["study_cached"] == {"fm-fig1-left": True, "mf-golden": True, "mcps-fig3": False}

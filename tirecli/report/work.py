@@ -1,0 +1,361 @@
+"""The report's work: each built-in study with its figures, from the cache or run, on all cores.
+
+A *unit* is one study and the report's figures of it. :func:`probe` takes a unit from the cache
+(:mod:`tirecli.io.cache`) when its study, the built-in data it read and every one of its figures
+are there; :func:`run_units` runs the others, in a pool of ``jobs`` processes (``jobs=1``: in this
+process, no pool). A unit writes its files into the report's staging folder and returns the facts
+of its cards as plain JSON data, the same whether drawn now or read from the cache, so the report
+does not depend on the number of processes.
+
+Progress: a unit says which study or figure it starts and when one is done (``note(kind, name)``);
+with a pool, the workers send these through a queue and the parent refreshes the bar at least
+every quarter second.
+"""
+from __future__ import annotations
+
+import functools
+import json
+import os
+import queue
+import signal
+import sys
+import threading
+import time
+import traceback
+from pathlib import Path
+
+from tirecli.io import output
+
+#: Formats the report can save its figures in (PNG is always one: the page embeds it).
+FORMATS = ("png", "svg")
+#: Resolution of the saved PNG [dots per inch].
+DPI = 150
+
+
+def default_jobs() -> int:
+    """The cores this process may use."""
+    try:
+        return max(len(os.sched_getaffinity(0)), 1)
+    except (AttributeError, OSError):  # pragma: no cover - not Linux
+        return max(os.cpu_count() or 1, 1)
+
+
+@functools.lru_cache(maxsize=None)
+def _lib_version(name: str) -> str:
+    from importlib import metadata
+
+    try:
+        return metadata.version(name)
+    except metadata.PackageNotFoundError:  # pragma: no cover
+        return "-"
+
+
+@functools.lru_cache(maxsize=None)
+def set_digest(name: str) -> str | None:
+    """SHA-256 of the file of built-in parameter set ``name`` (None if there is no such set)."""
+    from tirecli.errors import ConfigError
+    from tirecli.io.cache import resource_digest
+    from tirecli.parameters.sets import builtin_path
+
+    try:
+        return resource_digest(builtin_path(name))
+    except ConfigError:
+        return None
+
+
+def _named_configs(config, seen: dict) -> dict:
+    """Built-in configs named anywhere in ``config`` (e.g. the simulation a fit reads), with the
+    SHA-256 of their text, recursively."""
+    from tirecli.studies.base import builtin_config, builtin_config_names
+
+    names = set(builtin_config_names())
+
+    def walk(obj):
+        if isinstance(obj, dict):
+            for v in obj.values():
+                yield from walk(v)
+        elif isinstance(obj, list):
+            for v in obj:
+                yield from walk(v)
+        elif isinstance(obj, str) and obj in names:
+            yield obj
+
+    for name in sorted(set(walk(config.data))):
+        if name not in seen:
+            sub = builtin_config(name)
+            seen[name] = sub.digest()
+            _named_configs(sub, seen)
+    return seen
+
+
+def study_key(name: str, config) -> str:
+    """The cache key of a study run from ``config`` (see :mod:`tirecli.io.cache`)."""
+    from tirecli import __version__
+    from tirecli.io.cache import FORMAT, code_fingerprint, key_of
+
+    return key_of({
+        "format": FORMAT, "study": name, "config": config.digest(), "configs": _named_configs(config, {}),
+        "tirecli": __version__, "code": code_fingerprint(), "python": sys.version,
+        "libraries": {lib: _lib_version(lib) for lib in ("numpy", "scipy", "pandas", "matplotlib")},
+    })
+
+
+def figure_key(formats) -> str:
+    from tirecli.io.cache import key_of
+
+    return key_of({"formats": list(formats), "dpi": DPI})[:12]
+
+
+def _plain(obj):
+    """JSON data (NaN kept) of a card's facts: what the cache stores and the page shows."""
+    def default(o):
+        if hasattr(o, "tolist"):
+            return o.tolist()
+        return str(o)
+
+    return json.loads(json.dumps(obj, default=default))
+
+
+# --------------------------------------------------------------------------- one unit
+
+
+def probe(task: dict) -> dict | None:
+    """The unit from the cache (its files copied into the staging folder), or None."""
+    from tirecli.io.cache import StudyCache
+
+    if not task["cache"] or not task["use_cache"]:
+        return None
+    t0 = time.perf_counter()
+    cache = StudyCache(task["cache"], task["study"], task["key"])
+    manifest = cache.manifest(set_digest)
+    if manifest is None:
+        return None
+    cards = {}
+    for fid in task["figures"]:
+        card = cache.figure(fid, task["fkey"], set_digest)
+        if card is None:
+            return None
+        cards[fid] = card
+    root = Path(task["root"])
+    try:
+        cache.copy_study(manifest, root)
+        for fid, card in cards.items():
+            cache.copy_figure(card, fid, task["fkey"], root)
+    except OSError:  # an entry removed meanwhile: run the study
+        return None
+    for card in cards.values():
+        card.pop("hashes", None)
+    return {"study": task["study"], "error": None, "wall": time.perf_counter() - t0, "cached": True,
+            "record": manifest["record"], "cards": cards}
+
+
+def run_unit(task: dict, note=None) -> dict:
+    """Run the unit's study, write its data, run record and figures into the staging folder, keep
+    them in the cache; returns its facts (see :func:`probe`)."""
+    from tirecli.figures.registry import load_all
+    from tirecli.io.cache import StudyCache
+    from tirecli.parameters import sets
+    from tirecli.studies.base import run_study
+
+    note = note or (lambda kind, name: None)
+    name, root = task["study"], Path(task["root"])
+    note("study", name)
+    t0 = time.perf_counter()
+    sets.BUILTINS_READ.clear()
+    try:
+        res = run_study(task["config"])
+    except Exception as exc:  # noqa: BLE001 - reported in the page and as a failed check
+        for _ in range(1 + len(task["figures"])):  # its figures will not be drawn
+            note("study-done", name)
+        return {"study": name, "error": f"{type(exc).__name__}: {exc}\n" + traceback.format_exc(limit=4),
+                "wall": time.perf_counter() - t0, "cached": False, "record": None, "cards": {}}
+    wall = time.perf_counter() - t0
+    (root / "data" / name).mkdir(parents=True, exist_ok=True)
+    comments = [output.SYNTHETIC_NOTE] if res.synthetic else []
+    for dname, frame in res.data.items():
+        output.write_csv(root / "data" / name / f"{dname}.csv", frame, comments)
+    output.write_json(root / "studies" / f"{name}.json", {
+        "study": res.study, "config": res.config.label, "sha256": res.config.digest(),
+        "parameters": res.parameter_records(), "assumed": output.assumed_list(res),
+        "citations": res.citations(), "meta": res.meta, "synthetic": res.synthetic,
+        "wall_time_s": round(wall, 4),
+    })
+    note("study-done", name)
+    reg = load_all()
+    study_reads, cards = set(sets.BUILTINS_READ), {}
+    for fid in task["figures"]:
+        note("figure", fid)
+        sets.BUILTINS_READ.clear()
+        cards[fid] = _plain(_draw_card(reg[fid], res, root, task["formats"]))
+        # the card holds for the built-in sets read by the study and by this figure and its checks
+        cards[fid]["deps"] = {n: set_digest(n) for n in sorted(study_reads | sets.BUILTINS_READ)}
+        note("figure-done", fid)
+    record = {"data": list(res.data), "wall_time_s": round(wall, 4)}
+    if task["cache"]:
+        cache = StudyCache(task["cache"], name, task["key"])
+        cache.store_study(record, {n: set_digest(n) for n in sorted(study_reads)}, root, list(res.data))
+        for fid, card in cards.items():
+            if card["error"] is None:
+                cache.store_figure(card, fid, task["fkey"], root)
+    return {"study": name, "error": None, "wall": wall, "cached": False, "record": record, "cards": cards,
+            "unit_wall": time.perf_counter() - t0}
+
+
+def _draw_card(f, res, root: Path, formats) -> dict:
+    """Draw figure ``f`` of result ``res`` into ``root/figures``: the card's facts."""
+    from tirecli.figures.registry import Table
+    from tirecli.studies.base import Check
+
+    card = {"id": f.id, "caption": f.caption_for(res), "synthetic": res.synthetic,
+            "assumed": output.scenario_assumptions(res),
+            "parameters": [{"group": g, "set": ps.name, "citation": ps.citation, "rows": ps.rows()}
+                           for g, ps in res.parameter_sets.items()],
+            "checks": [], "files": [], "table": None, "error": None}
+    try:
+        fig = f.draw(res)
+        checks = f.checks(res) if f.checks else []
+    except Exception as exc:  # noqa: BLE001 - an error card and a failed check
+        card["error"] = f"{type(exc).__name__}: {exc}\n" + traceback.format_exc(limit=4)
+        checks, fig = [Check("figure-drawn", f"figure {f.id} drawn", float("nan"), 0.0, 0.0, "-", "report")], None
+    for c in checks:
+        c.id = f"{f.id}/{c.id}"
+        card["checks"].append(c.record())
+    if isinstance(fig, Table):
+        import pandas as pd
+
+        card["table"] = {"columns": fig.columns, "rows": fig.rows, "notes": fig.notes}
+        path = output.write_csv(root / "figures" / f"{f.id}.csv", pd.DataFrame(fig.rows, columns=fig.columns),
+                                [output.SYNTHETIC_NOTE] if res.synthetic else [])
+        card["files"] = [str(path.relative_to(root))]
+    elif fig is not None:
+        paths = output.save_figure(fig, root / "figures", f.id, dpi=DPI, formats=formats)
+        card["files"] = [str(p.relative_to(root)) for p in paths]
+    return card
+
+
+# --------------------------------------------------------------------------- many units
+
+_QUEUE = None
+
+
+def _init_worker(q) -> None:
+    """A pool worker: Ctrl-C is the parent's to handle (it ends the pool), SIGTERM ends the worker.
+
+    A forked worker has none of the parent's threads: the shared thread pool of the numerical code
+    (:mod:`tirecli.numerics.pool`), if the parent had started it, is dropped so that the worker
+    starts its own (work given to the parent's would wait for threads that do not exist here)."""
+    global _QUEUE
+    _QUEUE = q
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    signal.signal(signal.SIGTERM, signal.SIG_DFL)
+    pool = sys.modules.get("tirecli.numerics.pool")
+    if pool is not None:
+        pool._POOL, pool._SIZE, pool._LOCK = None, 0, threading.Lock()
+    import matplotlib
+
+    matplotlib.use("Agg")
+
+
+def _run_in_worker(task: dict) -> dict:
+    return run_unit(task, note=lambda kind, name: _QUEUE.put((kind, name)))
+
+
+def run_units(tasks: list[dict], jobs: int, note) -> list[dict]:
+    """Run ``tasks`` (in the given order of start) in ``jobs`` processes; their results in the same order.
+
+    ``note(kind, name)`` is called in this process for every step (and ``("tick", "")`` at least
+    every quarter second while the work runs). A failure of a unit (other than its study's or a
+    figure's, which it reports) ends the pool and is raised here; so is Ctrl-C, and a worker that
+    died (killed, out of memory) is a :class:`~tirecli.errors.RunError`.
+    """
+    if not tasks:
+        return []
+    if jobs <= 1 or len(tasks) == 1:
+        with _ticking(note):
+            return [run_unit(t, note=note) for t in tasks]
+    import multiprocessing
+    from concurrent.futures import ProcessPoolExecutor
+    from concurrent.futures.process import BrokenProcessPool
+
+    from tirecli.errors import RunError
+
+    _preload_matplotlib()
+    ctx = multiprocessing.get_context("fork")  # the workers start with this process's imports (and test patches)
+    q = ctx.Queue()
+    pool = ProcessPoolExecutor(min(jobs, len(tasks)), mp_context=ctx, initializer=_init_worker, initargs=(q,))
+    try:
+        futures = [pool.submit(_run_in_worker, t) for t in tasks]
+        while True:
+            _drain(q, note, timeout=0.25)
+            done = [f for f in futures if f.done()]
+            for f in done:
+                if f.exception() is not None:
+                    raise f.exception()
+            if len(done) == len(futures):
+                break
+        _drain(q, note, timeout=0.0)
+        pool.shutdown()
+        return [f.result() for f in futures]
+    except BrokenProcessPool:
+        _stop(pool)
+        raise RunError("a worker process of the report ended abruptly (killed, or out of memory?); "
+                       "--jobs 1 runs the studies in the tirecli process itself") from None
+    except BaseException:
+        _stop(pool)
+        raise
+    finally:
+        q.close()
+        q.cancel_join_thread()
+
+
+def _stop(pool) -> None:
+    """End a process pool now: queued work cancelled, running workers terminated."""
+    procs = list((getattr(pool, "_processes", None) or {}).values())
+    pool.shutdown(wait=False, cancel_futures=True)
+    for p in procs:
+        p.terminate()
+    for p in procs:
+        p.join()
+
+
+def _drain(q, note, timeout: float) -> None:
+    """Pass the workers' messages to ``note``; a tick when none came within ``timeout``."""
+    try:
+        note(*q.get(timeout=timeout) if timeout > 0 else q.get_nowait())
+    except queue.Empty:
+        note("tick", "")
+        return
+    while True:
+        try:
+            note(*q.get_nowait())
+        except queue.Empty:
+            return
+
+
+def _preload_matplotlib() -> None:
+    """Import matplotlib's Agg canvas once, before the workers fork (each would import it again)."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.backends.backend_agg  # noqa: F401
+    import matplotlib.figure  # noqa: F401
+
+
+class _ticking:
+    """While the block runs in this process, a thread calls ``note('tick', '')`` twice a second."""
+
+    def __init__(self, note):
+        self.note, self.stop = note, threading.Event()
+
+    def __enter__(self):
+        self.thread = threading.Thread(target=self._run, daemon=True)
+        self.thread.start()
+        return self
+
+    def _run(self):
+        while not self.stop.wait(0.5):
+            self.note("tick", "")
+
+    def __exit__(self, *exc):
+        self.stop.set()
+        self.thread.join()
