@@ -621,8 +621,8 @@ def _frame(tr, case: Case, dt: float, r: float, gain: float) -> pd.DataFrame:
 
 #: Above this many cases the time series is streamed to disk case by case (memory flat in the cases).
 SPOOL_CASES = 12
-#: Rows of the streamed time series written to disk at once (memory stays flat in the cases: ~10 MB).
-SPOOL_ROWS = 65536
+#: Rows of the streamed time series written to disk at once (one CSV block; memory stays flat in the cases).
+SPOOL_ROWS = 32768
 #: Points of one case's time series kept for the figures when it is streamed (a figure is ~1000 pixels wide).
 DRAWN_POINTS = 2000
 TIMESERIES_COLUMNS = ["case", "mode", "model", "t", "v", "omega", "romega", "slip", "vr", "mu", "torque", "brake_torque",
@@ -649,7 +649,7 @@ def _timeseries(trs: dict, cases: list, dt: float, r: float, gain: float):
         f = _frame(trs[c.label], c, dt, r, gain)
         pending.append(f)
         rows += len(f)
-        if rows >= SPOOL_ROWS or i == len(cases) - 1:   # a few cases at a time: the CSV text is formatted in parallel blocks
+        if rows >= SPOOL_ROWS or i == len(cases) - 1:   # a few cases at a time: fewer, larger CSV blocks
             spool.append(pd.concat(pending, ignore_index=True) if len(pending) > 1 else f)
             pending, rows = [], 0
         keep = np.zeros(len(f), dtype=bool)
