@@ -7,8 +7,9 @@ State ``y = (v [m/s], omega [rad/s], z [m])``::
     m dv/dt = F,           J domega/dt = -r F - sigma_w omega + u
 
 with ``kappa0`` a constant or ``kappa0(Z)`` of FM eq. (10) (then ``a`` depends on ``x = L/Z``).
-Everything is plain scalar Python (a 5 s braking takes a few hundred steps; numpy calls would
-cost more than the arithmetic). The Jacobian is exact, including ``d a/d vr``: in sliding the
+The steps are plain scalar Python (a 5 s braking takes a few hundred steps; numpy calls would
+cost more than the arithmetic); the dense output at thousands of output times repeats the same
+arithmetic on numpy arrays over the times (``dense``). The Jacobian is exact, including ``d a/d vr``: in sliding the
 bristle rate barely responds to ``vr`` (``1 - z da/dvr ~ 0``), and a frozen-``a`` Jacobian would
 over-damp the wheel mode. At ``vr = 0`` the derivative of ``|vr|`` is taken as 0; at
 ``r omega = 0`` the ``kappa`` term vanishes (no division by ``omega`` anywhere).
