@@ -280,3 +280,62 @@ def test_params_validate_checks_every_point(cli, tmp_path):
     c = mf_campaign(tmp_path)
     code, out, err = cli("params", "validate", c)
     assert code == 0 and "valid campaign 'mf': 6 points of the mf-eval study" in out
+
+
+def test_fast_facts_equal_the_array_path():
+    """The campaign's per-point shortcuts give the facts of the plain array code bit for bit: the
+    extremum search on plain floats (slip, |slip|, |mu|), the scalar slip, the kept input-check grids."""
+    import numpy as np
+
+    from tirecli.config.loader import config_from_text
+    from tirecli.conventions import slip_from_speeds, slip_of
+    from tirecli.models import profiles
+    from tirecli.studies import simulate as sim
+
+    for torque in (600, 1500):  # the second locks the wheel (locked-mode steps in the searches)
+        cfg = config_from_text(BRAKING.replace("t_end: 0.6", "t_end: 1.5"), "base.yaml",
+                               overrides=[f"input.pressure.table.value=[0, 0, {torque / 10}, {torque / 10}]"])
+        checked, tire, vehicle, cases = sim.plan(cfg)
+        p, car = tire.model(), vehicle.model()
+        tr = sim.run_cases(cases, p, car, checked["t_end"])[cases[0].label]
+        r = car.r
+
+        def slip(t, Y, O):
+            return slip_from_speeds(Y[:, 0], Y[:, 1], r)
+
+        ev = sim._events(tr, cases[0], r)
+        assert (ev["t_peak_abs_slip"], ev["peak_abs_slip"]) == tr.extremum(lambda t, Y, O: np.abs(slip(t, Y, O)), "max")
+        assert (ev["t_min_slip"], ev["min_slip"]) == tr.extremum(slip, "min")
+        assert (ev["t_peak_abs_mu"], ev["peak_abs_mu"]) == tr.extremum(lambda t, Y, O: np.abs(O["mu"]), "max")
+        assert torque < 1000 or ev["wheel_lock"]
+    rng = np.random.default_rng(0)
+    v = np.concatenate([rng.uniform(0, 30, 200), [0.0, 0.0, 5.0, np.nan, 1.0, np.inf, 0.0]])
+    w = np.concatenate([rng.uniform(0, 100, 200), [0.0, 3.0, 0.0, 1.0, np.nan, 1.0, np.inf]])
+    with np.errstate(invalid="ignore"):
+        want = slip_from_speeds(v, w, 0.3)
+    got = np.array([slip_of(a, b, 0.3) for a, b in zip(v, w)])
+    assert np.array_equal(got, want, equal_nan=True)
+    kept = profiles.run_times(6.0, 0.001, [0.1, 0.4])
+    assert profiles.run_times(6.0, 0.001, (0.1, 0.4)) is kept and not kept.flags.writeable
+    assert np.array_equal(kept, profiles._run_times(6.0, 0.001, (0.1, 0.4)))
+
+
+def test_campaign_workers_use_one_thread():
+    """A pool worker pins tirecli's thread pool (and the BLAS it loaded) to one thread: two workers on
+    two cores run two threads."""
+    import multiprocessing
+
+    from tirecli.campaign import execute
+
+    ctx = multiprocessing.get_context("fork" if hasattr(__import__("os"), "fork") else "spawn")
+    with ctx.Pool(1, initializer=execute._init_worker, initargs=(None,)) as pool:
+        limit, threads, env = pool.apply(_worker_threads)
+    assert limit == 1 and threads == 1 and env == "1"
+
+
+def _worker_threads():
+    import os
+
+    from tirecli.numerics import pool
+
+    return pool.LIMIT, pool.default_threads(), os.environ.get("OPENBLAS_NUM_THREADS")

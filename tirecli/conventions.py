@@ -90,6 +90,16 @@ def slip_from_speeds(v, omega, r):
     return s
 
 
+def slip_of(v: float, omega: float, r: float) -> float:
+    """:func:`slip_from_speeds` of one pair of floats, without arrays: the same value, bit for bit
+    (the same operations; 0 where ``max(|v|, |r omega|)`` is not positive or either speed is NaN)."""
+    v, rw = float(v), r * float(omega)
+    if v != v or rw != rw:
+        return 0.0
+    den = max(abs(v), abs(rw))
+    return (rw - v) / den if den > 0.0 else 0.0
+
+
 def speeds_from_slip(s, speed):
     """Vehicle and wheel speeds ``(v, r*omega)`` [m/s] for a slip ``s`` at a held speed.
 

@@ -46,19 +46,61 @@ def default_jobs() -> int:
     return max(1, len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else (os.cpu_count() or 1))
 
 
+#: Environment of a worker process: one thread per numeric library (the workers share the cores).
+ONE_THREAD = {k: "1" for k in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS",
+                               "VECLIB_MAXIMUM_THREADS", "NUMEXPR_NUM_THREADS")}
+_PINNED = False
+
+
+def pin_threads() -> None:
+    """Make this worker process use one thread per evaluation: tirecli's own thread pool
+    (:data:`tirecli.numerics.pool.LIMIT`), the BLAS already loaded (OpenBLAS, through its
+    ``*_set_num_threads``; the environment variables of :data:`ONE_THREAD` for libraries loaded
+    later). N workers on N cores then run N threads, not N times the core count."""
+    global _PINNED
+    if _PINNED:
+        return
+    _PINNED = True
+    os.environ.update(ONE_THREAD)
+    from tirecli.numerics import pool
+
+    pool.LIMIT = 1
+    pool._POOL, pool._SIZE = None, 0  # a forked copy of the parent's thread pool has no threads
+    try:
+        import ctypes
+
+        with open("/proc/self/maps", encoding="ascii", errors="replace") as fh:  # noqa: PTH123 - a system file
+            paths = {line.split()[-1] for line in fh if len(line.split()) >= 6}
+        libs = [p for p in paths if "openblas" in os.path.basename(p).lower() and ".so" in os.path.basename(p)]
+        for path in libs:
+            lib = ctypes.CDLL(path)
+            for name in ("openblas_set_num_threads", "openblas_set_num_threads64_", "scipy_openblas_set_num_threads64_",
+                         "scipy_openblas_set_num_threads"):
+                if hasattr(lib, name):
+                    getattr(lib, name)(1)
+                    break
+    except (OSError, AttributeError, ValueError):  # not Linux, or no OpenBLAS: nothing loaded to pin
+        pass
+
+
 def _init_worker(payload) -> None:
-    """A pool worker: Ctrl-C is the parent's to handle (it stops the pool), SIGTERM ends the worker."""
+    """A pool worker: Ctrl-C is the parent's to handle (it stops the pool), SIGTERM ends the worker;
+    one thread per evaluation (:func:`pin_threads`)."""
     global _PAYLOAD
     signal.signal(signal.SIGINT, signal.SIG_IGN)
     signal.signal(signal.SIGTERM, signal.SIG_DFL)
-    from tirecli.numerics import pool
-
-    pool._POOL, pool._SIZE = None, 0  # a forked copy of the parent's thread pool has no threads
+    pin_threads()
     _PAYLOAD = payload
 
 
 def _pool_batch(batch):
     return run_batch(_PAYLOAD, batch)
+
+
+def _dask_batch(payload, batch):
+    """A batch on a Dask worker (its threads pinned once: :func:`pin_threads`)."""
+    pin_threads()
+    return run_batch(payload, batch)
 
 
 def _mp_context():
@@ -127,8 +169,13 @@ def dask_client(scheduler: str, jobs: int):
     import logging
 
     if scheduler == "local":
-        cluster = LocalCluster(n_workers=jobs, threads_per_worker=1, processes=True, dashboard_address=None,
-                               silence_logs=logging.ERROR)
+        import dask
+
+        # the workers' statistical profiler samples the running task every 10 ms: a few per cent of a
+        # pure-Python braking, for a dashboard this cluster does not have
+        with dask.config.set({"distributed.worker.profile.enabled": False}):
+            cluster = LocalCluster(n_workers=jobs, threads_per_worker=1, processes=True, dashboard_address=None,
+                                   silence_logs=logging.ERROR)
         return Client(cluster), cluster
     if "://" not in scheduler:
         raise UsageError(f"--scheduler {scheduler!r}: expected 'local' or an address such as tcp://HOST:8786")
@@ -146,7 +193,7 @@ def _run_dask(payload, batches, jobs, scheduler, on_records) -> dict:
     try:
         workers = len(client.scheduler_info().get("workers", {})) or jobs
         shared = client.scatter(payload, broadcast=True)
-        futures = [client.submit(run_batch, shared, b, pure=False) for b in batches]
+        futures = [client.submit(_dask_batch, shared, b, pure=False) for b in batches]
         for fut in as_completed(futures):
             on_records(fut.result())
             fut.release()

@@ -502,12 +502,30 @@ CHECK_POINTS = 20001
 CHECK_MAX_GRID = 4_000_000
 
 
+#: The last few grids of :func:`run_times` (a campaign checks thousands of points of one run length).
+_RUN_TIMES: dict = {}
+_RUN_TIMES_KEEP, _RUN_TIMES_MAX_SIZE = 8, 200_000
+
+
 def run_times(t_end: float, dt: float | None = None, breakpoints=()) -> np.ndarray:
     """The times [s] at which an input is checked over a run ``[0, t_end]``: the output grid (step
     ``dt``, when given and at most :data:`CHECK_MAX_GRID` points), a uniform grid of
     :data:`CHECK_POINTS` points, ``t_end``, and every breakpoint with a time just before and just
-    after it (both sides of a jump)."""
-    t_end = float(t_end)
+    after it (both sides of a jump). The array is read-only: the grids of the last few
+    ``(t_end, dt, breakpoints)`` are kept (sorting them is most of the cost of checking a short run)."""
+    key = (float(t_end), None if dt is None else float(dt), tuple(float(b) for b in breakpoints))
+    t = _RUN_TIMES.get(key)
+    if t is None:
+        t = _run_times(*key)
+        t.flags.writeable = False
+        if t.size <= _RUN_TIMES_MAX_SIZE:
+            if len(_RUN_TIMES) >= _RUN_TIMES_KEEP:
+                _RUN_TIMES.clear()
+            _RUN_TIMES[key] = t
+    return t
+
+
+def _run_times(t_end: float, dt: float | None, breakpoints: tuple) -> np.ndarray:
     parts = [np.linspace(0.0, t_end, CHECK_POINTS), [t_end]]
     if dt is not None and dt > 0 and t_end / dt < CHECK_MAX_GRID:
         parts.append(np.arange(int(np.floor(t_end / dt + 1e-9)) + 1) * float(dt))

@@ -12,11 +12,14 @@ from concurrent.futures import ThreadPoolExecutor
 _POOL: ThreadPoolExecutor | None = None
 _SIZE = 0
 _LOCK = threading.Lock()
+#: The most threads an evaluation of this process uses (None: no limit beyond :func:`default_threads`'s);
+#: a campaign's worker processes set 1 (the workers share the cores already).
+LIMIT: int | None = None
 
 
 def default_threads() -> int:
-    """Worker threads for large evaluations: the CPU count (at most 8)."""
-    return max(1, min(os.cpu_count() or 1, 8))
+    """Worker threads for large evaluations: the CPU count (at most 8, and at most :data:`LIMIT`)."""
+    return max(1, min(os.cpu_count() or 1, 8, LIMIT or 8))
 
 
 def thread_pool(n: int) -> ThreadPoolExecutor:

@@ -46,7 +46,7 @@ import numpy as np
 
 from tirecli.config.loader import Config
 from tirecli.config.schema import AnyOf, ListOf, Map, Nullable, Num, Raw, Str, collect
-from tirecli.conventions import THETA_CONVENTIONS, omega_from_slip, slip_from_speeds
+from tirecli.conventions import THETA_CONVENTIONS, omega_from_slip, slip_from_speeds, slip_of
 from tirecli.errors import ConfigError, DataError, RunError, token
 from tirecli.models.profiles import Constant, Table, profile_from_checked, profile_problems, profile_spec, run_times
 from tirecli.models.variants import MODELS
@@ -553,10 +553,16 @@ def _events(tr, case: Case, r: float, which=None) -> dict:
     def wanted(*names):
         return which is None or any(n in which for n in names)
 
+    def slip1(t, y, o):  # the same on plain floats (the root-finding's many single points)
+        return slip_of(y[0], y[1], r)
+
+    i_mu = tr.out_names.index("mu") if "mu" in tr.out_names else None
     nan = (float("nan"), float("nan"))
-    t_s, s_pk = tr.extremum(lambda t, Y, O: np.abs(slip(t, Y, O)), "max") if wanted("peak_abs_slip", "t_peak_abs_slip") else nan
-    t_smin, s_min = tr.extremum(slip, "min") if wanted("min_slip", "t_min_slip") else nan
-    t_mu, mu_pk = tr.extremum(lambda t, Y, O: np.abs(O["mu"]), "max") if wanted("peak_abs_mu", "t_peak_abs_mu") else nan
+    t_s, s_pk = tr.extremum(lambda t, Y, O: np.abs(slip(t, Y, O)), "max", lambda t, y, o: abs(slip1(t, y, o))) \
+        if wanted("peak_abs_slip", "t_peak_abs_slip") else nan
+    t_smin, s_min = tr.extremum(slip, "min", slip1) if wanted("min_slip", "t_min_slip") else nan
+    t_mu, mu_pk = tr.extremum(lambda t, Y, O: np.abs(O["mu"]), "max", lambda t, y, o: abs(o[i_mu])) \
+        if wanted("peak_abs_mu", "t_peak_abs_mu") else nan
     stop = tr.events["stop"]
     locks = [[a, b] for a, b in tr.events["lock"]]
     ev = {
