@@ -225,3 +225,29 @@ def test_open_loop_after_step_release_with_measurement_block(p, car):
         _, O = ol.sample(grid)
         off = np.abs(grid - 2.6) > 1e-9
         assert np.max(np.abs(O["mu"] - ref)[off]) < bound, tol
+
+
+@pytest.mark.parametrize("kappa0", [2.0, "Z"])
+def test_dense_output_over_arrays_equals_the_per_point_step(p, car, kappa0):
+    """The lumped runs' dense output evaluated at all output times at once (numpy arrays over the points) gives
+    the per-point path's values (one ``advance`` + ``evaluate`` call per time) to rounding, 1e-12 of each
+    quantity's scale: brakings through a lock with a ramped and a stepped release, a lock held to the end, a
+    varying adhesion; on the 1 ms grid, just after recorded points, at recorded points and outside the run."""
+    from dataclasses import replace
+
+    variant = FrictionVariant(model="lumped", kappa0=kappa0)
+    theta = Table((0.0, 1.0, 2.0), (1.0, 0.6, 0.9))
+    torques = [_lock_torque("linear"), _lock_torque("step"), Transitions(0.0, (Change(0.1, -1200.0, 0.2, "half-cosine"),))]
+    for torque in torques:
+        tr = runs.quarter_car(variant, p, car, torque, theta, 20.0, 20.0 / car.r, 2.6)
+        assert tr.dense is not None and tr.events["lock"]
+        grid = np.concatenate([np.round(np.arange(int(tr.t[-1] / 1e-3) + 1) * 1e-3, 12), tr.t[5:60] + 1e-7,
+                               tr.t[60:70], [-0.1, tr.t[-1] + 0.1]])
+        Ya, Oa = tr.sample(grid)
+        Yb, Ob = replace(tr, dense=None).sample(grid)     # the per-point path
+        inside = (grid > 0) & (grid < tr.t[-1]) & ~np.isin(grid, tr.t)
+        assert inside.sum() > 2000 and np.any(Oa["locked"][inside] == 1.0) and np.any(Oa["locked"][inside] == 0.0)
+        for i in range(Yb.shape[1]):
+            assert np.max(np.abs(Ya[:, i] - Yb[:, i])) <= 1e-12 * np.max(np.abs(Yb[:, i]))
+        for n in Ob:
+            assert np.max(np.abs(Oa[n] - Ob[n])) <= 1e-12 * max(np.max(np.abs(Ob[n])), 1e-300), n

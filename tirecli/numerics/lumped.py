@@ -7,8 +7,9 @@ State ``y = (v [m/s], omega [rad/s], z [m])``::
     m dv/dt = F,           J domega/dt = -r F - sigma_w omega + u
 
 with ``kappa0`` a constant or ``kappa0(Z)`` of FM eq. (10) (then ``a`` depends on ``x = L/Z``).
-Everything is plain scalar Python (a 5 s braking takes a few hundred steps; numpy calls would
-cost more than the arithmetic). The Jacobian is exact, including ``d a/d vr``: in sliding the
+The steps are plain scalar Python (a 5 s braking takes a few hundred steps; numpy calls would
+cost more than the arithmetic); the dense output at thousands of output times repeats the same
+arithmetic on numpy arrays over the times (``dense``). The Jacobian is exact, including ``d a/d vr``: in sliding the
 bristle rate barely responds to ``vr`` (``1 - z da/dvr ~ 0``), and a frozen-``a`` Jacobian would
 over-damp the wheel mode. At ``vr = 0`` the derivative of ``|vr|`` is taken as 0; at
 ``r omega = 0`` the ``kappa`` term vanishes (no division by ``omega`` anywhere).
@@ -16,6 +17,8 @@ over-damp the wheel mode. At ``vr = 0`` the derivative of ``|vr|`` is taken as 0
 from __future__ import annotations
 
 import math
+
+import numpy as np
 
 from tirecli.models.lugre import LuGreParams
 from tirecli.models.vehicle import QuarterCarParams
@@ -258,6 +261,129 @@ class LumpedStepper:
 
         self.start, self.attempt, self.holds, self.outputs = start, attempt, holds, outputs
         self.rhs_at, self.lock_margin, self.evaluate = rhs_at, lock_margin, evaluate
+        self.dense = self._build_dense(U0, TH0, zmode, K0)
+
+    def _build_dense(self, U0, TH0, zmode, K0):  # noqa: C901 - the scalar start/attempt/evaluate over arrays
+        """``dense(t0, Y0, modes, dt) -> (Y, outputs) or None``: the dense output of :meth:`Trajectory.sample
+        <tirecli.numerics.ros2.Trajectory.sample>` at many points at once. Point ``i`` is the ROS2 step of length
+        ``dt[i] > 0`` from the recorded point ``(t0[i], Y0[i])`` of wheel mode ``modes[i]`` (``start`` there, then
+        ``attempt`` without left limits, omega clamped at 0 like ``advance``), followed by ``evaluate`` at its
+        end: the same arithmetic as the scalar functions, on numpy arrays (equal to rounding). ``Y``: states
+        ``(n, 3)``; ``outputs``: ``(n, len(out_names))``. None when a point is in the prescribed mode (open
+        loop: the caller takes the scalar path)."""
+        p, car = self.p, self.car
+        s0, s1, s2 = p.sigma0, p.sigma1, p.sigma2
+        mc, dmu, vs, L, al = p.mu_c, p.mu_s - p.mu_c, p.v_s, p.L, p.alpha
+        sw = p.sigma_w
+        r, m, J, Fn = car.r, car.m, car.J, car.F_n
+        Fm, rFJ = Fn / m, r * Fn / J
+        u_vec, th_vec = _vectorised(U0), _vectorised(TH0)
+
+        def core(v, w, z, th):
+            c = np.abs(r * w)
+            vr = r * w - v
+            avr = np.abs(vr)
+            qa = avr / vs
+            if al != 1.0:
+                qa = qa * qa if al == 2.0 else qa ** al
+            e = np.exp(-qa)
+            g = th * (mc + dmu * e)
+            b = s0 * avr / g
+            if zmode:
+                pos = c > 0.0
+                x = np.where(pos, b * L / np.where(pos, c, 1.0), 0.0)
+                xs = np.maximum(x, _X_SERIES)
+                E = np.exp(-xs)
+                q = -np.expm1(-xs)
+                hx = 1.0 - q / xs
+                k0 = np.where(x < _X_SERIES, 2.0 - x / 3.0 + x * x / 18.0, np.where(x > 1e12, 1.0, q / hx))
+                k0p = np.where(x < _X_SERIES, -1.0 / 3.0 + x / 9.0,
+                               np.where(x > 1e12, 0.0, (E * hx - q * (q - xs * E) / (xs * xs)) / (hx * hx)))
+                k0 = np.where(pos, k0, 1.0)
+                k0p = np.where(pos, k0p, 0.0)
+            else:
+                x, k0, k0p = np.zeros_like(v), np.full_like(v, K0), np.zeros_like(v)
+            a = b + k0 * c / L
+            zd = vr - a * z
+            mu = s0 * z + s1 * zd + s2 * vr
+            return c, vr, avr, qa, e, g, b, x, k0, k0p, a, zd, mu
+
+        def start(v, w, z, u, th, locked):
+            c, vr, avr, qa, e, g, b, x, k0, k0p, a, zd, mu = core(v, w, z, th)
+            F = mu * Fn
+            sg = np.sign(vr)
+            dbdvr = (s0 * sg / g) * (1.0 + th * dmu * e * al * qa / g)
+            if zmode:
+                dadb = 1.0 + k0p
+                dadc = (k0 - x * k0p) / L
+            else:
+                dadb, dadc = 1.0, k0 / L
+            dzvr = 1.0 - z * dbdvr * dadb
+            dzc = -z * dadc
+            dzth = z * (b / th) * dadb
+            ws = np.where(w >= 0.0, 1.0, -1.0)
+            dmv = -(s1 * dzvr + s2)
+            dmw = r * (s1 * (dzvr + ws * dzc) + s2)
+            dmz = s0 - s1 * a
+            dmth = s1 * dzth
+            fv = F / m
+            fw = np.where(locked, 0.0, (-r * F - sw * w + u) / J)
+            jac = (Fm * dmv, Fm * dmw, Fm * dmz, -rFJ * dmv, -rFJ * dmw - sw / J, -rFJ * dmz,
+                   -dzvr, r * (dzvr + ws * dzc), -a, Fm * dmth, -rFJ * dmth, dzth)
+            return fv, fw, zd, jac, vr, mu, F, k0
+
+        def dense(t0, Y0, modes, dt):
+            if np.any(modes == PRESCRIBED):
+                return None
+            locked = modes == LOCKED
+            t0 = np.asarray(t0, dtype=float)
+            v, w, z = (np.asarray(Y0[:, i], dtype=float) for i in range(3))
+            # inputs at the steps' starts: the scalar functions (right limits at breakpoints), once per step
+            starts, inv = np.unique(t0, return_inverse=True)
+            u0 = np.array([U0(float(tt)) for tt in starts])[inv]
+            th0 = np.array([TH0(float(tt)) for tt in starts])[inv]
+            fv, fw, fz, jac, *_ = start(v, w, z, u0, th0, locked)
+            Jvv, Jvw, Jvz, Jwv, Jww, Jwz, Jzv, Jzw, Jzz, Jvth, Jwth, Jzth = jac
+            h = np.asarray(dt, dtype=float)
+            t1 = t0 + h
+            u1, th1 = u_vec(t1), th_vec(t1)
+            ud, thd = (u1 - u0) / h, (th1 - th0) / h
+            gh = GAMMA * h
+            ftv, ftw, ftz = Jvth * thd, (Jwth * thd + ud / J), Jzth * thd
+            dz = 1.0 - gh * Jzz
+            cz = gh / dz
+            a11 = 1.0 - gh * Jvv - gh * Jvz * cz * Jzv
+            a12 = -gh * Jvw - gh * Jvz * cz * Jzw
+            a21 = -gh * Jwv - gh * Jwz * cz * Jzv
+            a22 = 1.0 - gh * Jww - gh * Jwz * cz * Jzw
+            det = a11 * a22 - a12 * a21
+
+            def solve(rv, rw, rz):
+                b1 = rv + gh * Jvz * rz / dz
+                b2 = rw + gh * Jwz * rz / dz
+                kv = np.where(locked, b1 / a11, (b1 * a22 - a12 * b2) / det)
+                kw = np.where(locked, 0.0, (a11 * b2 - a21 * b1) / det)
+                kz = np.where(locked, (rz + gh * Jzv * kv) / dz, (rz + gh * (Jzv * kv + Jzw * kw)) / dz)
+                return kv, kw, kz
+
+            k1v, k1w, k1z = solve(fv + gh * ftv, fw + gh * ftw, fz + gh * ftz)
+            f2v, f2w, f2z, *_ = start(v + h * k1v, w + h * k1w, z + h * k1z, u1, th1, locked)
+            k2v, k2w, k2z = solve(f2v - 2.0 * k1v - gh * ftv, f2w - 2.0 * k1w - gh * ftw, f2z - 2.0 * k1z - gh * ftz)
+            Y = np.empty((h.size, 3))
+            Y[:, 0] = v + h * (1.5 * k1v + 0.5 * k2v)
+            Y[:, 1] = w + h * (1.5 * k1w + 0.5 * k2w)
+            Y[:, 2] = z + h * (1.5 * k1z + 0.5 * k2z)
+            Y[locked | (Y[:, 1] < 0.0), 1] = 0.0   # as advance: the wheel does not turn backwards
+            fv, fw, zd, _, vr, mu, F, k0 = start(Y[:, 0], Y[:, 1], Y[:, 2], u1, th1, locked)
+            out = np.column_stack((vr, mu, zd, np.where(locked, r * F, u1), np.where(u1 < 0.0, -u1, 0.0), th1, k0,
+                                   locked.astype(float), fv, fw))
+            return Y, out
+
+        def guarded(t0, Y0, modes, dt):
+            with np.errstate(all="ignore"):
+                return dense(t0, Y0, modes, dt)
+
+        return guarded
 
     @staticmethod
     def deriv(E) -> list:
@@ -266,3 +392,16 @@ class LumpedStepper:
 
     def rollback(self, t: float) -> None:
         """Forget everything after ``t`` (nothing to forget: the lumped tire has no history)."""
+
+
+def _vectorised(fn):
+    """``fn(t)`` over an array of times for an input profile's ``at`` (scalar): the profile's own array
+    evaluation for the profiles whose ``at`` and array forms agree to rounding away from their breakpoints
+    (constants, tables, level changes; the dense output's times lie strictly inside steps, and every
+    breakpoint is a step end), else one scalar call per time."""
+    from tirecli.models.profiles import Constant, Table, Transitions
+
+    owner = getattr(fn, "__self__", None)
+    if isinstance(owner, (Constant, Table, Transitions)) and getattr(fn, "__name__", "") == "at":
+        return lambda t: np.asarray(owner(np.asarray(t, dtype=float)), dtype=float)
+    return lambda t: np.array([fn(float(x)) for x in np.asarray(t, dtype=float)], dtype=float)

@@ -238,6 +238,10 @@ class Trajectory:
     advance : callable or None
         ``advance(t_k, y_k, mode, dt) -> y``: the integrator's step of length ``dt`` from a recorded
         point, the dense output of :meth:`sample` (and the map events are root-found on).
+    dense : callable or None
+        ``dense(t_k, y_k, modes_k, dt) -> (states, outputs) or None``: ``advance`` followed by ``evaluate`` at
+        many points at once (arrays over the points; the stepper's ``dense``), the same values to rounding;
+        :meth:`sample` uses it for the times inside the run (None: one ``advance`` per time).
     sample_cache : dict or None
         Results of :meth:`sample` by output times, for a run that is no longer changed (its arrays
         read-only: a run kept for reuse, :mod:`tirecli.numerics.runs`); shared by its copies.
@@ -256,6 +260,7 @@ class Trajectory:
     out_names: tuple = field(default_factory=tuple)
     advance: object = None
     sample_cache: dict | None = field(default=None, repr=False, compare=False)
+    dense: object = field(default=None, repr=False, compare=False)
 
     def state(self, name: str) -> np.ndarray:
         return self.y[:, self.y_names.index(name)]
@@ -318,12 +323,23 @@ class Trajectory:
         k = self.step_index(tq)
         last = len(self.t) - 1
         rec = self._recorded()
-        for i, tt in enumerate(tq):
+        # a recorded time (within 1e-12 s): the recorded values
+        k1 = np.minimum(k + 1, last)
+        j = np.where(np.abs(tq - self.t[k]) <= 1e-12, k, np.where(np.abs(tq - self.t[k1]) <= 1e-12, k1, -1))
+        hit = j >= 0
+        Y[hit], outs[hit] = self.y[j[hit]], rec[j[hit]]
+        todo = np.flatnonzero(~hit)
+        if self.dense is not None and self.advance is not None and todo.size:
+            # inside the run: the integrator's step from each point's step start, all points at once
+            inner = todo[(tq[todo] > self.t[0]) & (tq[todo] < self.t[-1])]
+            kk = k[inner]
+            got = self.dense(self.t[kk], self.y[kk], self.modes[kk], tq[inner] - self.t[kk]) if inner.size else None
+            if got is not None:
+                Y[inner], outs[inner] = got
+                todo = np.setdiff1d(todo, inner, assume_unique=True)
+        for i in todo:
+            tt = tq[i]
             kk = int(k[i])
-            j = kk if abs(tt - self.t[kk]) <= 1e-12 else (min(kk + 1, last) if abs(tt - self.t[min(kk + 1, last)]) <= 1e-12 else -1)
-            if j >= 0:
-                Y[i], outs[i] = self.y[j], rec[j]
-                continue
             yi = self._dense(kk, float(tt))
             y_eff, outs[i] = self.evaluate(float(tt), yi, int(self.modes[kk]))
             Y[i] = yi
@@ -612,7 +628,7 @@ def integrate(stepper, y0, t0: float, t_end: float, breakpoints=(), tol: float =
                "h_max": float(hs.max()) if hs.size else 0.0, "tol": tol},
         y_names=tuple(stepper.y_names), dy=np.array(rec_f, dtype=float), dy_left=np.array(rec_fl, dtype=float),
         modes=np.array(rec_m, dtype=int), evaluate=stepper.evaluate, out_names=tuple(stepper.out_names),
-        advance=_advance_of(stepper),
+        advance=_advance_of(stepper), dense=getattr(stepper, "dense", None),
     )
 
 

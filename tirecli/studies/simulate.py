@@ -627,6 +627,8 @@ def _frame(tr, case: Case, dt: float, r: float, gain: float) -> pd.DataFrame:
 
 #: Above this many cases the time series is streamed to disk case by case (memory flat in the cases).
 SPOOL_CASES = 12
+#: Rows of the streamed time series written to disk at once (one CSV block; memory stays flat in the cases).
+SPOOL_ROWS = 32768
 #: Points of one case's time series kept for the figures when it is streamed (a figure is ~1000 pixels wide).
 DRAWN_POINTS = 2000
 TIMESERIES_COLUMNS = ["case", "mode", "model", "t", "v", "omega", "romega", "slip", "vr", "mu", "torque", "brake_torque",
@@ -638,7 +640,7 @@ def _timeseries(trs: dict, cases: list, dt: float, r: float, gain: float):
     streamed, ``{label: frame}`` of each case's rows thinned for the figures (else None).
 
     Up to :data:`SPOOL_CASES` cases the frame is a DataFrame. With more, each case's rows are written
-    to disk as soon as they are sampled (:class:`tirecli.io.output.SpooledFrame`, copied into
+    to disk, :data:`SPOOL_ROWS` rows at a time (:class:`tirecli.io.output.SpooledFrame`, copied into
     ``data/timeseries.csv``; the same text) and the figures draw every k-th row (at most
     :data:`DRAWN_POINTS` a case, the last kept)."""
     import pandas as pd
@@ -648,9 +650,14 @@ def _timeseries(trs: dict, cases: list, dt: float, r: float, gain: float):
     from tirecli.io.output import SpooledFrame
 
     spool, drawn = SpooledFrame(TIMESERIES_COLUMNS), {}
-    for c in cases:
+    pending, rows = [], 0
+    for i, c in enumerate(cases):
         f = _frame(trs[c.label], c, dt, r, gain)
-        spool.append(f)
+        pending.append(f)
+        rows += len(f)
+        if rows >= SPOOL_ROWS or i == len(cases) - 1:   # a few cases at a time: fewer, larger CSV blocks
+            spool.append(pd.concat(pending, ignore_index=True) if len(pending) > 1 else f)
+            pending, rows = [], 0
         keep = np.zeros(len(f), dtype=bool)
         keep[::-(-len(f) // DRAWN_POINTS)] = True
         keep[-1:] = True
