@@ -277,7 +277,7 @@ def _evaluate_points(tire_ref, points, out: Path, convention, side, limits, mapp
     const = {k: (b"" if d is None else repr(float(d)).encode()) for k, d in (("p", p_def), ("vx", vx_def))}
     names = ",".join(INPUT_COLUMNS + OUTPUT_COLUMNS)
     if _echo_ok(facts, header, n, bool(mapping)) and b"\x01" not in text:  # (the filler byte of the formatter)
-        nl = np.flatnonzero(np.frombuffer(text, dtype=np.uint8) == 10)  # the newline before each data row
+        nl = facts["newlines"]  # the newline before each data row
         lead = b"".join(b"," + const[k] for k in ("p", "vx") if k not in header)
         write_table(out, names, outputs, lines=(text, nl, np.append(nl[1:], len(text))), lead=lead, threads=threads)
         how = "copied"

@@ -290,8 +290,8 @@ def plain_columns(data: bytes, columns, min_rows: int = 1, optional=(), rename: 
 
     Plain: a header of distinct identifier-like names, data rows of digits, signs, points, exponents
     and commas only (no blanks, quotes, comments, carriage returns, NaN or infinity), every row with the header's
-    number of fields and every cell a finite number other than -0 (which reads as 0 in a column of integers).
-    The values are those of :func:`read_columns` (correctly rounded doubles).
+    number of fields and every cell a finite number. The values are those of :func:`read_columns`
+    (correctly rounded doubles; ``-0`` is 0.0 in a column of integers, else -0.0).
     """
     head, sep, body = data.partition(b"\n")
     if not sep or not body or body[:1] == b"\n" or not _PLAIN_HEADER.fullmatch(head):
@@ -322,7 +322,7 @@ def plain_columns(data: bytes, columns, min_rows: int = 1, optional=(), rename: 
     n = body.count(b"\n") + (body[-1:] != b"\n")
     if table.num_rows != n or n < min_rows:
         return None
-    out = {}
+    out, nl = {}, None
     for c in [*columns, *(c for c in optional if c in header)]:
         col = table.column(c)
         if col.type not in (pa.float64(), pa.int64()) or col.null_count:
@@ -331,9 +331,22 @@ def plain_columns(data: bytes, columns, min_rows: int = 1, optional=(), rename: 
         out[c] = np.concatenate([np.frombuffer(ch.buffers()[1], dtype=kind, count=len(ch), offset=8 * ch.offset)
                                  for ch in col.chunks]).astype(float, copy=False)
         x = out[c]
-        if not np.isfinite(x).all() or np.signbit(x[x == 0]).any():  # (-0 reads as 0 in a column of integers)
+        if not np.isfinite(x).all():
             return None
+        negzero = np.flatnonzero((x == 0) & np.signbit(x))
+        if negzero.size:
+            nl = np.flatnonzero(np.frombuffer(body, dtype=np.uint8) == 10) if nl is None else nl
+            if not _float_cell(body, nl, int(negzero[0]), header.index(c)):
+                return None  # "-0": 0 in a column of integers (pandas), else -0.0
     return out
+
+
+def _float_cell(body: bytes, nl, row: int, field: int) -> bool:
+    """Whether a cell of a plain CSV body (``nl``: the positions of its newlines) is written as a float
+    (with a point or an exponent), so that pandas reads its column as floats."""
+    start = int(nl[row - 1]) + 1 if row else 0
+    line = body[start:int(nl[row]) if row < nl.size else len(body)]
+    return any(ch in line.split(b",")[field] for ch in (b".", b"e", b"E"))
 
 
 def rename_columns(frame, rename: dict | None, path):

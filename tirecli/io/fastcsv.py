@@ -129,6 +129,15 @@ def _fill(x, w, sep: str) -> np.ndarray:
     return np.flatnonzero(odd | (big & ~nan))
 
 
+def _fill_column(x, w, sep: str) -> np.ndarray:
+    """:func:`_fill`, a constant column formatted once."""
+    if x.size > 1 and x[0] == x[-1] and (x == x[0]).all():
+        slow = _fill(x[:1], w[:1], sep)
+        w[1:] = w[0]
+        return np.arange(x.size) if slow.size else slow
+    return _fill(x, w, sep)
+
+
 def _rows_block(cols, lo, hi, prefix=None) -> bytes:
     """Rows ``lo:hi`` as text, each row starting with a newline (so the first split item is empty).
 
@@ -138,7 +147,7 @@ def _rows_block(cols, lo, hi, prefix=None) -> bytes:
     w = np.empty((n, head + 6 * len(cols)), dtype="<u4")
     if prefix is not None:
         prefix.fill(w[:, :head].view(np.uint8), lo, hi)
-    slow = [_fill(c[lo:hi], w[:, head + 6 * i:head + 6 * i + 6], "\n" if i == 0 and not head else ",")
+    slow = [_fill_column(c[lo:hi], w[:, head + 6 * i:head + 6 * i + 6], "\n" if i == 0 and not head else ",")
             for i, c in enumerate(cols)]
     text = _unfilled(w)
     bad = np.unique(np.concatenate(slow))
@@ -269,7 +278,8 @@ def format_exact(x) -> list[bytes]:
 def text_facts(data: bytes) -> tuple[bytes, dict]:
     """The text of a file's bytes without its final line ends (``\\r\\n`` read as ``\\n``), and facts
     about it found with fast byte searches: ``comment`` (a ``#``), ``quote`` (a ``"``), ``blank`` (an
-    empty line), ``trailing`` (blanks at a line end), ``lines`` (the number of lines)."""
+    empty line), ``trailing`` (blanks at a line end), ``lines`` (the number of lines), ``newlines`` (their
+    positions)."""
     if b"\r" in data[:65536]:
         data = data.replace(b"\r\n", b"\n")
     body = data.rstrip(b"\n")
@@ -280,7 +290,7 @@ def text_facts(data: bytes) -> tuple[bytes, dict]:
         "comment": b"#" in body, "quote": b'"' in body,
         "blank": not body or body[:1] == b"\n" or bool((np.diff(nl) == 1).any()),
         "trailing": bool(np.isin(before, (9, 13, 32)).any()) or body[-1:] in (b" ", b"\t", b"\r"),
-        "lines": nl.size + 1 if body else 0,
+        "lines": nl.size + 1 if body else 0, "newlines": nl,
     }
     return body, facts
 
