@@ -77,7 +77,7 @@ def test_plain_csv_reads_as_the_general_reader(tmp_path):
     from tirecli.errors import DataError
     from tirecli.io.data import plain_columns, read_columns
 
-    cells = {"a": ["-0", "3", "+7", "12345678901234567890", "-5"],
+    cells = {"a": ["-0", "3", "7", "-9007199254740993", "-5"],
              "b": ["-0.0", "1e5", "0.1000000000000000055511151231257827", "-.5", "4.9e-324"],
              "c": ["+1.", "2E-3", "-0e0", "+7", "1e22"],
              "d": ["12345678901234567890", "0.30000000000000004", "2.2250738585072011e-308", "1e-400", "6"]}
