@@ -103,3 +103,29 @@ def test_plain_csv_reads_as_the_general_reader(tmp_path):
                 np.testing.assert_array_equal(fast[c], slow[c])
                 np.testing.assert_array_equal(np.signbit(fast[c]), np.signbit(slow[c]), err_msg=name)
     assert fast_ones == {"plain", "no final newline", "-0 integers"}
+
+
+def test_mf_eval_same_file_with_and_without_pyarrow(tmp_path, monkeypatch):
+    """Without pyarrow (a plain install) the general reader reads the points: the same result file."""
+    import builtins
+
+    from tirecli.app_mf import mf_eval
+
+    rng = np.random.default_rng(2)
+    cols = [rng.uniform(-0.3, 0.3, 500).round(6), rng.uniform(-0.2, 0.2, 500), rng.uniform(-0.05, 0.05, 500).round(4),
+            rng.uniform(2000, 6000, 500).round(1)]
+    rows = [",".join(map(repr, r)) for r in zip(*(c.tolist() for c in cols))]
+    pts = tmp_path / "p.csv"
+    pts.write_text("kappa,alpha,gamma,fz\n" + "\n".join(rows) + "\n")
+    mf_eval("pacejka2006-205-60r15", pts, tmp_path / "a.csv")
+    real_import = builtins.__import__
+
+    def no_pyarrow(name, *args, **kw):
+        if name == "pyarrow" or name.startswith("pyarrow."):
+            raise ImportError(name)
+        return real_import(name, *args, **kw)
+
+    monkeypatch.setattr(builtins, "__import__", no_pyarrow)
+    mf_eval("pacejka2006-205-60r15", pts, tmp_path / "b.csv")
+    assert (tmp_path / "a.csv").read_bytes() == (tmp_path / "b.csv").read_bytes()
+    assert (tmp_path / "a.csv").read_bytes().count(b"\n") == 501
