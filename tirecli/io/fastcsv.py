@@ -300,7 +300,7 @@ def write_table(path, header: str, columns, lines=None, lead: bytes = b"", threa
     commas, after the row's line of an input text and ``lead`` when ``lines`` is given.
 
     ``lines`` is ``(text, nl, ends)``: row ``i``'s line is ``text[nl[i] + 1:ends[i]]``, after the newline
-    at ``nl[i]`` (copied verbatim). Blocks of rows are formatted on the shared thread pool while the
+    at ``nl[i]`` (copied verbatim; no line may hold the filler byte 0x01). Blocks of rows are formatted on the shared thread pool while the
     previous ones are written. Written through a unique temporary file
     (:func:`tirecli.io.atomic.atomic_write`), so a failure leaves nothing."""
     from tirecli.io.atomic import atomic_write
