@@ -198,9 +198,9 @@ def load_tire(ref: str, base_dir: Path | None = None):
     return ps, mfp.tire_from_set(ps)
 
 
-def _echo_ok(lines: list[bytes], facts: dict, header: list[str], n: int, mapped: bool) -> bool:
+def _echo_ok(facts: dict, header: list[str], n: int, mapped: bool) -> bool:
     """Whether the input rows can be copied verbatim (plain CSV in the canonical column order)."""
-    if mapped or len(lines) != n + 1 or facts["comment"] or facts["quote"] or facts["blank"] or facts["trailing"]:
+    if mapped or facts["lines"] != n + 1 or facts["comment"] or facts["quote"] or facts["blank"] or facts["trailing"]:
         return False
     # a missing p or vx is appended after the copied cells, so only a missing tail can be copied
     # (a file with vx but no p would put vx under the p header)
@@ -232,8 +232,10 @@ def mf_eval(tire_ref: str, points: str | Path, out: str | Path, convention: str 
 
 def _evaluate_points(tire_ref, points, out: Path, convention, side, limits, mapping, threads) -> dict:
     """:func:`mf_eval` writing to ``out`` (its staging file)."""
-    from tirecli.io.data import check_size, read_columns
-    from tirecli.io.fastcsv import format_rows, read_lines, write_rows
+    from tirecli.io.data import check_size, plain_columns, read_columns
+    from tirecli.io.fastcsv import text_facts, write_table
+    from tirecli.io.files import read_input_bytes
+    from tirecli.limits import csv_max_bytes
     from tirecli.models.magic_formula import evaluate
 
     check_size(points)  # a points file over the budget is refused before anything is loaded
@@ -242,7 +244,11 @@ def _evaluate_points(tire_ref, points, out: Path, convention, side, limits, mapp
         raise UsageError(f"--side {side}: the tyre {tire_ref} does not say which side it was measured on "
                          "(no TYRESIDE), so it cannot be mirrored")
     points = Path(points)
-    cols = read_columns(points, list(INPUT_COLUMNS[:4]), min_rows=1, optional=("p", "vx"), rename=mapping)
+    data = read_input_bytes(points, "a CSV file", csv_max_bytes())
+    want = list(INPUT_COLUMNS[:4])
+    cols = plain_columns(data, want, min_rows=1, optional=("p", "vx"), rename=mapping)
+    if cols is None:  # not a plain numeric CSV: the general reader, with every check
+        cols = read_columns(points, want, min_rows=1, optional=("p", "vx"), rename=mapping)
     n = len(cols["kappa"])
     p, vx = cols.get("p"), cols.get("vx")
     if p is not None:
@@ -264,22 +270,23 @@ def _evaluate_points(tire_ref, points, out: Path, convention, side, limits, mapp
         cls = DataError if at_fault else RunError
         raise cls(f"{points}: row {i + 1}: {text}; nothing was written")
     outputs = [getattr(res, k) for k in OUTPUT_COLUMNS]
-    lines, facts = read_lines(points)
-    header = [h.strip() for h in lines[0].decode("utf-8", "replace").split(",")] if lines else []
+    text, facts = text_facts(data)
+    del data
+    head = text.split(b"\n", 1)[0]
+    header = [h.strip() for h in head.decode("utf-8", "replace").split(",")]
     const = {k: (b"" if d is None else repr(float(d)).encode()) for k, d in (("p", p_def), ("vx", vx_def))}
-    if _echo_ok(lines, facts, header, n, bool(mapping)):
-        joiner = b"".join(b"," + const[k] for k in ("p", "vx") if k not in header) + b","
-        prefixes = lines[1:]
-        tails = format_rows(outputs, threads=threads, lead=joiner, keepends=True)
+    names = ",".join(INPUT_COLUMNS + OUTPUT_COLUMNS)
+    if _echo_ok(facts, header, n, bool(mapping)) and b"\x01" not in text:  # (the filler byte of the formatter)
+        nl = facts["newlines"]  # the newline before each data row
+        lead = b"".join(b"," + const[k] for k in ("p", "vx") if k not in header)
+        write_table(out, names, outputs, lines=(text, nl, np.append(nl[1:], len(text))), lead=lead, threads=threads)
         how = "copied"
     else:
         ins = [cols["kappa"], cols["alpha"], cols["gamma"], cols["fz"]]
         ins += [np.full(n, np.nan) if cols.get(k) is None and const[k] == b"" else
                 (cols[k] if cols.get(k) is not None else np.full(n, float(const[k]))) for k in ("p", "vx")]
-        prefixes = None
-        tails = format_rows(ins + outputs, threads=threads, keepends=True)
+        write_table(out, names, ins + outputs, threads=threads)
         how = "rewritten exactly"
-    write_rows(out, ",".join(INPUT_COLUMNS + OUTPUT_COLUMNS), prefixes, tails)
     return {"points": n, "tire": ps.name, "warnings": list((ps.extra or {}).get("warnings", [])), "version": tire.version, "side": tire.side, "mirrored": res.mirrored,
             "convention": res.convention, "limits": limits, "counts": res.counts, "inputs": how, "out": str(out),
             "pressure_default": p_def if p is None else None, "speed_default": vx_def if vx is None else None,

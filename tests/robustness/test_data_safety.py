@@ -210,11 +210,11 @@ def test_mf_eval_stopped_while_writing_keeps_the_previous_file(cli, monkeypatch,
     assert cli("mf", "eval", TYRE, "--points", pts, "--out", out)[0] == 0
     before = out.read_bytes()
 
-    def half_written(path, header, prefixes, tails):
+    def half_written(path, header, *args, **kwargs):
         Path(path).write_text(header + "\n0.1,")
         raise KeyboardInterrupt
 
-    monkeypatch.setattr(fastcsv, "write_rows", half_written)
+    monkeypatch.setattr(fastcsv, "write_table", half_written)
     rc, _, err = cli("mf", "eval", TYRE, "--points", pts, "--out", out)
     assert (rc, err) == (130, f"error: interrupted: previous {out} kept\n")
     assert out.read_bytes() == before

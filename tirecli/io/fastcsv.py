@@ -129,25 +129,103 @@ def _fill(x, w, sep: str) -> np.ndarray:
     return np.flatnonzero(odd | (big & ~nan))
 
 
-def _rows_block(cols, lo, hi) -> bytes:
-    """Rows ``lo:hi`` as text, each row starting with a newline (so the first split item is empty)."""
+def _fill_column(x, w, sep: str) -> np.ndarray:
+    """:func:`_fill`, a constant column formatted once."""
+    if x.size > 1 and x[0] == x[-1] and (x == x[0]).all():
+        slow = _fill(x[:1], w[:1], sep)
+        w[1:] = w[0]
+        return np.arange(x.size) if slow.size else slow
+    return _fill(x, w, sep)
+
+
+def _rows_block(cols, lo, hi, prefix=None) -> bytes:
+    """Rows ``lo:hi`` as text, each row starting with a newline (so the first split item is empty).
+
+    ``prefix`` (a :class:`_Prefix`) puts its text of each row before the columns (then a comma)."""
     n = hi - lo
-    w = np.empty((n, 6 * len(cols)), dtype="<u4")
-    slow = [_fill(c[lo:hi], w[:, 6 * i:6 * i + 6], "\n" if i == 0 else ",") for i, c in enumerate(cols)]
-    text = w.tobytes().replace(b"\x01", b"")
+    head = 0 if prefix is None else prefix.words
+    w = np.empty((n, head + 6 * len(cols)), dtype="<u4")
+    if prefix is not None:
+        prefix.fill(w[:, :head].view(np.uint8), lo, hi)
+    slow = [_fill_column(c[lo:hi], w[:, head + 6 * i:head + 6 * i + 6], "\n" if i == 0 and not head else ",")
+            for i, c in enumerate(cols)]
+    text = _unfilled(w)
     bad = np.unique(np.concatenate(slow))
     if len(bad):  # rebuild the few rows with a special value exactly
         rows = text.split(b"\n")
         for i in bad:
-            rows[i + 1] = b",".join(_exact(float(c[lo + i])) for c in cols)
+            start = b"" if prefix is None else _unfilled(w[i, :head])[1:] + b","
+            rows[i + 1] = start + b",".join(_exact(float(c[lo + i])) for c in cols)
         text = b"\n".join(rows)
     return text
+
+
+def _unfilled(w) -> bytes:
+    """The bytes of the array ``w`` without the filler bytes (a numpy compress: faster than
+    ``bytes.replace`` when the fillers are many, and without the GIL)."""
+    m = w.view(np.uint8).ravel()
+    return m[m != _FILL].tobytes()
+
+
+class _Prefix:
+    """The text put before the formatted columns of each row: a line of an input text, then ``lead``;
+    laid out in the first ``words`` 32-bit words of a row of :func:`_rows_block` (the line's newline,
+    the line, ``lead``, fillers).
+
+    ``text`` holds the lines: row ``i``'s starts with the newline at ``text[nl[i]]`` and ends before
+    ``ends[i]``."""
+
+    def __init__(self, text: bytes, nl, ends, lead: bytes = b""):
+        self.nl = np.asarray(nl, dtype=np.intp)
+        self.lens = np.asarray(ends, dtype=np.intp) - self.nl  # with the newline
+        self.width = int(self.lens.max(initial=1))
+        src = np.frombuffer(text, dtype=np.uint8)
+        self.windows = np.lib.stride_tricks.sliding_window_view(  # row i: windows[nl[i]] (copied by rows)
+            np.concatenate([src, np.full(self.width, _FILL, dtype=np.uint8)]), self.width)
+        self.lead = np.frombuffer(lead, dtype=np.uint8)
+        self.words = -(-(self.width + len(lead)) // 4)
+
+    def fill(self, m, lo: int, hi: int) -> None:
+        """Write rows ``lo:hi`` into the byte matrix ``m`` (``hi - lo`` rows, ``4 * words`` columns)."""
+        line = m[:, :self.width]
+        line[...] = self.windows[self.nl[lo:hi]]
+        np.copyto(line, np.uint8(_FILL), where=np.arange(self.width) >= self.lens[lo:hi, None])  # the next lines
+        m[:, self.width:self.width + self.lead.size] = self.lead
+        m[:, self.width + self.lead.size:] = _FILL
 
 
 def _exact(v: float) -> bytes:
     if v != v:
         return b""
     return repr(v).encode()
+
+
+def _blocks(cols, threads, prefix=None):
+    """The texts of the rows of ``cols`` (see :func:`_rows_block`), block by block in order, formatted
+    on the shared thread pool (a few blocks ahead of the consumer)."""
+    n = cols[0].size if cols else 0
+    starts = list(range(0, n, _BLOCK))
+    from tirecli.numerics.pool import default_threads, thread_pool
+
+    nthreads = default_threads() if threads is None else max(1, threads)
+
+    def block(s):
+        text = _rows_block(cols, s, min(s + _BLOCK, n), prefix)
+        if not _EXTENDED:
+            text = b"".join(b"\n" + r for r in _verified(cols, text.split(b"\n")[1:], s))
+        return text
+
+    if len(starts) < 2 or nthreads < 2:
+        yield from map(block, starts)
+        return
+    pool = thread_pool(nthreads)
+    ahead = 2 * nthreads
+    futures = [pool.submit(block, s) for s in starts[:ahead]]
+    for k in range(len(starts)):
+        if k + ahead < len(starts):
+            futures.append(pool.submit(block, starts[k + ahead]))
+        yield futures[k].result()
+        futures[k] = None
 
 
 def format_rows(columns, threads: int | None = None, lead: bytes = b"", keepends: bool = False) -> list[bytes]:
@@ -165,33 +243,26 @@ def format_rows(columns, threads: int | None = None, lead: bytes = b"", keepends
         End every row with a newline.
     """
     cols = [np.ascontiguousarray(c, dtype=float).ravel() for c in columns]
-    n = cols[0].size if cols else 0
-    if n == 0:
+    if not cols or cols[0].size == 0:
         return []
-    starts = list(range(0, n, _BLOCK))
-    from tirecli.numerics.pool import default_threads, thread_pool
-
-    nthreads = default_threads() if threads is None else max(1, threads)
-    if len(starts) > 1 and nthreads > 1:
-        parts = list(thread_pool(nthreads).map(lambda s: _rows_block(cols, s, min(s + _BLOCK, n)), starts))
-    else:
-        parts = [_rows_block(cols, s, min(s + _BLOCK, n)) for s in starts]
-    text = b"".join(parts)[1:] + b"\n"  # every block starts each row with a newline
-    if not _EXTENDED:
-        text = b"\n".join(_verified(cols, text.split(b"\n")[:-1])) + b"\n"
+    text = b"".join(_blocks(cols, threads))[1:] + b"\n"  # every block starts each row with a newline
     if lead:
         text = lead + text.replace(b"\n", b"\n" + lead)[:-len(lead)]
     return text.splitlines(keepends=True) if keepends else text.split(b"\n")[:-1]
 
 
-def _verified(cols, rows):
+def _verified(cols, rows, lo: int = 0):
+    """``rows`` (texts of rows ``lo, lo + 1, ...``) with every cell of the columns (the last cells of a
+    row) that does not read back to its value redone with ``repr``."""
     fixed = []
+    k = len(cols)
     for i, row in enumerate(rows):
         cells = row.split(b",")
-        for j, cell in enumerate(cells):
-            v = cols[j][i]
-            if np.isfinite(v) and float(cell) != v:
-                cells[j] = _exact(float(v))
+        for j in range(k):
+            v = cols[j][lo + i]
+            at = len(cells) - k + j
+            if np.isfinite(v) and float(cells[at]) != v:
+                cells[at] = _exact(float(v))
         fixed.append(b",".join(cells))
     return fixed
 
@@ -204,14 +275,11 @@ def format_exact(x) -> list[bytes]:
 # --------------------------------------------------------------------------- files
 
 
-def read_lines(path) -> tuple[list[bytes], dict]:
-    """The lines of a text file as bytes (line ends ``\\n`` or ``\\r\\n`` removed), and facts about
-    the whole text found with fast byte searches: ``comment`` (a ``#``), ``quote`` (a ``"``),
-    ``blank`` (an empty line), ``trailing`` (blanks at a line end)."""
-    from tirecli.io.files import read_input_bytes
-    from tirecli.limits import csv_max_bytes
-
-    data = read_input_bytes(path, "a CSV file", csv_max_bytes())
+def text_facts(data: bytes) -> tuple[bytes, dict]:
+    """The text of a file's bytes without its final line ends (``\\r\\n`` read as ``\\n``), and facts
+    about it found with fast byte searches: ``comment`` (a ``#``), ``quote`` (a ``"``), ``blank`` (an
+    empty line), ``trailing`` (blanks at a line end), ``lines`` (the number of lines), ``newlines`` (their
+    positions)."""
     if b"\r" in data[:65536]:
         data = data.replace(b"\r\n", b"\n")
     body = data.rstrip(b"\n")
@@ -222,28 +290,28 @@ def read_lines(path) -> tuple[list[bytes], dict]:
         "comment": b"#" in body, "quote": b'"' in body,
         "blank": not body or body[:1] == b"\n" or bool((np.diff(nl) == 1).any()),
         "trailing": bool(np.isin(before, (9, 13, 32)).any()) or body[-1:] in (b" ", b"\t", b"\r"),
+        "lines": nl.size + 1 if body else 0, "newlines": nl,
     }
-    lines = body.split(b"\n") if body else []
-    return lines, facts
+    return body, facts
 
 
-def write_rows(path, header: str, prefixes, tails) -> None:
-    """Write ``header`` then one line per row: ``prefix + tail`` (``tail`` alone when ``prefixes``
-    is None; every tail ends with its newline, see ``format_rows(keepends=True)``). Written through
-    a unique temporary file (:func:`tirecli.io.atomic.atomic_write`), so a failure leaves nothing."""
-    from itertools import chain
+def write_table(path, header: str, columns, lines=None, lead: bytes = b"", threads: int | None = None) -> None:
+    """Write ``header`` then one line per row: the columns' exact texts (see :func:`format_rows`) joined by
+    commas, after the row's line of an input text and ``lead`` when ``lines`` is given.
 
+    ``lines`` is ``(text, nl, ends)``: row ``i``'s line is ``text[nl[i] + 1:ends[i]]``, after the newline
+    at ``nl[i]`` (copied verbatim; no line may hold the filler byte 0x01). Blocks of rows are formatted on the shared thread pool while the
+    previous ones are written. Written through a unique temporary file
+    (:func:`tirecli.io.atomic.atomic_write`), so a failure leaves nothing."""
     from tirecli.io.atomic import atomic_write
 
-    n = len(tails)
-    step = 65536  # rows per write: bounded memory, fewer page faults than one huge buffer
+    cols = [np.ascontiguousarray(c, dtype=float).ravel() for c in columns]
+    prefix = None if lines is None else _Prefix(*lines, lead=lead)
     with atomic_write(path, "wb") as fh:
-        fh.write(header.encode() + b"\n")
-        for s in range(0, n, step):
-            if prefixes is None:
-                fh.write(b"".join(tails[s:s + step]))
-            else:
-                fh.write(b"".join(chain.from_iterable(zip(prefixes[s:s + step], tails[s:s + step]))))
+        fh.write(header.encode())
+        for text in _blocks(cols, threads, prefix):  # each row starts with its newline
+            fh.write(text)
+        fh.write(b"\n")
 
 
 # --------------------------------------------------------------------------- repr-identical text
