@@ -162,7 +162,9 @@ def _write_report(stage, entries: list, t_start: float, progress, campaigns=(), 
         earlier = read_timings(settings["cache"])
         # the slowest units (study and figures, as last measured; unknown ones) start first
         todo.sort(key=lambda t: -earlier.get(t["study"], float("inf")))
-        for res in work.run_units(todo, settings["jobs"], bar):
+        docs = {}  # the documentation pages, rendered in this process while the workers run the studies
+        for res in work.run_units(todo, settings["jobs"], bar,
+                                  meanwhile=lambda: docs.update(write_docs(out, __version__, settings["cache"]))):
             facts[res["study"]] = res
     finally:
         bar.close()
@@ -177,7 +179,6 @@ def _write_report(stage, entries: list, t_start: float, progress, campaigns=(), 
     if ran:
         write_timings(settings["cache"], ran)
 
-    docs = write_docs(out, __version__, settings["cache"])
     cards, all_checks = [], []
     for f in entries:
         card = {"id": f.id, "paper": f.paper, "label": f.label, "title": f.title, "caption": f.caption_for(None),

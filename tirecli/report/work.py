@@ -256,18 +256,34 @@ def _init_worker(q) -> None:
     matplotlib.use("Agg")
 
 
-def _run_in_worker(task: dict) -> dict:
-    return run_unit(task, note=lambda kind, name: _QUEUE.put((kind, name)))
+def _run_in_worker(tasks: list[dict]) -> list[dict]:
+    return [run_unit(t, note=lambda kind, name: _QUEUE.put((kind, name))) for t in tasks]
 
 
-def run_units(tasks: list[dict], jobs: int, note) -> list[dict]:
+#: Study kinds whose units share one worker: their brakings are solved once per process and reused
+#: (:func:`tirecli.numerics.runs.quarter_car` keeps its last runs), e.g. FM's braking #2 in fm-fig4 and fm-fig6.
+SHARED_RUN_STUDIES = ("simulate", "fit")
+
+
+def unit_group(task: dict) -> str:
+    """The worker group of a unit: units of :data:`SHARED_RUN_STUDIES` run in one process, in order."""
+    data = getattr(task.get("config"), "data", None)
+    kind = data.get("study") if isinstance(data, dict) else None
+    return "shared-runs" if kind in SHARED_RUN_STUDIES else f"study:{task['study']}"
+
+
+def run_units(tasks: list[dict], jobs: int, note, meanwhile=None) -> list[dict]:
     """Run ``tasks`` (in the given order of start) in ``jobs`` processes; their results in the same order.
 
     ``note(kind, name)`` is called in this process for every step (and ``("tick", "")`` at least
     every quarter second while the work runs). A failure of a unit (other than its study's or a
     figure's, which it reports) ends the pool and is raised here; so is Ctrl-C, and a worker that
-    died (killed, out of memory) is a :class:`~tirecli.errors.RunError`.
+    died (killed, out of memory) is a :class:`~tirecli.errors.RunError`. ``meanwhile()`` (optional) is
+    called once in this process, after the workers have started (never while forking: no thread runs it).
     """
+    if not tasks or jobs <= 1 or len(tasks) == 1:
+        if meanwhile is not None:
+            meanwhile()
     if not tasks:
         return []
     if jobs <= 1 or len(tasks) == 1:
@@ -284,7 +300,13 @@ def run_units(tasks: list[dict], jobs: int, note) -> list[dict]:
     q = ctx.Queue()
     pool = ProcessPoolExecutor(min(jobs, len(tasks)), mp_context=ctx, initializer=_init_worker, initargs=(q,))
     try:
-        futures = [pool.submit(_run_in_worker, t) for t in tasks]
+        groups: dict[str, list[int]] = {}
+        for i, t in enumerate(tasks):  # a group starts where its first (slowest) unit would have
+            groups.setdefault(unit_group(t), []).append(i)
+        order = list(groups.values())
+        futures = [pool.submit(_run_in_worker, [tasks[i] for i in idx]) for idx in order]
+        if meanwhile is not None:  # the workers are forked by now (all of them, at the first submission)
+            meanwhile()
         while True:
             _drain(q, note, timeout=0.25)
             done = [f for f in futures if f.done()]
@@ -295,7 +317,11 @@ def run_units(tasks: list[dict], jobs: int, note) -> list[dict]:
                 break
         _drain(q, note, timeout=0.0)
         pool.shutdown()
-        return [f.result() for f in futures]
+        results: list = [None] * len(tasks)
+        for idx, f in zip(order, futures):
+            for i, r in zip(idx, f.result()):
+                results[i] = r
+        return results
     except BrokenProcessPool:
         _stop(pool)
         raise RunError("a worker process of the report ended abruptly (killed, or out of memory?); "
