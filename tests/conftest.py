@@ -34,3 +34,17 @@ def table2():
     from tirecli.parameters.sets import load_builtin
 
     return load_builtin("canudas2003-table2").model()
+
+
+def block_pyarrow(monkeypatch) -> None:
+    """Make ``import pyarrow`` (and its submodules) fail for the rest of the test, as on an install without it."""
+    import builtins
+
+    real_import = builtins.__import__
+
+    def no_pyarrow(name, *args, **kw):
+        if name == "pyarrow" or name.startswith("pyarrow."):
+            raise ImportError(name)
+        return real_import(name, *args, **kw)
+
+    monkeypatch.setattr(builtins, "__import__", no_pyarrow)

@@ -1,6 +1,7 @@
 """The fast exact float formatter of tirecli mf eval: every double reads back exactly, with the
 digits of repr (shortest round trip) in all but rare near-tie cases."""
 import numpy as np
+from conftest import block_pyarrow
 
 from tirecli.io.fastcsv import format_exact, format_rows
 
@@ -107,8 +108,6 @@ def test_plain_csv_reads_as_the_general_reader(tmp_path):
 
 def test_mf_eval_same_file_with_and_without_pyarrow(tmp_path, monkeypatch):
     """Without pyarrow (a plain install) the general reader reads the points: the same result file."""
-    import builtins
-
     from tirecli.app_mf import mf_eval
 
     rng = np.random.default_rng(2)
@@ -118,14 +117,7 @@ def test_mf_eval_same_file_with_and_without_pyarrow(tmp_path, monkeypatch):
     pts = tmp_path / "p.csv"
     pts.write_text("kappa,alpha,gamma,fz\n" + "\n".join(rows) + "\n")
     mf_eval("pacejka2006-205-60r15", pts, tmp_path / "a.csv")
-    real_import = builtins.__import__
-
-    def no_pyarrow(name, *args, **kw):
-        if name == "pyarrow" or name.startswith("pyarrow."):
-            raise ImportError(name)
-        return real_import(name, *args, **kw)
-
-    monkeypatch.setattr(builtins, "__import__", no_pyarrow)
+    block_pyarrow(monkeypatch)
     mf_eval("pacejka2006-205-60r15", pts, tmp_path / "b.csv")
     assert (tmp_path / "a.csv").read_bytes() == (tmp_path / "b.csv").read_bytes()
     assert (tmp_path / "a.csv").read_bytes().count(b"\n") == 501

@@ -7,6 +7,7 @@ import math
 import numpy as np
 import pandas as pd
 import pytest
+from conftest import block_pyarrow
 
 from tirecli.io import fastcsv, output
 
@@ -137,20 +138,11 @@ def test_sweep_parquet_equals_csv(cli, tmp_path):
 
 
 def test_format_errors_are_one_line(cli, tmp_path, monkeypatch):
-    import builtins
-
     cfg = tmp_path / "s.yaml"
     cfg.write_text(SWEEP)
     code, _, err = cli("sweep", cfg, "--out", tmp_path / "o", "--format", "xlsx")
     assert code == 2 and "--format 'xlsx'" in err and len(err.strip().splitlines()) == 1
-    real_import = builtins.__import__
-
-    def no_pyarrow(name, *args, **kw):
-        if name == "pyarrow" or name.startswith("pyarrow."):
-            raise ImportError(name)
-        return real_import(name, *args, **kw)
-
-    monkeypatch.setattr(builtins, "__import__", no_pyarrow)
+    block_pyarrow(monkeypatch)
     code, _, err = cli("sweep", cfg, "--out", tmp_path / "o", "--format", "parquet")
     assert code == 2 and "pip install 'tirecli[campaign]'" in err and len(err.strip().splitlines()) == 1
     assert not (tmp_path / "o").exists()  # refused before the run

@@ -45,13 +45,12 @@ with np.errstate(over="ignore"):
 _BLOCK = 65536
 
 
-def _digits(a):
-    """``(D, e)``: the 17-digit integer ``D`` (``10^16 <= D < 10^17``, shorter results padded with
-    zeros) and decimal exponent with ``a ~= D * 10^(e - 16)``, using 15, 16 or 17 significant
-    digits: the fewest that read back to ``a`` (``a > 0`` finite)."""
+def _scaled17(a):
+    """``(e, y, d)`` of positive finite ``a``: decimal exponent ``e``, ``y = a * 10^(16 - e)`` (``a`` in units
+    of its 17th significant digit, in long double: error ~0.01 unit) and ``d = rint(y)`` in [1e16, 1e17)."""
     e = np.floor(np.log10(a)).astype(np.int64)
     al = a.astype(np.longdouble)
-    y = al * _P10[_P10_OFF + 16 - e]  # a in units of the 17th digit (error ~0.01 unit)
+    y = al * _P10[_P10_OFF + 16 - e]
     d = np.rint(y)
     for _ in range(2):  # log10 can be off by one next to powers of ten
         hi = d >= 1e17
@@ -61,6 +60,14 @@ def _digits(a):
         e = e + hi - lo
         y = al * _P10[_P10_OFF + 16 - e]
         d = np.rint(y)
+    return e, y, d
+
+
+def _digits(a):
+    """``(D, e)``: the 17-digit integer ``D`` (``10^16 <= D < 10^17``, shorter results padded with
+    zeros) and decimal exponent with ``a ~= D * 10^(e - 16)``, using 15, 16 or 17 significant
+    digits: the fewest that read back to ``a`` (``a > 0`` finite)."""
+    e, y, d = _scaled17(a)
     frac = (y - d).astype(np.float64)  # y = D + frac, |frac| <= 0.5
     D = d.astype(np.uint64)
     # half the gaps to the neighbouring doubles, in units of the 17th digit, less the error of y
@@ -328,18 +335,7 @@ def _repr_digits(a):
     ``repr(a)`` padded with zeros, ``e`` the decimal exponent of the first digit; ``unsure`` marks the
     values where a rounding decision came within the error of the extended-precision arithmetic
     (their text is taken from ``repr`` instead)."""
-    e = np.floor(np.log10(a)).astype(np.int64)
-    al = a.astype(np.longdouble)
-    y = al * _P10[_P10_OFF + 16 - e]
-    d = np.rint(y)
-    for _ in range(2):
-        hi = d >= 1e17
-        lo = d < 1e16
-        if not (hi.any() or lo.any()):
-            break
-        e = e + hi - lo
-        y = al * _P10[_P10_OFF + 16 - e]
-        d = np.rint(y)
+    e, y, d = _scaled17(a)
     frac = (y - d).astype(np.float64)
     D = d.astype(np.uint64)
     unsure = (D < np.uint64(10 ** 16)) | (D >= np.uint64(10 ** 17))
