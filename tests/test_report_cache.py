@@ -184,6 +184,28 @@ def test_save_figure_lays_out_once_for_several_formats(tmp_path):
     assert [p.name for p in save_figure(fig, tmp_path, "g", formats=("png",))] == ["g.png"]
 
 
+@pytest.mark.parametrize("study", ["fm-fig1-left", "mcps-fig3"])
+def test_a_png_is_the_file_savefig_writes(tmp_path, study):
+    """The PNG drawn once (layout and rendering in one pass) is byte for byte what ``savefig`` writes."""
+    import io
+
+    from tirecli.figures.registry import load_all
+    from tirecli.io.output import save_figure
+    from tirecli.studies.base import builtin_config, run_study
+
+    res = run_study(builtin_config(study))
+    figs = [f for f in load_all().values() if f.study == study]
+    assert figs
+    for f in figs:
+        fig = f.draw(res)
+        if not hasattr(fig, "savefig"):
+            continue
+        ref = io.BytesIO()
+        f.draw(res).savefig(ref, format="png", dpi=150, metadata={"Software": None})
+        (path,) = save_figure(fig, tmp_path, f.id, dpi=150, formats=("png",))
+        assert path.read_bytes() == ref.getvalue(), f.id
+
+
 def _sum_on_threads() -> int:
     from tirecli.numerics.pool import thread_pool
 

@@ -226,6 +226,27 @@ def _quiet_mpl3d():
         yield
 
 
+def _png_data(fig, dpi: int) -> bytes:
+    """The PNG file of ``fig`` at ``dpi``: the bytes of ``fig.savefig(format="png", dpi=dpi)`` with the
+    'Software' metadata left out, from one drawing (savefig first draws once without rendering to lay
+    the figure out, then again to render it; the Agg canvas lays out and renders in one draw)."""
+    import io
+
+    from matplotlib import image
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+
+    canvas = FigureCanvasAgg(fig)
+    old = fig.dpi
+    fig.dpi = dpi
+    try:
+        canvas.draw()
+        buf = io.BytesIO()
+        image.imsave(buf, canvas.buffer_rgba(), format="png", origin="upper", dpi=dpi, metadata={"Software": None})
+    finally:
+        fig.dpi = old
+    return buf.getvalue()
+
+
 def save_figure(fig, directory: str | Path, name: str, dpi: int = 150, formats=("png", "svg")) -> list[Path]:
     """Save a matplotlib figure as ``NAME.png`` and ``NAME.svg`` (``formats``: which of the two;
     deterministic metadata). The layout is computed once for all formats."""
@@ -242,8 +263,9 @@ def save_figure(fig, directory: str | Path, name: str, dpi: int = 150, formats=(
         for fmt in formats:
             path = directory / f"{name}.{fmt}"
             if fmt == "png":
+                data = _png_data(fig, dpi)
                 with atomic_write(path, "wb") as fh:
-                    fig.savefig(fh, format="png", dpi=dpi, metadata={"Software": None})
+                    fh.write(data)
             elif fmt == "svg":  # text stays text: smaller, faster, editable
                 with matplotlib.rc_context({"svg.fonttype": "none"}), atomic_write(path, "wb") as fh:
                     fig.savefig(fh, format="svg", metadata={"Date": None, "Creator": None})
