@@ -143,7 +143,8 @@ def run_campaign(path: str | Path, out=None, jobs: int | None = None, scheduler:
                  progress=None, note=None) -> CampaignSummary:
     """Run the campaign file ``path`` into ``out`` (module doc). ``note(text)`` reports what happens
     (points to run, resumed)."""
-    from tirecli.campaign.execute import batch_size, default_jobs, run_batches
+    from tirecli.campaign.execute import batch_size, run_batches
+    from tirecli.numerics.pool import default_jobs
     from tirecli.io.atomic import locked_dir, out_path
     from tirecli.io.campaign import PointStore
 

@@ -42,10 +42,6 @@ def batch_size(n_points: int, workers: int, seconds_per_point: float, given: int
     return max(1, min(by_time, by_balance))
 
 
-def default_jobs() -> int:
-    return max(1, len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else (os.cpu_count() or 1))
-
-
 #: Environment of a worker process: one thread per numeric library (the workers share the cores).
 ONE_THREAD = {k: "1" for k in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS",
                                "VECLIB_MAXIMUM_THREADS", "NUMEXPR_NUM_THREADS")}
@@ -65,7 +61,6 @@ def pin_threads() -> None:
     from tirecli.numerics import pool
 
     pool.LIMIT = 1
-    pool._POOL, pool._SIZE = None, 0  # a forked copy of the parent's thread pool has no threads
     try:
         import ctypes
 
@@ -209,4 +204,4 @@ def _run_dask(payload, batches, jobs, scheduler, on_records) -> dict:
             "workers": workers}
 
 
-__all__ = ["run_batches", "batch_size", "default_jobs", "dask_client"]
+__all__ = ["run_batches", "batch_size", "dask_client"]

@@ -235,8 +235,9 @@ def _blocks(cols, threads, prefix=None):
         futures[k] = None
 
 
-def format_rows(columns, threads: int | None = None, lead: bytes = b"", keepends: bool = False) -> list[bytes]:
-    """One ``bytes`` line per row: the columns' exact texts joined by commas.
+def format_rows(columns, threads: int | None = None) -> list[bytes]:
+    """One ``bytes`` line per row: the columns' exact texts joined by commas (the texts :func:`write_table`
+    writes, as a list).
 
     Parameters
     ----------
@@ -244,18 +245,11 @@ def format_rows(columns, threads: int | None = None, lead: bytes = b"", keepends
         Float columns of equal length.
     threads : int or None
         Worker threads (default: the shared pool's thread count).
-    lead : bytes
-        Text put before every row (e.g. the comma after columns written elsewhere).
-    keepends : bool
-        End every row with a newline.
     """
     cols = [np.ascontiguousarray(c, dtype=float).ravel() for c in columns]
     if not cols or cols[0].size == 0:
         return []
-    text = b"".join(_blocks(cols, threads))[1:] + b"\n"  # every block starts each row with a newline
-    if lead:
-        text = lead + text.replace(b"\n", b"\n" + lead)[:-len(lead)]
-    return text.splitlines(keepends=True) if keepends else text.split(b"\n")[:-1]
+    return (b"".join(_blocks(cols, threads))[1:] + b"\n").split(b"\n")[:-1]  # each block starts each row with a newline
 
 
 def _verified(cols, rows, lo: int = 0):

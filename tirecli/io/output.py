@@ -15,6 +15,7 @@ into a staging directory moved into ``DIR`` at the end (:mod:`tirecli.io.atomic`
 from __future__ import annotations
 
 import contextlib
+import functools
 import json
 import math
 import platform
@@ -277,27 +278,30 @@ def save_figure(fig, directory: str | Path, name: str, dpi: int = 150, formats=(
     return paths
 
 
+@functools.lru_cache(maxsize=None)
+def lib_version(name: str) -> str:
+    """The installed version of package ``name`` (from its metadata: nothing is imported), or ``-``."""
+    from importlib import metadata
+
+    try:
+        return metadata.version(name)
+    except metadata.PackageNotFoundError:  # pragma: no cover - a dependency always is installed
+        return "-"
+
+
 def environment() -> dict:
     """Versions that matter for reproducing a run (read from the installed packages' metadata: a
     report taken from the cache imports neither scipy, pandas nor matplotlib)."""
-    from importlib import metadata
-
     from tirecli import __version__
-
-    def version(name: str) -> str:
-        try:
-            return metadata.version(name)
-        except metadata.PackageNotFoundError:  # pragma: no cover - a dependency always is installed
-            return "-"
 
     return {
         "tirecli": __version__,
         "python": sys.version.split()[0],
         "platform": platform.platform(),
         "numpy": np.__version__,
-        "scipy": version("scipy"),
-        "pandas": version("pandas"),
-        "matplotlib": version("matplotlib"),
+        "scipy": lib_version("scipy"),
+        "pandas": lib_version("pandas"),
+        "matplotlib": lib_version("matplotlib"),
     }
 
 

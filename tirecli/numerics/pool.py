@@ -17,6 +17,26 @@ _LOCK = threading.Lock()
 LIMIT: int | None = None
 
 
+def default_jobs() -> int:
+    """The cores this process may use (its CPU affinity; the CPU count where that is unknown): the default
+    number of worker processes of a report or a campaign."""
+    try:
+        return max(len(os.sched_getaffinity(0)), 1)
+    except (AttributeError, OSError):  # pragma: no cover - not Linux
+        return max(os.cpu_count() or 1, 1)
+
+
+def _drop_after_fork() -> None:
+    """In a forked child: the parent's pool has no threads here (work given to it would wait for ever);
+    the child starts its own when it first needs one."""
+    global _POOL, _SIZE, _LOCK
+    _POOL, _SIZE, _LOCK = None, 0, threading.Lock()
+
+
+if hasattr(os, "register_at_fork"):
+    os.register_at_fork(after_in_child=_drop_after_fork)
+
+
 def default_threads() -> int:
     """Worker threads for large evaluations: the CPU count (at most 8, and at most :data:`LIMIT`)."""
     return max(1, min(os.cpu_count() or 1, 8, LIMIT or 8))

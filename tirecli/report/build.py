@@ -23,6 +23,7 @@ from tirecli.io import output
 from tirecli.io.atomic import out_path, staged_dir
 from tirecli.io.cache import read_bytes, read_timings, write_timings
 from tirecli.io.files import check_output_dir
+from tirecli.numerics.pool import default_jobs
 from tirecli.report.cards import card_files
 from tirecli.report import work
 from tirecli.report.docs import card_doc, link_sources, write_docs
@@ -93,7 +94,7 @@ def build_report(out: str | Path, only=None, progress=None, campaigns=(), jobs: 
             load_campaign(path)
     # a bad location fails before the studies run
     check_output_dir(out, files=("index.html", "summary.json"), dirs=("data", "figures"))
-    settings = {"jobs": jobs or work.default_jobs(), "use_cache": use_cache, "formats": formats,
+    settings = {"jobs": jobs or default_jobs(), "use_cache": use_cache, "formats": formats,
                 "cache": str(cache if cache is not None else out / DEFAULT_NAME)}
     with staged_dir(out, marker="summary.json") as stage:
         return _write_report(stage, entries, t_start, progress, campaigns, settings)

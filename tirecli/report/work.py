@@ -15,7 +15,6 @@ from __future__ import annotations
 
 import functools
 import json
-import os
 import queue
 import signal
 import sys
@@ -30,24 +29,6 @@ from tirecli.io import output
 FORMATS = ("png", "svg")
 #: Resolution of the saved PNG [dots per inch].
 DPI = 150
-
-
-def default_jobs() -> int:
-    """The cores this process may use."""
-    try:
-        return max(len(os.sched_getaffinity(0)), 1)
-    except (AttributeError, OSError):  # pragma: no cover - not Linux
-        return max(os.cpu_count() or 1, 1)
-
-
-@functools.lru_cache(maxsize=None)
-def _lib_version(name: str) -> str:
-    from importlib import metadata
-
-    try:
-        return metadata.version(name)
-    except metadata.PackageNotFoundError:  # pragma: no cover
-        return "-"
 
 
 @functools.lru_cache(maxsize=None)
@@ -96,7 +77,7 @@ def study_key(name: str, config) -> str:
     return key_of({
         "format": FORMAT, "study": name, "config": config.digest(), "configs": _named_configs(config, {}),
         "tirecli": __version__, "code": code_fingerprint(), "python": sys.version,
-        "libraries": {lib: _lib_version(lib) for lib in ("numpy", "scipy", "pandas", "matplotlib")},
+        "libraries": {lib: output.lib_version(lib) for lib in ("numpy", "scipy", "pandas", "matplotlib")},
     })
 
 
@@ -241,16 +222,12 @@ _QUEUE = None
 def _init_worker(q) -> None:
     """A pool worker: Ctrl-C is the parent's to handle (it ends the pool), SIGTERM ends the worker.
 
-    A forked worker has none of the parent's threads: the shared thread pool of the numerical code
-    (:mod:`tirecli.numerics.pool`), if the parent had started it, is dropped so that the worker
-    starts its own (work given to the parent's would wait for threads that do not exist here)."""
+    A forked worker has none of the parent's threads: :mod:`tirecli.numerics.pool` drops the parent's
+    thread pool in every forked child (``os.register_at_fork``)."""
     global _QUEUE
     _QUEUE = q
     signal.signal(signal.SIGINT, signal.SIG_IGN)
     signal.signal(signal.SIGTERM, signal.SIG_DFL)
-    pool = sys.modules.get("tirecli.numerics.pool")
-    if pool is not None:
-        pool._POOL, pool._SIZE, pool._LOCK = None, 0, threading.Lock()
     import matplotlib
 
     matplotlib.use("Agg")
@@ -281,12 +258,11 @@ def run_units(tasks: list[dict], jobs: int, note, meanwhile=None) -> list[dict]:
     died (killed, out of memory) is a :class:`~tirecli.errors.RunError`. ``meanwhile()`` (optional) is
     called once in this process, after the workers have started (never while forking: no thread runs it).
     """
-    if not tasks or jobs <= 1 or len(tasks) == 1:
+    if jobs <= 1 or len(tasks) <= 1:  # in this process, no pool
         if meanwhile is not None:
             meanwhile()
-    if not tasks:
-        return []
-    if jobs <= 1 or len(tasks) == 1:
+        if not tasks:
+            return []
         with _ticking(note):
             return [run_unit(t, note=note) for t in tasks]
     import multiprocessing

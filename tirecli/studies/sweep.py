@@ -141,10 +141,10 @@ def sweep_frame(variants, p, slips, speeds, thetas_fm, progress=None, block: int
     if progress is not None:
         progress.start(max(n // block, 1), "sweep")
     at = 0
-    for var in variants:
+    for iv, var in enumerate(variants):
         k0 = var.lumped_kappa0(p) if var.model == "lumped" else None
         for th in thetas_fm:
-            model[at:at + grid] = variants.index(var)
+            model[at:at + grid] = iv
             cols["theta"][at:at + grid] = th
             cols["theta_obs"][at:at + grid] = float(theta_obs_from_fm(th))
             for lo in range(0, grid, block):
