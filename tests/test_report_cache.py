@@ -185,9 +185,13 @@ def test_save_figure_lays_out_once_for_several_formats(tmp_path):
 
 
 @pytest.mark.parametrize("study", ["fm-fig1-left", "mcps-fig3"])
-def test_a_png_is_the_file_savefig_writes(tmp_path, study):
-    """The PNG drawn once (layout and rendering in one pass) is byte for byte what ``savefig`` writes."""
+def test_a_png_has_the_pixels_savefig_writes(tmp_path, study):
+    """The PNG drawn once (layout and rendering in one pass, tirecli's encoder) has pixel for pixel the
+    image and the resolution of the file ``savefig`` writes; the same figure gives the same bytes."""
     import io
+
+    import numpy as np
+    from PIL import Image
 
     from tirecli.figures.registry import load_all
     from tirecli.io.output import save_figure
@@ -203,7 +207,31 @@ def test_a_png_is_the_file_savefig_writes(tmp_path, study):
         ref = io.BytesIO()
         f.draw(res).savefig(ref, format="png", dpi=150, metadata={"Software": None})
         (path,) = save_figure(fig, tmp_path, f.id, dpi=150, formats=("png",))
-        assert path.read_bytes() == ref.getvalue(), f.id
+        with Image.open(ref) as a, Image.open(path) as b:
+            assert a.size == b.size and b.info["dpi"] == pytest.approx(a.info["dpi"]), f.id
+            assert np.array_equal(np.asarray(a.convert("RGBA")), np.asarray(b.convert("RGBA"))), f.id
+        (again,) = save_figure(f.draw(res), tmp_path, f.id + "-again", dpi=150, formats=("png",))
+        assert again.read_bytes() == path.read_bytes(), f.id
+
+
+def test_png_bytes_keeps_every_pixel():
+    """An opaque image is written as RGB, one with transparency as RGBA; both decode to the same pixels."""
+    import io
+
+    import numpy as np
+    from PIL import Image
+
+    from tirecli.io.output import png_bytes
+
+    rng = np.random.default_rng(3)
+    img = rng.integers(0, 256, size=(7, 5, 4), dtype=np.uint8)
+    img[..., 3] = 255
+    seethrough = img.copy()
+    seethrough[2, 3, 3] = 17
+    for arr, mode in ((img, "RGB"), (seethrough, "RGBA")):
+        with Image.open(io.BytesIO(png_bytes(arr, 150))) as im:
+            assert im.mode == mode and im.size == (5, 7) and im.info["dpi"] == pytest.approx((150, 150), rel=1e-3)
+            assert np.array_equal(np.asarray(im.convert("RGBA")), arr)
 
 
 def _sum_on_threads() -> int:

@@ -227,13 +227,47 @@ def _quiet_mpl3d():
         yield
 
 
-def _png_data(fig, dpi: int) -> bytes:
-    """The PNG file of ``fig`` at ``dpi``: the bytes of ``fig.savefig(format="png", dpi=dpi)`` with the
-    'Software' metadata left out, from one drawing (savefig first draws once without rendering to lay
-    the figure out, then again to render it; the Agg canvas lays out and renders in one draw)."""
-    import io
+#: zlib level of the PNG files: 3 compresses the unfiltered rows of a figure (flat colours, thin lines)
+#: to smaller files than matplotlib's own PNG (Pillow: adaptive row filters, level 6) in a fifth of the time.
+PNG_LEVEL = 3
 
-    from matplotlib import image
+
+def png_bytes(rgba, dpi: float, level: int = PNG_LEVEL) -> bytes:
+    """A PNG file of the 8-bit image ``rgba`` (rows x columns x 4, top row first) at ``dpi``.
+
+    Truecolour (RGB) when every pixel is opaque (a figure on its white background), else with alpha;
+    rows unfiltered (filter type 0: on plots the adaptive filters of general encoders give larger
+    files), one zlib stream at ``level``, the resolution in a ``pHYs`` chunk (pixels per metre,
+    ``round(dpi / 0.0254)``), no text chunks: the same bytes for the same pixels.
+    """
+    import struct
+    import zlib
+
+    rgba = np.asarray(rgba)
+    h, w = rgba.shape[:2]
+    opaque = bool((rgba[..., 3] == 255).all())
+    channels = 3 if opaque else 4
+    rows = np.empty((h, 1 + channels * w), dtype=np.uint8)
+    rows[:, 0] = 0  # filter type of each row: none
+    rows[:, 1:] = (rgba[..., :3] if opaque else rgba).reshape(h, channels * w)
+
+    def chunk(kind: bytes, data: bytes) -> bytes:
+        return struct.pack(">I", len(data)) + kind + data + struct.pack(">I", zlib.crc32(kind + data))
+
+    ppm = int(dpi / 0.0254 + 0.5)
+    return b"".join((
+        b"\x89PNG\r\n\x1a\n",
+        chunk(b"IHDR", struct.pack(">IIBBBBB", w, h, 8, 2 if opaque else 6, 0, 0, 0)),
+        chunk(b"pHYs", struct.pack(">IIB", ppm, ppm, 1)),
+        chunk(b"IDAT", zlib.compress(rows.data, level)),
+        chunk(b"IEND", b""),
+    ))
+
+
+def _png_data(fig, dpi: int) -> bytes:
+    """The PNG file of ``fig`` at ``dpi`` (:func:`png_bytes`): the pixels ``fig.savefig(format="png",
+    dpi=dpi)`` writes, from one drawing (savefig first draws once without rendering to lay the figure
+    out, then again to render it; the Agg canvas lays out and renders in one draw)."""
     from matplotlib.backends.backend_agg import FigureCanvasAgg
 
     canvas = FigureCanvasAgg(fig)
@@ -241,11 +275,9 @@ def _png_data(fig, dpi: int) -> bytes:
     fig.dpi = dpi
     try:
         canvas.draw()
-        buf = io.BytesIO()
-        image.imsave(buf, canvas.buffer_rgba(), format="png", origin="upper", dpi=dpi, metadata={"Software": None})
+        return png_bytes(canvas.buffer_rgba(), dpi)
     finally:
         fig.dpi = old
-    return buf.getvalue()
 
 
 def save_figure(fig, directory: str | Path, name: str, dpi: int = 150, formats=("png", "svg")) -> list[Path]:
