@@ -184,6 +184,26 @@ def test_save_figure_lays_out_once_for_several_formats(tmp_path):
     assert [p.name for p in save_figure(fig, tmp_path, "g", formats=("png",))] == ["g.png"]
 
 
+def test_a_cache_hit_reads_each_cached_file_once(cli, tmp_path, monkeypatch):
+    """The files of a cache entry are read once: the bytes whose hash was checked are the bytes copied."""
+    out = tmp_path / "rep"
+    _report(cli, out, "--jobs", "1")
+    cache = (out / ".tirecli-cache").resolve()
+    reads, real = [], Path.read_bytes
+
+    def read_bytes(self):
+        if cache in self.resolve().parents and self.name != "manifest.json" and self.name != "card.json":
+            reads.append(str(self))
+        return real(self)
+
+    monkeypatch.setattr(Path, "read_bytes", read_bytes)
+    before = {**_files(out, "data/*/*.csv"), **_files(out, "figures/*")}
+    summary = _report(cli, out, "--jobs", "1")
+    assert summary["study_cached"] == dict.fromkeys(STUDIES, True)
+    assert reads and len(reads) == len(set(reads)), "a cached file was read twice"
+    assert {**_files(out, "data/*/*.csv"), **_files(out, "figures/*")} == before
+
+
 @pytest.mark.parametrize("study", ["fm-fig1-left", "mcps-fig3"])
 def test_a_png_has_the_pixels_savefig_writes(tmp_path, study):
     """The PNG drawn once (layout and rendering in one pass, tirecli's encoder) has pixel for pixel the
