@@ -207,14 +207,16 @@ def test_a_cache_hit_reads_each_cached_file_once(cli, tmp_path, monkeypatch):
 @pytest.mark.parametrize("study", ["fm-fig1-left", "mcps-fig3"])
 def test_a_png_has_the_pixels_savefig_writes(tmp_path, study):
     """The PNG drawn once (layout and rendering in one pass, tirecli's encoder) has pixel for pixel the
-    image and the resolution of the file ``savefig`` writes; the same figure gives the same bytes."""
+    image and the resolution of the file ``savefig`` writes (with the same settings); the same figure
+    gives the same bytes."""
     import io
 
+    import matplotlib
     import numpy as np
     from PIL import Image
 
     from tirecli.figures.registry import load_all
-    from tirecli.io.output import save_figure
+    from tirecli.io.output import SAVE_RC, save_figure
     from tirecli.studies.base import builtin_config, run_study
 
     res = run_study(builtin_config(study))
@@ -225,7 +227,8 @@ def test_a_png_has_the_pixels_savefig_writes(tmp_path, study):
         if not hasattr(fig, "savefig"):
             continue
         ref = io.BytesIO()
-        f.draw(res).savefig(ref, format="png", dpi=150, metadata={"Software": None})
+        with matplotlib.rc_context(SAVE_RC):
+            f.draw(res).savefig(ref, format="png", dpi=150, metadata={"Software": None})
         (path,) = save_figure(fig, tmp_path, f.id, dpi=150, formats=("png",))
         with Image.open(ref) as a, Image.open(path) as b:
             assert a.size == b.size and b.info["dpi"] == pytest.approx(a.info["dpi"]), f.id
