@@ -42,6 +42,17 @@ PHI_WEIGHT = 0.1
 OUTPUTS = "outputs"
 
 
+def _vehicle_wheel(rv, rw, m_r, ghFm, ghrFJ, a11, a12, a21, a22, det, locked):
+    """``(k_v, k_w)`` of a W-solve once the tire block is eliminated: the 2 x 2 system of the vehicle and the
+    wheel with right-hand side ``(rv + gh Fm m_r, rw - gh rFJ m_r)`` (``m_r``: the friction coefficient's part
+    from the tire block; ``a``, ``det``: the system's matrix and determinant); ``k_w = 0`` for a locked wheel."""
+    b1 = rv + ghFm * m_r
+    b2 = rw - ghrFJ * m_r
+    if locked:
+        return b1 / a11, 0.0
+    return (b1 * a22 - a12 * b2) / det, (a11 * b2 - a21 * b1) / det
+
+
 class History:
     """The characteristic history: time, travelled length ``X``, ``Phi``, ``Y`` and their rates.
 
@@ -177,14 +188,11 @@ class CharacteristicsStepper:
 
     # ------------------------------------------------------------------ model
 
-    def _eval(self, t, y, u, th, mode, jac):
-        """Right-hand side at one state; with ``jac``: ``(f, Jacobian pieces, outputs)``, with ``jac`` =
-        :data:`OUTPUTS`: ``(f, None, outputs)`` (what the dense output needs, without the Jacobian)."""
-        p, car = self.p, self.car
-        r, L = car.r, p.L
-        v, w, Y, Phi, X = y[0], y[1], y[2], y[3], y[4]
-        S = y[5:]
-        K = self.K
+    def _slip(self, v, w, th):
+        """The slip terms at vehicle speed ``v`` [m/s], wheel speed ``w`` [rad/s] and adhesion ``th``:
+        ``c = |r omega|``, ``vr = r omega - v`` [m/s], ``qa = (|vr|/v_s)^alpha``, ``e = exp(-qa)``,
+        ``g = th (mu_c + (mu_s - mu_c) e)`` and the bristle rate ``b = sigma0 |vr| / g`` [1/s]."""
+        p, r = self.p, self.car.r
         c = r * w if w >= 0.0 else -r * w
         vr = r * w - v
         avr = vr if vr >= 0.0 else -vr
@@ -193,7 +201,28 @@ class CharacteristicsStepper:
             qa = qa * qa if p.alpha == 2.0 else qa ** p.alpha
         e = math.exp(-qa)
         g = th * (p.mu_c + (p.mu_s - p.mu_c) * e)
-        b = p.sigma0 * avr / g
+        return c, vr, qa, e, g, p.sigma0 * avr / g
+
+    def _forces(self, zw, zwd, vr, w, u, mode):
+        """``(mu, F, dv/dt, domega/dt)`` from the weighted deflection ``zw`` and its rate ``zwd``:
+        ``mu = sigma0 zw + sigma1 zwd + sigma2 vr``, ``F = mu F_n`` [N], ``m dv/dt = F``,
+        ``J domega/dt = -r F - sigma_w omega + u`` (0 for a locked wheel; both 0 when prescribed)."""
+        p, car = self.p, self.car
+        mu = p.sigma0 * zw + p.sigma1 * zwd + p.sigma2 * vr
+        F = mu * car.F_n
+        if mode == PRESCRIBED:
+            return mu, F, 0.0, 0.0
+        return mu, F, F / car.m, 0.0 if mode == LOCKED else (-car.r * F - p.sigma_w * w + u) / car.J
+
+    def _eval(self, t, y, u, th, mode, jac):
+        """Right-hand side at one state; with ``jac``: ``(f, Jacobian pieces, outputs)``, with ``jac`` =
+        :data:`OUTPUTS`: ``(f, None, outputs)`` (what the dense output needs, without the Jacobian)."""
+        p, car = self.p, self.car
+        r, L = car.r, p.L
+        v, w, Y, Phi, X = y[0], y[1], y[2], y[3], y[4]
+        S = y[5:]
+        K = self.K
+        c, vr, qa, e, g, b = self._slip(v, w, th)
         dY = vr - b * Y
         now = (t, X, Phi, Y, c, b, dY)
         lookup = self.hist.lookup
@@ -213,13 +242,7 @@ class CharacteristicsStepper:
         wv = self.w
         zw = sum(map(mul, wv, S))
         zwd = sum(map(mul, wv, dS))
-        mu = p.sigma0 * zw + p.sigma1 * zwd + p.sigma2 * vr
-        F = mu * car.F_n
-        if mode == PRESCRIBED:
-            fv = fw = 0.0
-        else:
-            fv = F / car.m
-            fw = 0.0 if mode == LOCKED else (-r * F - p.sigma_w * w + u) / car.J
+        mu, F, fv, fw = self._forces(zw, zwd, vr, w, u, mode)
         f = [fv, fw, dY, b, c] + dS
         if not jac:
             return f
@@ -264,15 +287,7 @@ class CharacteristicsStepper:
         p, car = self.p, self.car
         r, L = car.r, p.L
         v, w, Y, Phi, X, S0 = y
-        c = r * w if w >= 0.0 else -r * w
-        vr = r * w - v
-        avr = vr if vr >= 0.0 else -vr
-        qa = avr / p.v_s
-        if p.alpha != 1.0:
-            qa = qa * qa if p.alpha == 2.0 else qa ** p.alpha
-        e = math.exp(-qa)
-        g = th * (p.mu_c + (p.mu_s - p.mu_c) * e)
-        b = p.sigma0 * avr / g
+        c, vr, qa, e, g, b = self._slip(v, w, th)
         dY = vr - b * Y
         Pt, Yt, slope = self.hist.lookup(X - self.points[0], (t, X, Phi, Y, c, b, dY))
         ex = Pt - Phi
@@ -287,13 +302,7 @@ class CharacteristicsStepper:
         w0 = self.w[0]
         zw = 0.0 + w0 * S0
         zwd = 0.0 + w0 * dS0
-        mu = p.sigma0 * zw + p.sigma1 * zwd + p.sigma2 * vr
-        F = mu * car.F_n
-        if mode == PRESCRIBED:
-            fv = fw = 0.0
-        else:
-            fv = F / car.m
-            fw = 0.0 if mode == LOCKED else (-r * F - p.sigma_w * w + u) / car.J
+        mu, F, fv, fw = self._forces(zw, zwd, vr, w, u, mode)
         f = [fv, fw, dY, b, c, dS0]
         if not jac:
             return f
@@ -398,14 +407,8 @@ class CharacteristicsStepper:
 
             def solve(rv, rw, rq):
                 base = tire(rq)
-                m_r = sum(map(mul, mu_q, base))
-                b1 = rv + gh * Fm * m_r
-                b2 = rw - gh * rFJ * m_r
-                if locked:
-                    kv, kw = b1 / a11, 0.0
-                else:
-                    kv = (b1 * a22 - a12 * b2) / det
-                    kw = (a11 * b2 - a21 * b1) / det
+                kv, kw = _vehicle_wheel(rv, rw, sum(map(mul, mu_q, base)), gh * Fm, gh * rFJ, a11, a12, a21, a22, det,
+                                        locked)
                 return kv, kw, [base[i] + cv[i] * kv + cw[i] * kw for i in range(nq)]
         k1v, k1w, k1q = solve(f[0] + gh * ftv, f[1] + gh * ftw, [f[2 + i] + gh * ftq[i] for i in range(nq)])
         y2 = [y[0] + h * k1v, y[1] + h * k1w] + [y[2 + i] + h * k1q[i] for i in range(nq)]
@@ -462,14 +465,8 @@ class CharacteristicsStepper:
             if prescribed:
                 kv, kw = rv, rw
             else:
-                m_r = 0.0 + mq0 * b0 + mq1 * r1 + mq2 * r2 + mq3 * b3
-                b1 = rv + gh * Fm * m_r
-                b2 = rw - gh * rFJ * m_r
-                if locked:
-                    kv, kw = b1 / a11, 0.0
-                else:
-                    kv = (b1 * a22 - a12 * b2) / det
-                    kw = (a11 * b2 - a21 * b1) / det
+                kv, kw = _vehicle_wheel(rv, rw, 0.0 + mq0 * b0 + mq1 * r1 + mq2 * r2 + mq3 * b3, gh * Fm, gh * rFJ,
+                                        a11, a12, a21, a22, det, locked)
             return (kv, kw, b0 + cv0 * kv + cw0 * kw, r1 + cv1 * kv + cw1 * kw, r2 + cv2 * kv + cw2 * kw,
                     b3 + cv3 * kv + cw3 * kw)
 
