@@ -116,7 +116,8 @@ class SpooledFrame:
     cases): each part's rows are written as CSV text to an anonymous temporary file at once, so memory
     holds one part whatever the number of parts; :func:`write_csv` copies the rows into the output.
 
-    ``columns``: the column names, in order (every part has them).
+    ``columns``: the column names, in order (every part has them). The parts may also be formatted in
+    a helper process while this one goes on (:meth:`extend`); reading the rows waits for it.
     """
 
     def __init__(self, columns):
@@ -125,22 +126,70 @@ class SpooledFrame:
         self.columns = list(columns)
         self._fh = tempfile.TemporaryFile()  # removed by the system when closed, even after a crash
         self._rows = 0
+        self._helper = None
 
     def append(self, frame) -> None:
         """Add the rows of a DataFrame (its columns as :attr:`columns`)."""
+        self._wait()
         if list(frame.columns) != self.columns:
             raise ValueError(f"columns {list(frame.columns)} differ from {self.columns}")
         self._fh.seek(0, 2)
         _write_rows(self._fh, frame)
         self._rows += len(frame)
 
+    def extend(self, parts, background: bool = False) -> None:
+        """Add the rows of every DataFrame of the iterable ``parts``, in order.
+
+        ``background``: make and write the parts in a forked helper process (Linux) while this process
+        goes on; the methods that read the rows wait for it and raise its error (the text is the same).
+        The helper formats on one thread, ignores Ctrl-C (this process stops it) and is ended if this
+        frame is dropped before it finishes."""
+        self._wait()
+        if not background:
+            for frame in parts:
+                self.append(frame)
+            return
+        import multiprocessing
+        import weakref
+
+        ctx = multiprocessing.get_context("fork")
+        recv, send = ctx.Pipe(duplex=False)
+        self._fh.flush()
+        proc = ctx.Process(target=_spool_in_helper, args=(self, parts, send), daemon=True, name="tirecli-spool")
+        proc.start()
+        send.close()
+        self._helper = (proc, recv, weakref.finalize(self, _end_helper, proc, recv))
+
+    def _wait(self) -> None:
+        """Wait for the helper process of :meth:`extend`, if any; raise its error."""
+        if self._helper is None:
+            return
+        proc, recv, ender = self._helper
+        self._helper = None
+        try:
+            kind, value = recv.recv()
+        except EOFError:
+            kind, value = "died", None
+        finally:
+            ender.detach()
+            recv.close()
+            proc.join()
+        if kind == "died":
+            raise RuntimeError(f"the helper process writing the rows of a table ended unexpectedly "
+                               f"(exit code {proc.exitcode})")
+        if kind == "error":
+            raise value
+        self._rows = value
+
     def __len__(self) -> int:
+        self._wait()
         return self._rows
 
     def copy_rows(self, fh) -> None:
         """Copy the CSV rows (no header) into the binary file ``fh``."""
         import shutil
 
+        self._wait()
         self._fh.flush()
         self._fh.seek(0)
         shutil.copyfileobj(self._fh, fh, 1 << 20)
@@ -149,11 +198,45 @@ class SpooledFrame:
         """The whole table as a DataFrame (read back: for small tables and tests)."""
         import pandas as pd
 
+        self._wait()
         self._fh.flush()
         self._fh.seek(0)
         if not self._rows:
             return pd.DataFrame(columns=self.columns)
         return pd.read_csv(self._fh, header=None, names=self.columns, keep_default_na=False, na_values=[""])
+
+
+def _spool_in_helper(spool: SpooledFrame, parts, conn) -> None:
+    """The helper process of :meth:`SpooledFrame.extend`: write the parts, send ``("done", rows)`` or
+    ``("error", exception)`` (the exception's text when it cannot be sent as it is)."""
+    import pickle
+    import signal
+
+    signal.signal(signal.SIGINT, signal.SIG_IGN)  # Ctrl-C is the parent's to handle
+    signal.signal(signal.SIGTERM, signal.SIG_DFL)
+    from tirecli.numerics import pool
+
+    pool.LIMIT = 1  # the other cores are busy with the parent's work
+    try:
+        for frame in parts:
+            spool.append(frame)
+        spool._fh.flush()
+        message = ("done", spool._rows)
+    except BaseException as exc:  # noqa: BLE001 - every failure goes to the parent
+        try:
+            message = ("error", pickle.loads(pickle.dumps(exc)))
+        except Exception:  # noqa: BLE001 - not picklable: its text
+            message = ("error", RuntimeError(f"{type(exc).__name__}: {exc}"))
+    conn.send(message)
+    conn.close()
+
+
+def _end_helper(proc, conn) -> None:
+    """End the helper process of a spooled frame dropped before it finished."""
+    if proc.is_alive():
+        proc.terminate()
+    proc.join(timeout=5)
+    conn.close()
 
 
 #: Formats of a run's data files (``--format``).
@@ -359,11 +442,7 @@ def write_result(stage, result, figures: dict, checks: list, command: str, wall_
         progress.start(len(result.data) + len(figures), "writing")
     data_paths, fig_paths = [], []
     try:
-        for name, frame in result.data.items():
-            data_paths.append(write_parquet(out / "data" / f"{name}.parquet", frame, comments)
-                              if data_format == "parquet" else write_csv(out / "data" / f"{name}.csv", frame, comments))
-            if progress is not None:
-                progress.advance(1)
+        # the figures first: a table a helper process is still formatting (SpooledFrame.extend) comes last
         for fid, fig in figures.items():
             if isinstance(fig, Table):
                 import pandas as pd
@@ -372,6 +451,11 @@ def write_result(stage, result, figures: dict, checks: list, command: str, wall_
                                            pd.DataFrame(fig.rows, columns=fig.columns), comments))
             else:
                 fig_paths += save_figure(fig, out / "figures", fid)
+            if progress is not None:
+                progress.advance(1)
+        for name, frame in result.data.items():
+            data_paths.append(write_parquet(out / "data" / f"{name}.parquet", frame, comments)
+                              if data_format == "parquet" else write_csv(out / "data" / f"{name}.csv", frame, comments))
             if progress is not None:
                 progress.advance(1)
     finally:

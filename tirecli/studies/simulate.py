@@ -595,9 +595,20 @@ def _event_rows(ev: dict) -> list:
     return rows
 
 
-def _frame(tr, case: Case, dt: float, r: float, gain: float) -> pd.DataFrame:
+def _thinned(n: int, points: int) -> np.ndarray:
+    """Indices of every k-th of ``n`` rows, the last one kept: at most ``points + 1`` rows."""
+    keep = np.zeros(n, dtype=bool)
+    keep[::-(-n // points)] = True
+    keep[-1:] = True
+    return np.flatnonzero(keep)
+
+
+def _frame(tr, case: Case, dt: float, r: float, gain: float, points: int | None = None) -> pd.DataFrame:
     """The time series of a run on the output grid, from the integrator's dense output (states
-    interpolated by the step's cubic Hermite, outputs evaluated by the model there)."""
+    interpolated by the step's cubic Hermite, outputs evaluated by the model there).
+
+    ``points``: only every k-th row of the grid, the last kept (:func:`_thinned`; the rows the
+    figures draw), evaluated alone: the same values as those rows of the whole frame."""
     import pandas as pd
 
     t = tr.t
@@ -606,10 +617,17 @@ def _frame(tr, case: Case, dt: float, r: float, gain: float) -> pd.DataFrame:
         tg = np.round(np.arange(n + 1) * dt, 12)
         if tg[-1] < t[-1] - 1e-12:
             tg = np.append(tg, t[-1])
+        if points is not None:
+            tg = tg[_thinned(tg.size, points)]
         Y, O = tr.sample(tg)
         distance = runs.distance_at(tr, tg)
     else:
         tg, Y, O, distance = t, tr.y, tr.out, tr.out["distance"]
+        if points is not None:
+            rows = _thinned(t.size, points)
+            O = {k: np.asarray(O[k])[rows] for k in ("vr", "mu", "torque", "brake_torque", "theta", "zdot", "kappa0",
+                                                     "zbar", "locked") if k in O}
+            tg, Y, distance = t[rows], Y[rows], distance[rows]
     out = {"case": case.label, "mode": case.mode, "model": case.variant.default_label(), "t": tg,
            "v": Y[:, 0], "omega": Y[:, 1], "romega": r * Y[:, 1]}
     for k in ("vr", "mu", "torque", "brake_torque", "theta", "zdot", "kappa0"):
@@ -642,27 +660,29 @@ def _timeseries(trs: dict, cases: list, dt: float, r: float, gain: float):
     Up to :data:`SPOOL_CASES` cases the frame is a DataFrame. With more, each case's rows are written
     to disk, :data:`SPOOL_ROWS` rows at a time (:class:`tirecli.io.output.SpooledFrame`, copied into
     ``data/timeseries.csv``; the same text) and the figures draw every k-th row (at most
-    :data:`DRAWN_POINTS` a case, the last kept)."""
+    :data:`DRAWN_POINTS` a case, the last kept). With a spare core the rows are formatted in a
+    helper process (:meth:`~tirecli.io.output.SpooledFrame.extend`) while this one goes on with the
+    events and the figures; the text is the same."""
     import pandas as pd
 
     if len(cases) <= SPOOL_CASES:
         return pd.concat([_frame(trs[c.label], c, dt, r, gain) for c in cases], ignore_index=True), None
     from tirecli.io.output import SpooledFrame
+    from tirecli.numerics.pool import helper_process_ok
 
-    spool, drawn = SpooledFrame(TIMESERIES_COLUMNS), {}
-    pending, rows = [], 0
-    for i, c in enumerate(cases):
-        f = _frame(trs[c.label], c, dt, r, gain)
-        pending.append(f)
-        rows += len(f)
-        if rows >= SPOOL_ROWS or i == len(cases) - 1:   # a few cases at a time: fewer, larger CSV blocks
-            spool.append(pd.concat(pending, ignore_index=True) if len(pending) > 1 else f)
-            pending, rows = [], 0
-        keep = np.zeros(len(f), dtype=bool)
-        keep[::-(-len(f) // DRAWN_POINTS)] = True
-        keep[-1:] = True
-        drawn[c.label] = f[keep].reset_index(drop=True)
-    return spool, drawn
+    def parts():  # a few cases at a time: fewer, larger CSV blocks
+        pending, rows = [], 0
+        for i, c in enumerate(cases):
+            f = _frame(trs[c.label], c, dt, r, gain)
+            pending.append(f)
+            rows += len(f)
+            if rows >= SPOOL_ROWS or i == len(cases) - 1:
+                yield pd.concat(pending, ignore_index=True) if len(pending) > 1 else f
+                pending, rows = [], 0
+
+    spool = SpooledFrame(TIMESERIES_COLUMNS)
+    spool.extend(parts(), background=helper_process_ok())
+    return spool, {c.label: _frame(trs[c.label], c, dt, r, gain, DRAWN_POINTS) for c in cases}
 
 
 def _measure(trs: dict, labels: list, meas: dict, r: float, gain: float):
