@@ -727,7 +727,7 @@ def _underflow_cause(err, case, car, t_end) -> RunError:
     """The step-size underflow of a coupled case as a one-line error naming an implausible wheel torque
     input (its peak over the run against ``r F_n``) when there is one, else ``err`` with the case's label."""
     tq = case.torque
-    peak = max(abs(tq.at(float(t))) for t in run_times(t_end, None, tq.breakpoints(t_end)))
+    peak = float(np.max(np.abs(np.asarray(tq(run_times(t_end, None, tq.breakpoints(t_end))), dtype=float))))
     scale = car.r * car.F_n
     where = f"case {token(case.label)}: {err}"
     if not peak > IMPLAUSIBLE_TORQUE * scale:
