@@ -3,6 +3,7 @@ budget of a large sweep, simulate with many cases, ``mf eval``. No timings here 
 from __future__ import annotations
 
 import math
+import os
 
 import numpy as np
 import pandas as pd
@@ -234,7 +235,8 @@ def test_spooled_frame_filled_by_a_helper_process(tmp_path):
     texts = []
     for background in (False, True):
         spool = SpooledFrame(["case", "t", "x"])
-        spool.extend(iter(parts), background=background)
+        first = spool.extend(iter(parts), background=background, first=lambda: {"pid": os.getpid()})
+        assert (first()["pid"] != os.getpid()) == background  # made by the helper
         assert len(spool) == 2500
         texts.append(write_csv(tmp_path / f"{background}.csv", spool).read_bytes())
     assert texts[0] == texts[1]
@@ -244,9 +246,15 @@ def test_spooled_frame_filled_by_a_helper_process(tmp_path):
         raise ValueError("part 2 is broken")
 
     spool = SpooledFrame(["case", "t", "x"])
-    spool.extend(failing(), background=True)
+    assert spool.extend(failing(), background=True)() is None
     with pytest.raises(ValueError, match="part 2 is broken"):
         write_csv(tmp_path / "f.csv", spool)
+    spool = SpooledFrame(["case", "t", "x"])
+    first = spool.extend(iter(parts), background=True, first=lambda: 1 / 0)
+    with pytest.raises(ZeroDivisionError):
+        first()
+    with pytest.raises(ZeroDivisionError):
+        len(spool)
 
 
 @pytest.mark.parametrize("dt", [0.002, 0.0])

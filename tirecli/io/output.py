@@ -126,7 +126,7 @@ class SpooledFrame:
         self.columns = list(columns)
         self._fh = tempfile.TemporaryFile()  # removed by the system when closed, even after a crash
         self._rows = 0
-        self._helper = None
+        self._helper = self._error = self._first = None
 
     def append(self, frame) -> None:
         """Add the rows of a DataFrame (its columns as :attr:`columns`)."""
@@ -137,49 +137,72 @@ class SpooledFrame:
         _write_rows(self._fh, frame)
         self._rows += len(frame)
 
-    def extend(self, parts, background: bool = False) -> None:
-        """Add the rows of every DataFrame of the iterable ``parts``, in order.
+    def extend(self, parts, background: bool = False, first=None):
+        """Add the rows of every DataFrame of the iterable ``parts``, in order; ``first``: a function
+        (no arguments) called before the parts are made. Returns a function that gives ``first``'s
+        value (None without ``first``).
 
-        ``background``: make and write the parts in a forked helper process (Linux) while this process
-        goes on; the methods that read the rows wait for it and raise its error (the text is the same).
-        The helper formats on one thread, ignores Ctrl-C (this process stops it) and is ended if this
-        frame is dropped before it finishes."""
+        ``background``: call ``first`` and make and write the parts in a forked helper process (Linux)
+        while this process goes on; ``first``'s value (picklable) and the rows are waited for when
+        asked for, and the helper's error is raised there (the text is the same). The helper formats
+        on one thread, ignores Ctrl-C (this process stops it) and is ended if this frame is dropped
+        before it finishes."""
         self._wait()
         if not background:
+            value = first() if first is not None else None
             for frame in parts:
                 self.append(frame)
-            return
+            return lambda: value
         import multiprocessing
         import weakref
 
         ctx = multiprocessing.get_context("fork")
         recv, send = ctx.Pipe(duplex=False)
         self._fh.flush()
-        proc = ctx.Process(target=_spool_in_helper, args=(self, parts, send), daemon=True, name="tirecli-spool")
+        proc = ctx.Process(target=_spool_in_helper, args=(self, parts, first, send), daemon=True,
+                           name="tirecli-spool")
         proc.start()
         send.close()
         self._helper = (proc, recv, weakref.finalize(self, _end_helper, proc, recv))
+        self._first = _PENDING if first is not None else None
+        return self._first_value
 
-    def _wait(self) -> None:
-        """Wait for the helper process of :meth:`extend`, if any; raise its error."""
-        if self._helper is None:
-            return
+    def _message(self) -> tuple:
+        """The helper's next message ``(kind, value)``: ``first``, or ``done`` (the helper ends); its
+        error is raised."""
         proc, recv, ender = self._helper
-        self._helper = None
         try:
             kind, value = recv.recv()
         except EOFError:
-            kind, value = "died", None
-        finally:
+            kind, value = "died", RuntimeError("the helper process writing the rows of a table ended unexpectedly")
+        if kind != "first":
+            self._helper = None
             ender.detach()
             recv.close()
             proc.join()
         if kind == "died":
-            raise RuntimeError(f"the helper process writing the rows of a table ended unexpectedly "
-                               f"(exit code {proc.exitcode})")
-        if kind == "error":
+            value = RuntimeError(f"{value} (exit code {proc.exitcode})")
+        if kind in ("error", "died"):
+            self._error = value
             raise value
-        self._rows = value
+        return kind, value
+
+    def _first_value(self):
+        """The value of :meth:`extend`'s ``first`` (waiting for the helper)."""
+        if self._error is not None:
+            raise self._error
+        if self._first is _PENDING:
+            self._first = self._message()[1]
+        return self._first
+
+    def _wait(self) -> None:
+        """Wait for the helper process of :meth:`extend`, if any; raise its error."""
+        if self._error is not None:
+            raise self._error
+        if self._helper is None:
+            return
+        self._first_value()
+        self._rows = self._message()[1]
 
     def __len__(self) -> int:
         self._wait()
@@ -206,9 +229,14 @@ class SpooledFrame:
         return pd.read_csv(self._fh, header=None, names=self.columns, keep_default_na=False, na_values=[""])
 
 
-def _spool_in_helper(spool: SpooledFrame, parts, conn) -> None:
-    """The helper process of :meth:`SpooledFrame.extend`: write the parts, send ``("done", rows)`` or
-    ``("error", exception)`` (the exception's text when it cannot be sent as it is)."""
+#: The value of a helper's ``first`` not received yet (:meth:`SpooledFrame.extend`).
+_PENDING = object()
+
+
+def _spool_in_helper(spool: SpooledFrame, parts, first, conn) -> None:
+    """The helper process of :meth:`SpooledFrame.extend`: send ``("first", first())`` (with ``first``),
+    write the parts, send ``("done", rows)``; on an error ``("error", exception)`` instead (the
+    exception's text when it cannot be sent as it is)."""
     import pickle
     import signal
 
@@ -218,6 +246,8 @@ def _spool_in_helper(spool: SpooledFrame, parts, conn) -> None:
 
     pool.LIMIT = 1  # the other cores are busy with the parent's work
     try:
+        if first is not None:
+            conn.send(("first", first()))
         for frame in parts:
             spool.append(frame)
         spool._fh.flush()

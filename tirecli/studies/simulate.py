@@ -654,19 +654,24 @@ TIMESERIES_COLUMNS = ["case", "mode", "model", "t", "v", "omega", "romega", "sli
 
 
 def _timeseries(trs: dict, cases: list, dt: float, r: float, gain: float):
-    """``(timeseries, drawn)``: the frame ``timeseries`` of every case (:func:`_frame`) and, when it is
-    streamed, ``{label: frame}`` of each case's rows thinned for the figures (else None).
+    """``(timeseries, drawn, events)``: the frame ``timeseries`` of every case (:func:`_frame`), when it
+    is streamed ``{label: frame}`` of each case's rows thinned for the figures (else None), and the
+    facts of every case (:func:`_events`).
 
     Up to :data:`SPOOL_CASES` cases the frame is a DataFrame. With more, each case's rows are written
     to disk, :data:`SPOOL_ROWS` rows at a time (:class:`tirecli.io.output.SpooledFrame`, copied into
     ``data/timeseries.csv``; the same text) and the figures draw every k-th row (at most
-    :data:`DRAWN_POINTS` a case, the last kept). With a spare core the rows are formatted in a
-    helper process (:meth:`~tirecli.io.output.SpooledFrame.extend`) while this one goes on with the
-    events and the figures; the text is the same."""
+    :data:`DRAWN_POINTS` a case, the last kept). With a spare core a helper process finds the events
+    and formats the rows (:meth:`~tirecli.io.output.SpooledFrame.extend`) while this one evaluates
+    the rows drawn and goes on to the figures; the same numbers and text."""
     import pandas as pd
 
+    def events():
+        return [_events(trs[c.label], c, r) for c in cases]
+
     if len(cases) <= SPOOL_CASES:
-        return pd.concat([_frame(trs[c.label], c, dt, r, gain) for c in cases], ignore_index=True), None
+        frame = pd.concat([_frame(trs[c.label], c, dt, r, gain) for c in cases], ignore_index=True)
+        return frame, None, events()
     from tirecli.io.output import SpooledFrame
     from tirecli.numerics.pool import helper_process_ok
 
@@ -681,8 +686,9 @@ def _timeseries(trs: dict, cases: list, dt: float, r: float, gain: float):
                 pending, rows = [], 0
 
     spool = SpooledFrame(TIMESERIES_COLUMNS)
-    spool.extend(parts(), background=helper_process_ok())
-    return spool, {c.label: _frame(trs[c.label], c, dt, r, gain, DRAWN_POINTS) for c in cases}
+    found = spool.extend(parts(), background=helper_process_ok(), first=events)
+    drawn = {c.label: _frame(trs[c.label], c, dt, r, gain, DRAWN_POINTS) for c in cases}
+    return spool, drawn, found()
 
 
 def _measure(trs: dict, labels: list, meas: dict, r: float, gain: float):
@@ -781,8 +787,7 @@ def run_simulate(config: Config, progress=None) -> StudyResult:
     t_end = checked["t_end"]
     gain = (checked["input"] or {}).get("pressure_gain") or DEFAULT_PRESSURE_GAIN
     trs = run_cases(cases, p, car, t_end, _sample_times(meas, t_end), progress)
-    timeseries, drawn = _timeseries(trs, cases, checked["output"]["dt"], car.r, gain)
-    events = [_events(trs[c.label], c, car.r) for c in cases]
+    timeseries, drawn, events = _timeseries(trs, cases, checked["output"]["dt"], car.r, gain)
     data = {"timeseries": timeseries,
             "events": pd.DataFrame([row for e in events for row in _event_rows(e)])}
     synthetic = False
