@@ -603,12 +603,14 @@ def _thinned(n: int, points: int) -> np.ndarray:
     return np.flatnonzero(keep)
 
 
-def _frame(tr, case: Case, dt: float, r: float, gain: float, points: int | None = None) -> pd.DataFrame:
+def _frame(tr, case: Case, dt: float, r: float, gain: float, points: int | None = None,
+           keep: bool = True) -> pd.DataFrame:
     """The time series of a run on the output grid, from the integrator's dense output (states
     interpolated by the step's cubic Hermite, outputs evaluated by the model there).
 
     ``points``: only every k-th row of the grid, the last kept (:func:`_thinned`; the rows the
-    figures draw), evaluated alone: the same values as those rows of the whole frame."""
+    figures draw), evaluated alone: the same values as those rows of the whole frame. ``keep=False``:
+    the samples are not kept with the run (:meth:`~tirecli.numerics.ros2.Trajectory.sample`)."""
     import pandas as pd
 
     t = tr.t
@@ -619,7 +621,7 @@ def _frame(tr, case: Case, dt: float, r: float, gain: float, points: int | None 
             tg = np.append(tg, t[-1])
         if points is not None:
             tg = tg[_thinned(tg.size, points)]
-        Y, O = tr.sample(tg)
+        Y, O = tr.sample(tg, keep)
         distance = runs.distance_at(tr, tg)
     else:
         tg, Y, O, distance = t, tr.y, tr.out, tr.out["distance"]
@@ -678,7 +680,7 @@ def _timeseries(trs: dict, cases: list, dt: float, r: float, gain: float):
     def parts():  # a few cases at a time: fewer, larger CSV blocks
         pending, rows = [], 0
         for i, c in enumerate(cases):
-            f = _frame(trs[c.label], c, dt, r, gain)
+            f = _frame(trs[c.label], c, dt, r, gain, keep=False)
             pending.append(f)
             rows += len(f)
             if rows >= SPOOL_ROWS or i == len(cases) - 1:
@@ -687,7 +689,7 @@ def _timeseries(trs: dict, cases: list, dt: float, r: float, gain: float):
 
     spool = SpooledFrame(TIMESERIES_COLUMNS)
     found = spool.extend(parts(), background=helper_process_ok(), first=events)
-    drawn = {c.label: _frame(trs[c.label], c, dt, r, gain, DRAWN_POINTS) for c in cases}
+    drawn = {c.label: _frame(trs[c.label], c, dt, r, gain, DRAWN_POINTS, keep=False) for c in cases}
     return spool, drawn, found()
 
 
