@@ -677,10 +677,15 @@ def _timeseries(trs: dict, cases: list, dt: float, r: float, gain: float):
     from tirecli.io.output import SpooledFrame
     from tirecli.numerics.pool import helper_process_ok
 
+    drawn = {}
+    helper = helper_process_ok()
+
     def parts():  # a few cases at a time: fewer, larger CSV blocks
         pending, rows = [], 0
         for i, c in enumerate(cases):
             f = _frame(trs[c.label], c, dt, r, gain, keep=False)
+            if not helper:  # in this process: the rows drawn taken from the whole frame
+                drawn[c.label] = f.iloc[_thinned(len(f), DRAWN_POINTS)].reset_index(drop=True)
             pending.append(f)
             rows += len(f)
             if rows >= SPOOL_ROWS or i == len(cases) - 1:
@@ -688,8 +693,9 @@ def _timeseries(trs: dict, cases: list, dt: float, r: float, gain: float):
                 pending, rows = [], 0
 
     spool = SpooledFrame(TIMESERIES_COLUMNS)
-    found = spool.extend(parts(), background=helper_process_ok(), first=events)
-    drawn = {c.label: _frame(trs[c.label], c, dt, r, gain, DRAWN_POINTS, keep=False) for c in cases}
+    found = spool.extend(parts(), background=helper, first=events)
+    if helper:  # the helper makes the whole frames: the rows drawn evaluated alone here, meanwhile
+        drawn = {c.label: _frame(trs[c.label], c, dt, r, gain, DRAWN_POINTS, keep=False) for c in cases}
     return spool, drawn, found()
 
 
