@@ -269,8 +269,11 @@ def test_drawn_rows_are_rows_of_the_timeseries(dt):
     car = vehicle.model()
     trs = simulate.run_cases(cases, tire.model(), car, checked["t_end"])
     for c in cases:
+        cache = trs[c.label].sample_cache  # a kept run's samples (runs.quarter_car(reuse=True))
         whole = simulate._frame(trs[c.label], c, dt, car.r, 20.0)
-        drawn = simulate._frame(trs[c.label], c, dt, car.r, 20.0, points=40)
+        kept = len(cache)
+        drawn = simulate._frame(trs[c.label], c, dt, car.r, 20.0, points=40, keep=False)
+        assert len(cache) == kept and (kept >= 1 or dt == 0)  # keep=False: not kept with the run
         rows = simulate._thinned(len(whole), 40)
         assert 20 < len(drawn) <= 41 and rows[-1] == len(whole) - 1
         pd.testing.assert_frame_equal(drawn, whole.iloc[rows].reset_index(drop=True), check_exact=True)
