@@ -184,6 +184,22 @@ def test_save_figure_lays_out_once_for_several_formats(tmp_path):
     assert [p.name for p in save_figure(fig, tmp_path, "g", formats=("png",))] == ["g.png"]
 
 
+def test_svg_files_are_the_same_from_run_to_run(tmp_path):
+    """Clip paths and markers get ids from a fixed salt (matplotlib draws a random one per id)."""
+    from tirecli.figures.style import new_figure
+    from tirecli.io.output import save_figure
+
+    def saved(sub):
+        fig, ax = new_figure(width=4, height=3)
+        ax.plot([0, 1], [0, 1], marker="o")
+        ax.fill_between([0, 1], [0, 0], [1, 2])
+        (tmp_path / sub).mkdir()
+        return save_figure(fig, tmp_path / sub, "f", formats=("svg",))[0].read_bytes()
+
+    a, b = saved("a"), saved("b")
+    assert b"clip-path" in a and a == b
+
+
 @pytest.mark.parametrize("study", ["fm-fig1-left", "mcps-fig3"])
 def test_a_png_is_the_file_savefig_writes(tmp_path, study):
     """The PNG drawn once (layout and rendering in one pass) is byte for byte what ``savefig`` writes."""

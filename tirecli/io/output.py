@@ -381,7 +381,8 @@ def save_figure(fig, directory: str | Path, name: str, dpi: int = 150, formats=(
                 with atomic_write(path, "wb") as fh:
                     fh.write(data)
             elif fmt == "svg":  # text stays text: smaller, faster, editable
-                with matplotlib.rc_context({"svg.fonttype": "none"}), atomic_write(path, "wb") as fh:
+                # a fixed salt: the ids of clip paths and markers are the same from run to run (deterministic files)
+                with matplotlib.rc_context({"svg.fonttype": "none", "svg.hashsalt": "tirecli"}), atomic_write(path, "wb") as fh:
                     fig.savefig(fh, format="svg", metadata={"Date": None, "Creator": None})
             else:
                 raise ValueError(f"unknown figure format {fmt!r}")
