@@ -204,6 +204,22 @@ def test_a_cache_hit_reads_each_cached_file_once(cli, tmp_path, monkeypatch):
     assert {**_files(out, "data/*/*.csv"), **_files(out, "figures/*")} == before
 
 
+def test_svg_files_are_the_same_from_run_to_run(tmp_path):
+    """Clip paths and markers get ids from a fixed salt (matplotlib draws a random one per id)."""
+    from tirecli.figures.style import new_figure
+    from tirecli.io.output import save_figure
+
+    def saved(sub):
+        fig, ax = new_figure(width=4, height=3)
+        ax.plot([0, 1], [0, 1], marker="o")
+        ax.fill_between([0, 1], [0, 0], [1, 2])
+        (tmp_path / sub).mkdir()
+        return save_figure(fig, tmp_path / sub, "f", formats=("svg",))[0].read_bytes()
+
+    a, b = saved("a"), saved("b")
+    assert b"clip-path" in a and a == b
+
+
 @pytest.mark.parametrize("study", ["fm-fig1-left", "mcps-fig3"])
 def test_a_png_has_the_pixels_savefig_writes(tmp_path, study):
     """The PNG drawn once (layout and rendering in one pass, tirecli's encoder) has pixel for pixel the

@@ -116,7 +116,8 @@ class SpooledFrame:
     cases): each part's rows are written as CSV text to an anonymous temporary file at once, so memory
     holds one part whatever the number of parts; :func:`write_csv` copies the rows into the output.
 
-    ``columns``: the column names, in order (every part has them).
+    ``columns``: the column names, in order (every part has them). The parts may also be formatted in
+    a helper process while this one goes on (:meth:`extend`); reading the rows waits for it.
     """
 
     def __init__(self, columns):
@@ -125,22 +126,93 @@ class SpooledFrame:
         self.columns = list(columns)
         self._fh = tempfile.TemporaryFile()  # removed by the system when closed, even after a crash
         self._rows = 0
+        self._helper = self._error = self._first = None
 
     def append(self, frame) -> None:
         """Add the rows of a DataFrame (its columns as :attr:`columns`)."""
+        self._wait()
         if list(frame.columns) != self.columns:
             raise ValueError(f"columns {list(frame.columns)} differ from {self.columns}")
         self._fh.seek(0, 2)
         _write_rows(self._fh, frame)
         self._rows += len(frame)
 
+    def extend(self, parts, background: bool = False, first=None):
+        """Add the rows of every DataFrame of the iterable ``parts``, in order; ``first``: a function
+        (no arguments) called before the parts are made. Returns a function that gives ``first``'s
+        value (None without ``first``).
+
+        ``background``: call ``first`` and make and write the parts in a forked helper process (Linux)
+        while this process goes on; ``first``'s value (picklable) and the rows are waited for when
+        asked for, and the helper's error is raised there (the text is the same). The helper formats
+        on one thread, ignores Ctrl-C (this process stops it) and is ended if this frame is dropped
+        before it finishes."""
+        self._wait()
+        if not background:
+            value = first() if first is not None else None
+            for frame in parts:
+                self.append(frame)
+            return lambda: value
+        import multiprocessing
+        import weakref
+
+        ctx = multiprocessing.get_context("fork")
+        recv, send = ctx.Pipe(duplex=False)
+        self._fh.flush()
+        proc = ctx.Process(target=_spool_in_helper, args=(self, parts, first, send), daemon=True,
+                           name="tirecli-spool")
+        proc.start()
+        send.close()
+        self._helper = (proc, recv, weakref.finalize(self, _end_helper, proc, recv))
+        self._first = _PENDING if first is not None else None
+        return self._first_value
+
+    def _message(self) -> tuple:
+        """The helper's next message ``(kind, value)``: ``first``, or ``done`` (the helper ends); its
+        error is raised."""
+        proc, recv, ender = self._helper
+        try:
+            kind, value = recv.recv()
+        except EOFError:
+            kind, value = "died", RuntimeError("the helper process writing the rows of a table ended unexpectedly")
+        if kind != "first":
+            self._helper = None
+            ender.detach()
+            recv.close()
+            proc.join()
+        if kind == "died":
+            value = RuntimeError(f"{value} (exit code {proc.exitcode})")
+        if kind in ("error", "died"):
+            self._error = value
+            raise value
+        return kind, value
+
+    def _first_value(self):
+        """The value of :meth:`extend`'s ``first`` (waiting for the helper)."""
+        if self._error is not None:
+            raise self._error
+        if self._first is _PENDING:
+            self._first = self._message()[1]
+        return self._first
+
+    def _wait(self) -> None:
+        """Wait for the helper process of :meth:`extend`, if any; raise its error."""
+        if self._error is not None:
+            raise self._error
+        if self._helper is None:
+            return
+        self._first_value()
+        self._rows = self._message()[1]
+
     def __len__(self) -> int:
+        self._wait()
         return self._rows
 
     def copy_rows(self, fh) -> None:
         """Copy the CSV rows (no header) into the binary file ``fh``."""
         import shutil
 
+        self._wait()
         self._fh.flush()
         self._fh.seek(0)
         shutil.copyfileobj(self._fh, fh, 1 << 20)
@@ -149,11 +221,52 @@ class SpooledFrame:
         """The whole table as a DataFrame (read back: for small tables and tests)."""
         import pandas as pd
 
+        self._wait()
         self._fh.flush()
         self._fh.seek(0)
         if not self._rows:
             return pd.DataFrame(columns=self.columns)
         return pd.read_csv(self._fh, header=None, names=self.columns, keep_default_na=False, na_values=[""])
+
+
+#: The value of a helper's ``first`` not received yet (:meth:`SpooledFrame.extend`).
+_PENDING = object()
+
+
+def _spool_in_helper(spool: SpooledFrame, parts, first, conn) -> None:
+    """The helper process of :meth:`SpooledFrame.extend`: send ``("first", first())`` (with ``first``),
+    write the parts, send ``("done", rows)``; on an error ``("error", exception)`` instead (the
+    exception's text when it cannot be sent as it is)."""
+    import pickle
+    import signal
+
+    signal.signal(signal.SIGINT, signal.SIG_IGN)  # Ctrl-C is the parent's to handle
+    signal.signal(signal.SIGTERM, signal.SIG_DFL)
+    from tirecli.numerics import pool
+
+    pool.LIMIT = 1  # the other cores are busy with the parent's work
+    try:
+        if first is not None:
+            conn.send(("first", first()))
+        for frame in parts:
+            spool.append(frame)
+        spool._fh.flush()
+        message = ("done", spool._rows)
+    except BaseException as exc:  # noqa: BLE001 - every failure goes to the parent
+        try:
+            message = ("error", pickle.loads(pickle.dumps(exc)))
+        except Exception:  # noqa: BLE001 - not picklable: its text
+            message = ("error", RuntimeError(f"{type(exc).__name__}: {exc}"))
+    conn.send(message)
+    conn.close()
+
+
+def _end_helper(proc, conn) -> None:
+    """End the helper process of a spooled frame dropped before it finished."""
+    if proc.is_alive():
+        proc.terminate()
+    proc.join(timeout=5)
+    conn.close()
 
 
 #: Formats of a run's data files (``--format``).
@@ -305,7 +418,8 @@ def save_figure(fig, directory: str | Path, name: str, dpi: int = 150, formats=(
                 with atomic_write(path, "wb") as fh:
                     fh.write(data)
             elif fmt == "svg":  # text stays text: smaller, faster, editable
-                with matplotlib.rc_context({"svg.fonttype": "none"}), atomic_write(path, "wb") as fh:
+                # a fixed salt: the ids of clip paths and markers are the same from run to run (deterministic files)
+                with matplotlib.rc_context({"svg.fonttype": "none", "svg.hashsalt": "tirecli"}), atomic_write(path, "wb") as fh:
                     fig.savefig(fh, format="svg", metadata={"Date": None, "Creator": None})
             else:
                 raise ValueError(f"unknown figure format {fmt!r}")
@@ -396,11 +510,7 @@ def write_result(stage, result, figures: dict, checks: list, command: str, wall_
         progress.start(len(result.data) + len(figures), "writing")
     data_paths, fig_paths = [], []
     try:
-        for name, frame in result.data.items():
-            data_paths.append(write_parquet(out / "data" / f"{name}.parquet", frame, comments)
-                              if data_format == "parquet" else write_csv(out / "data" / f"{name}.csv", frame, comments))
-            if progress is not None:
-                progress.advance(1)
+        # the figures first: a table a helper process is still formatting (SpooledFrame.extend) comes last
         for fid, fig in figures.items():
             if isinstance(fig, Table):
                 import pandas as pd
@@ -409,6 +519,11 @@ def write_result(stage, result, figures: dict, checks: list, command: str, wall_
                                            pd.DataFrame(fig.rows, columns=fig.columns), comments))
             else:
                 fig_paths += save_figure(fig, out / "figures", fid)
+            if progress is not None:
+                progress.advance(1)
+        for name, frame in result.data.items():
+            data_paths.append(write_parquet(out / "data" / f"{name}.parquet", frame, comments)
+                              if data_format == "parquet" else write_csv(out / "data" / f"{name}.csv", frame, comments))
             if progress is not None:
                 progress.advance(1)
     finally:
