@@ -78,6 +78,15 @@ def test_runs_far_apart_in_error_get_panels_of_their_own():
     assert _split_by_size(runs[1:3]) == [runs[1:3]]
 
 
+def _drawn(fig):
+    """Lay out and render ``fig`` on an Agg canvas (a bare Figure's canvas draws nothing), so the
+    legends' and axes' extents are the saved file's."""
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+
+    FigureCanvasAgg(fig).draw()
+    return fig
+
+
 def test_legends_outside_stay_off_the_axes():
     """An ``outside`` legend (style.finish) sits right of its axes, never over the curves."""
     from tirecli.figures.style import finish, new_figure
@@ -86,7 +95,7 @@ def test_legends_outside_stay_off_the_axes():
     for k in range(5):
         ax.plot(np.cos(np.linspace(0, 6, 50)) * (k + 1), np.sin(np.linspace(0, 6, 50)) * (k + 1), label=f"c{k}")
     finish(ax, "x", "y", outside=True)
-    fig.canvas.draw()
+    _drawn(fig)
     leg = ax.get_legend().get_window_extent()
     assert leg.x0 >= ax.get_window_extent().x1
 
@@ -108,3 +117,28 @@ def test_many_cases_histories_mark_locks_without_shading_and_show_the_torque_ban
     assert len(twins) == 1 and "band of the 14 coupled cases" in twins[0].get_ylabel()
     lo, hi = twins[0].get_ylim()
     assert lo <= 0 and hi >= 1250  # every case's peak torque is inside the band
+
+
+@pytest.mark.parametrize("tyre", ["mfeval-255-55r20", "chrono-185-80r14", "pacejka2006-205-60r15",
+                                  "externdata-205-60r15"])
+def test_magic_formula_tyre_legends_stay_off_the_curves(tyre):
+    """The six-panel tyre figures: no legend inside a panel covers a point of that panel's curves."""
+    from tirecli.figures.registry import get
+    from tirecli.studies.base import builtin_config, run_study
+
+    fig = get(f"mf-tire-{tyre}").draw(run_study(builtin_config(f"mf-sweep-{tyre}")))
+    _drawn(fig)
+    inside = 0
+    for ax in fig.axes:
+        leg = ax.get_legend()
+        if leg is None or leg.get_window_extent().x0 >= ax.get_window_extent().x1:  # outside: right of the axes
+            continue
+        inside += 1
+        box = leg.get_window_extent()
+        for line in ax.lines:
+            xy = line.get_transform().transform(line.get_xydata())
+            f = np.linspace(0.0, 1.0, 21)[:, None, None]   # the segments between the points too
+            xy = (xy[:-1] + f * (xy[1:] - xy[:-1])).reshape(-1, 2)
+            covered = (xy[:, 0] > box.x0) & (xy[:, 0] < box.x1) & (xy[:, 1] > box.y0) & (xy[:, 1] < box.y1)
+            assert not covered.any(), f"{ax.get_title()}: the legend covers {line.get_label()!r}"
+    assert inside >= 3

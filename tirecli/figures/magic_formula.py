@@ -72,11 +72,13 @@ def draw_camber(axes, result):
     df = result.data["sweep"]
     fz = _fam(df, "camber")["fz"].iloc[0] if len(_fam(df, "camber")) else float("nan")
     for k, (ax, y, lab) in enumerate(zip(axes, ("fy", "mz"), ("Fy [N]", "Mz [N m]"))):
-        _plot_family(ax, df, "camber", "alpha", y, "gamma", "gamma = {:g} rad")
-        # one legend for both panels, in the lower left of Fy (ISO-W: Fy > 0 for alpha < 0; the Mz curves fill
-        # every corner)
+        _plot_family(ax, df, "camber", "alpha", y, "gamma", "{:g}")
+        # one narrow legend (the values under a title) for both panels, in the lower left of Fy (ISO-W: Fy > 0
+        # for alpha < 0; the Mz curves fill every corner)
         finish(ax, "slip angle alpha [rad]", lab + ISO,
                f"camber family at Fz = {fz:g} N" + (" (legend at left)" if k else ""), legend=not k, loc="lower left")
+        if ax.get_legend() is not None:
+            ax.get_legend().set_title("camber gamma [rad]", prop={"size": 8})
 
 
 def draw_combined(axes, result):
