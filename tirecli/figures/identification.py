@@ -88,7 +88,10 @@ def draw_fit_transient(result):
         lab = f"distributed model, all fitted (RMS {f.residual_rms:.2g})"
         a.plot(dd["t"], dd["mu_model"], color=COLORS[2], lw=1.1, ls="-.", label=lab)
         b.plot(dd["t"], dd["residual"], color=COLORS[2], lw=1.0, ls="-.", label="distributed model")
-    finish(a, "", "mu [-]", result.meta.get("title") or "Transient fit", loc="lower left")
+    # the legend below the panels: measured data may run through any corner of the friction panel
+    finish(a, "", "mu [-]", result.meta.get("title") or "Transient fit", legend=False)
+    handles, labels = a.get_legend_handles_labels()
+    fig.legend(handles, labels, loc="outside lower center", ncol=2, fontsize=8, frameon=False)
     finish(b, "time t [s]", "model - data [-]", legend=dd is not None and tr is not None, loc="upper right")
     _label(result, fig)
     return fig

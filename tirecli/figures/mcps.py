@@ -656,7 +656,10 @@ def draw_fig3(result):
             ax.axhline(s_ * lev, color="#777777", lw=0.8, ls=":")
             if lim:
                 ax.axhline(s_ * lim, color="#B00020", lw=0.6, ls=":")
-    finish(a, "displacement u_x [mm]", "friction force f_x [N]", "force (dotted: +-F_k; red: limit 5/3 F_k)")
+    # one legend (the periods are the same in both panels), in the torque panel: the force panel's free corner
+    # holds the red limit line
+    finish(a, "displacement u_x [mm]", "friction force f_x [N]", "force (dotted: +-F_k; red: limit 5/3 F_k)",
+           legend=False)
     finish(b, "rotation psi [rad]", "friction torque m [N m]", "torque (dotted: +-M_kz)")
     fig.suptitle(f"MCPS Fig. 3: one rubber slider, {_tire_name(result)}", fontsize=10)
     return fig
