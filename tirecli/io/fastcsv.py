@@ -136,13 +136,37 @@ def _fill(x, w, sep: str) -> np.ndarray:
     return np.flatnonzero(odd | (big & ~nan))
 
 
+def _runs(x):
+    """The runs of equal values of the float array ``x`` (equal bits: ``-0.0`` is not ``0.0``), so that a
+    column that repeats its values (a constant; a sweep's speeds, adhesion, unused NaN columns) is
+    formatted once per run: ``(first, ids)`` with ``x[first]`` the value of each run and ``ids`` the
+    run of each value (``x[first][ids]`` is ``x``), or None when the runs are more than half the values
+    (formatting every value is then as fast)."""
+    if x.size < 2:
+        return None
+    bits = x.view(np.uint64)
+    change = bits[1:] != bits[:-1]
+    if np.count_nonzero(change) >= x.size // 2:
+        return None
+    first = np.concatenate([[0], np.flatnonzero(change) + 1])
+    ids = np.concatenate([[0], np.cumsum(change, dtype=np.intp)])
+    return first, ids
+
+
 def _fill_column(x, w, sep: str) -> np.ndarray:
-    """:func:`_fill`, a constant column formatted once."""
-    if x.size > 1 and x[0] == x[-1] and (x == x[0]).all():
-        slow = _fill(x[:1], w[:1], sep)
-        w[1:] = w[0]
-        return np.arange(x.size) if slow.size else slow
-    return _fill(x, w, sep)
+    """:func:`_fill`, each run of equal values (:func:`_runs`) formatted once."""
+    runs = _runs(x)
+    if runs is None:
+        return _fill(x, w, sep)
+    first, ids = runs
+    part = np.empty((first.size, w.shape[1]), dtype=w.dtype)
+    slow = _fill(x[first], part, sep)
+    w[...] = part[ids]
+    if not slow.size:
+        return slow
+    marked = np.zeros(first.size, dtype=bool)
+    marked[slow] = True
+    return np.flatnonzero(marked[ids])
 
 
 def _rows_block(cols, lo, hi, prefix=None) -> bytes:
@@ -209,12 +233,10 @@ def _exact(v: float) -> bytes:
 
 def _blocks(cols, threads, prefix=None):
     """The texts of the rows of ``cols`` (see :func:`_rows_block`), block by block in order, formatted
-    on the shared thread pool (a few blocks ahead of the consumer)."""
-    n = cols[0].size if cols else 0
-    starts = list(range(0, n, _BLOCK))
-    from tirecli.numerics.pool import default_threads, thread_pool
+    on the shared thread pool (:func:`tirecli.numerics.pool.ordered_map`)."""
+    from tirecli.numerics.pool import ordered_map
 
-    nthreads = default_threads() if threads is None else max(1, threads)
+    n = cols[0].size if cols else 0
 
     def block(s):
         text = _rows_block(cols, s, min(s + _BLOCK, n), prefix)
@@ -222,17 +244,7 @@ def _blocks(cols, threads, prefix=None):
             text = b"".join(b"\n" + r for r in _verified(cols, text.split(b"\n")[1:], s))
         return text
 
-    if len(starts) < 2 or nthreads < 2:
-        yield from map(block, starts)
-        return
-    pool = thread_pool(nthreads)
-    ahead = 2 * nthreads
-    futures = [pool.submit(block, s) for s in starts[:ahead]]
-    for k in range(len(starts)):
-        if k + ahead < len(starts):
-            futures.append(pool.submit(block, starts[k + ahead]))
-        yield futures[k].result()
-        futures[k] = None
+    return ordered_map(block, range(0, n, _BLOCK), threads)
 
 
 def format_rows(columns, threads: int | None = None) -> list[bytes]:
@@ -455,23 +467,23 @@ class _ZeroByte(Exception):
 def _column_matrix(values, cells) -> np.ndarray:
     """The CSV text of one column as an ``(n, width)`` byte matrix, zero bytes after each text.
 
-    Floats: :func:`repr_matrix` (a constant or all-NaN column formatted once); integers, booleans:
-    ``cells(values)`` (the slow, exact text); other values (text) formatted once per distinct value.
+    Floats: :func:`repr_matrix` (each run of equal values formatted once: :func:`_runs`); integers, booleans:
+    ``cells(values)`` (the slow, exact text); other values (text, categoricals) formatted once per distinct
+    value.
     """
-    n = len(values)
     if values.dtype.kind == "f":
         x = np.asarray(values, dtype=float)
-        if np.isnan(x).all():
-            return np.zeros((n, 0), dtype=np.uint8)
-        if x[0] == x[-1] and (x == x[0]).all():
-            m = repr_matrix(x[:1])
-            return np.broadcast_to(m[:, :int(np.count_nonzero(m))], (n, int(np.count_nonzero(m))))
-        m = repr_matrix(x)
+        runs = _runs(x)
+        m = repr_matrix(x if runs is None else x[runs[0]])
         used = np.flatnonzero(m.any(axis=0))  # the texts are left-aligned: drop the all-padding tail
-        return m[:, :int(used[-1]) + 1 if used.size else 0]
+        m = m[:, :int(used[-1]) + 1 if used.size else 0]
+        return m if runs is None else m[runs[1]]
     if values.dtype.kind in "iub":
         texts = cells(values)
         codes = None
+    elif getattr(values.dtype, "name", "") == "category":  # a pandas Categorical: its codes index its categories
+        codes = values.codes
+        texts = cells(np.asarray(values.categories, dtype=object)) + [""]  # code -1 (missing): an empty cell
     else:
         import pandas as pd
 
@@ -487,8 +499,8 @@ def _column_matrix(values, cells) -> np.ndarray:
     return mat if codes is None else mat[codes]
 
 
-def _csv_block(columns, lo: int, hi: int, cells) -> bytes:
-    """Rows ``lo:hi`` of ``columns`` as CSV text, each row ending with a newline."""
+def _csv_block(columns, lo: int, hi: int, cells) -> np.ndarray:
+    """Rows ``lo:hi`` of ``columns`` as CSV text (the bytes of a uint8 array), each row ending with a newline."""
     n = hi - lo
     parts = []
     for j, col in enumerate(columns):
@@ -497,18 +509,16 @@ def _csv_block(columns, lo: int, hi: int, cells) -> bytes:
         parts.append(_column_matrix(col[lo:hi], cells))
     parts.append(np.broadcast_to(np.uint8(10), (n, 1)))  # '\n'
     m = np.concatenate(parts, axis=1).ravel()
-    return m[m != 0].tobytes()  # without the padding
+    return m[m != 0]  # without the padding
 
 
 def csv_chunks(columns, n: int, rows: int, cells):
-    """The CSV text of ``n`` rows of ``columns`` (arrays), ``rows`` rows at a time (in order), formatted
-    on the shared thread pool a few chunks ahead; ``cells(values)`` gives the exact texts of an array
+    """The CSV text of ``n`` rows of ``columns`` (arrays), ``rows`` rows at a time (in order, each a
+    ``bytes`` or a uint8 array), formatted on the shared thread pool
+    (:func:`tirecli.numerics.pool.ordered_map`); ``cells(values)`` gives the exact texts of an array
     of integers or objects (quoting them as needed). A text holding a zero byte cannot be laid out in
     a byte matrix and is formatted by ``cells`` alone."""
-    from tirecli.numerics.pool import default_threads, thread_pool
-
-    starts = list(range(0, n, rows))
-    nthreads = default_threads()
+    from tirecli.numerics.pool import ordered_map
 
     def block(lo):
         hi = min(lo + rows, n)
@@ -518,13 +528,7 @@ def csv_chunks(columns, n: int, rows: int, cells):
             cols = [cells(np.asarray(c[lo:hi], dtype=None if c.dtype.kind in "fiub" else object)) for c in columns]
             return "".join(",".join(r) + "\n" for r in zip(*cols)).encode()
 
-    if len(starts) == 1 or nthreads == 1:
-        for lo in starts:
-            yield block(lo)
-        return
-    pool = thread_pool(nthreads)
-    for k in range(0, len(starts), nthreads):
-        yield from pool.map(block, starts[k:k + nthreads])
+    return ordered_map(block, range(0, n, rows))
 
 
 def field_counts(body: bytes):

@@ -166,16 +166,24 @@ def check_data_format(data_format: str) -> None:
     if data_format not in DATA_FORMATS:
         raise UsageError(f"--format {data_format!r}: expected one of {', '.join(DATA_FORMATS)}")
     if data_format == "parquet":
-        try:
-            import pyarrow  # noqa: F401
-        except ImportError:
-            raise UsageError("--format parquet needs pyarrow: pip install 'tirecli[campaign]'") from None
+        require_pyarrow("--format parquet")
+
+
+def require_pyarrow(what: str):
+    """The pyarrow module (the Parquet library of the ``campaign`` extra), or a one-line UsageError
+    ``WHAT needs pyarrow: pip install ...`` where it cannot be imported."""
+    try:
+        import pyarrow
+    except ImportError:
+        raise UsageError(f"{what} needs pyarrow: pip install 'tirecli[campaign]'") from None
+    return pyarrow
 
 
 def write_parquet(path: str | Path, frame, comments: list[str] | tuple = ()) -> Path:
     """Write a DataFrame as Parquet (pyarrow, no index; ``comments`` in the file's key-value metadata
-    under ``tirecli.comments``). Object columns that mix texts and numbers (e.g. ``kappa0``: a number
-    or ``Z``) are written as the texts of the CSV (empty cells as nulls)."""
+    under ``tirecli.comments``), :data:`PARQUET_GROUP_ROWS` rows (a row group) at a time. Object columns
+    that mix texts and numbers (e.g. ``kappa0``: a number or ``Z``) are written as the texts of the CSV
+    (empty cells as nulls), categorical columns as their values (texts)."""
     import pyarrow as pa
     import pyarrow.parquet as pq
 
@@ -184,14 +192,18 @@ def write_parquet(path: str | Path, frame, comments: list[str] | tuple = ()) -> 
         col = frame[c]
         if col.dtype == object and not all(isinstance(v, str) or v is None for v in col.unique()):
             frame[c] = [None if v is None or (isinstance(v, float) and math.isnan(v)) else str(v) for v in col]
-    schema = pa.Schema.from_pandas(frame.iloc[:0], preserve_index=False)
+    plain = {c: frame[c].cat.categories.dtype for c in frame.columns if frame[c].dtype == "category"}
+    schema = pa.Schema.from_pandas(frame.iloc[:0].astype(plain), preserve_index=False)  # (converted by pyarrow)
     if comments:
         schema = schema.with_metadata({**(schema.metadata or {}), b"tirecli.comments": "\n".join(comments).encode()})
     path = Path(path)
     rows = PARQUET_GROUP_ROWS
+    pool = pa.default_memory_pool()
     with atomic_write(path, "wb") as fh, pq.ParquetWriter(fh, schema) as writer:
         for lo in range(0, max(len(frame), 1), rows):  # a row group at a time: bounded memory
-            writer.write_table(pa.Table.from_pandas(frame.iloc[lo:lo + rows], schema=schema, preserve_index=False))
+            writer.write_table(pa.Table.from_pandas(frame.iloc[lo:lo + rows], schema=schema, preserve_index=False,
+                                                    nthreads=1))
+            pool.release_unused()  # else the allocator keeps each group's buffers (tens of MB)
     return path
 
 
