@@ -46,30 +46,32 @@ _BLOCK = 65536
 
 
 def _scaled17(a):
-    """``(e, y, d)`` of positive finite ``a``: decimal exponent ``e``, ``y = a * 10^(16 - e)`` (``a`` in units
-    of its 17th significant digit, in long double: error ~0.01 unit) and ``d = rint(y)`` in [1e16, 1e17)."""
+    """``(e, y, d, D)`` of positive finite ``a``: decimal exponent ``e``, ``y = a * 10^(16 - e)`` (``a`` in
+    units of its 17th significant digit, in long double: error ~0.01 unit), ``d = rint(y)`` in [1e16, 1e17)
+    and ``D``, ``d`` as uint64."""
     e = np.floor(np.log10(a)).astype(np.int64)
     al = a.astype(np.longdouble)
     y = al * _P10[_P10_OFF + 16 - e]
     d = np.rint(y)
+    D = d.astype(np.uint64)
     for _ in range(2):  # log10 can be off by one next to powers of ten
-        hi = d >= 1e17
-        lo = d < 1e16
+        hi = D >= np.uint64(10 ** 17)
+        lo = D < np.uint64(10 ** 16)
         if not (hi.any() or lo.any()):
             break
         e = e + hi - lo
         y = al * _P10[_P10_OFF + 16 - e]
         d = np.rint(y)
-    return e, y, d
+        D = d.astype(np.uint64)
+    return e, y, d, D
 
 
 def _digits(a):
     """``(D, e)``: the 17-digit integer ``D`` (``10^16 <= D < 10^17``, shorter results padded with
     zeros) and decimal exponent with ``a ~= D * 10^(e - 16)``, using 15, 16 or 17 significant
     digits: the fewest that read back to ``a`` (``a > 0`` finite)."""
-    e, y, d = _scaled17(a)
+    e, y, d, D = _scaled17(a)
     frac = (y - d).astype(np.float64)  # y = D + frac, |frac| <= 0.5
-    D = d.astype(np.uint64)
     # half the gaps to the neighbouring doubles, in units of the 17th digit, less the error of y
     # (computed in double: 1e-16 relative is nothing against the 0.02-unit margin; where the
     # scale overflows, near the ends of the double range, no shorter form is tried)
@@ -332,8 +334,7 @@ def write_table(path, header: str, columns, lines=None, lead: bytes = b"", threa
 
 _WR = 24  # widest repr of a double: '-0.00012345678901234567' (23) or '-1.2345678901234567e-308' (24)
 _MARGIN = 0.02  # decisions closer than this (in units of the 17th digit) to a boundary are redone with repr
-_DIG_BYTES = _DIGITS4.view(np.uint8).reshape(-1, 4)  # row c: the 4 ASCII digits of c
-_EXP3 = np.array([list(f"{k:03d}".encode()) for k in range(1000)], dtype=np.uint8)
+_TZ4 = np.array([4] + [len(f"{c:04d}") - len(f"{c:04d}".rstrip("0")) for c in range(1, 10000)], dtype=np.int8)  # trailing zeros
 
 
 def _repr_digits(a):
@@ -341,30 +342,34 @@ def _repr_digits(a):
     ``repr(a)`` padded with zeros, ``e`` the decimal exponent of the first digit; ``unsure`` marks the
     values where a rounding decision came within the error of the extended-precision arithmetic
     (their text is taken from ``repr`` instead)."""
-    e, y, d = _scaled17(a)
+    e, y, d, D = _scaled17(a)
     frac = (y - d).astype(np.float64)
-    D = d.astype(np.uint64)
     unsure = (D < np.uint64(10 ** 16)) | (D >= np.uint64(10 ** 17))
     with np.errstate(over="ignore", invalid="ignore"):
         scale = _P10D[_P10_OFF + 16 - e]
         g_up = np.spacing(a) * scale * 0.5
         g_dn = np.spacing(np.nextafter(a, 0.0)) * scale * 0.5
     unsure |= ~(np.isfinite(g_up) & np.isfinite(g_dn))
-    best = D.copy()
-    done = np.zeros(a.size, dtype=bool)
+    best = D
+    g_max = np.maximum(g_up, g_dn)
+    low = (D % np.uint64(10 ** 4)).astype(np.int64)  # the last four digits
+    left = None  # the values without a shorter candidate yet (None: all)
     for step in (100, 10):  # 15, then 16 significant digits; the nearest candidate of each length
-        rem = (D % np.uint64(step)).astype(np.int64)
+        rem = low % step
         r = rem + frac  # y above the candidate below, in units
         up = r > step / 2
-        c = D - rem.astype(np.uint64) + np.where(up, np.uint64(step), np.uint64(0))
         diff = np.where(up, step - r, -r)  # candidate - y
+        dist = np.abs(diff)
         gap = np.where(diff >= 0, g_up, g_dn)
-        ok = ~done & (np.abs(diff) < gap)
-        near_half = (np.abs(r - step / 2) < _MARGIN) & (np.maximum(g_up, g_dn) > step / 2 - _MARGIN)  # which is nearer?
-        unsure |= ~done & (near_half | (np.abs(np.abs(diff) - gap) < _MARGIN))  # inside the interval?
-        best = np.where(ok, c, best)
-        done |= ok
-    unsure |= ~done & (np.abs(frac) > 0.5 - _MARGIN)  # 17 digits, rounded near a half
+        ok = dist < gap
+        doubt = ((np.abs(r - step / 2) < _MARGIN) & (g_max > step / 2 - _MARGIN)) | (np.abs(dist - gap) < _MARGIN)
+        if left is not None:  # which is nearer? inside the interval?
+            ok &= left
+            doubt &= left
+        unsure |= doubt
+        best = np.where(ok, D - rem.astype(np.uint64) + up * np.uint64(step), best)
+        left = ~ok if left is None else left & ~ok
+    unsure |= left & (np.abs(frac) > 0.5 - _MARGIN)  # 17 digits, rounded near a half
     top = best >= np.uint64(10 ** 17)
     if top.any():
         best = np.where(top, np.uint64(10 ** 16), best)
@@ -374,7 +379,7 @@ def _repr_digits(a):
 
 def _layouts() -> np.ndarray:
     """Gather table of :func:`repr_matrix`: row ``class`` gives, for each of the 24 text bytes, the
-    column of the source row (17 digits, then ``0 . e - + NUL``, three exponent digits, exponent sign)."""
+    column of the source row (:func:`_source`)."""
     ZERO, POINT, E, MINUS, NUL, X0, XS = 17, 18, 19, 20, 22, 23, 26
     table = np.full((2, _NCLASS, _WR), NUL, dtype=np.intp)
     for neg in (0, 1):
@@ -390,14 +395,44 @@ def _layouts() -> np.ndarray:
                 k, three = (cls - _NFIXED) // 2 + 1, (cls - _NFIXED) % 2
                 text += [0] + ([POINT] + list(range(1, k)) if k > 1 else []) + [E, XS]
                 text += [X0, X0 + 1, X0 + 2] if three else [X0 + 1, X0 + 2]
-            table[neg, cls, :len(text)] = text
+            # digit i (0-16) is in source column 16 (the first) or i - 1 (the others: four aligned words)
+            table[neg, cls, :len(text)] = [c if c >= 17 else 16 if c == 0 else c - 1 for c in text]
     return table.reshape(2 * _NCLASS, _WR)
 
 
 _NFIXED = 20 * 17  # fixed notation: decimal exponent -4..15 x 1..17 digits
 _NCLASS = _NFIXED + 17 * 2  # and scientific: 1..17 digits x 2 or 3 exponent digits
 _LAYOUT = _layouts()
-_SRC_CONST = np.frombuffer(b"0.e-+\0", dtype=np.uint8)
+_W4 = np.array([int.from_bytes(bytes([48 + d]) + b"0.e", "little") for d in range(10)], dtype=np.uint32)
+_W5 = np.array([int.from_bytes(b"-+\0" + f"{k:03d}"[:1].encode(), "little") for k in range(1000)], dtype=np.uint32)
+_W6 = np.array([int.from_bytes(f"{k:03d}"[1:].encode() + sign + b"\0", "little") for sign in (b"+", b"-")
+                for k in range(1000)], dtype=np.uint32)
+
+
+def _source(D, e) -> np.ndarray:
+    """The source rows of :func:`_gather` for the 17-digit integers ``D`` and decimal exponents ``e``
+    (``|e| < 1000``), and the number of significant digits of each: ``(src, k)``. A row is 28 bytes,
+    written as seven little-endian 32-bit words: the digits 2 to 17 (four words), the first digit,
+    ``0 . e - + NUL``, the three digits of ``|e|``, the exponent's sign, a spare byte."""
+    n = D.size
+    src = np.empty((n, 7), dtype="<u4")
+    hi = (D // np.uint64(10 ** 8)).astype(np.uint32)  # the first 9 digits (32-bit arithmetic from here)
+    lo = (D - hi.astype(np.uint64) * np.uint64(10 ** 8)).astype(np.uint32)
+    d0 = hi // np.uint32(10 ** 8)
+    hi = hi - d0 * np.uint32(10 ** 8)
+    groups = (hi // np.uint32(10 ** 4), hi % np.uint32(10 ** 4), lo // np.uint32(10 ** 4), lo % np.uint32(10 ** 4))
+    for j, c in enumerate(groups):
+        src[:, j] = _DIGITS4[c]
+    src[:, 4] = _W4[d0]
+    ae = np.minimum(np.abs(e), 999)
+    src[:, 5] = _W5[ae]
+    src[:, 6] = _W6[ae + 1000 * (e < 0)]
+    tz = np.zeros(n, dtype=np.intp)  # trailing zeros of the digits 2-17
+    later_zero = np.ones(n, dtype=bool)
+    for c in groups[::-1]:
+        tz += _TZ4[c] * later_zero
+        later_zero &= c == 0
+    return src.view(np.uint8), 17 - tz
 
 
 def _gather(src, cls) -> np.ndarray:
@@ -428,21 +463,8 @@ def repr_matrix(x) -> np.ndarray:
     a = np.abs(x)
     regular = np.isfinite(x) & (a != 0)
     D, e, unsure = _repr_digits(np.where(regular, a, 1.0))
-    src = np.empty((n, 27), dtype=np.uint8)
-    hi = (D // np.uint64(10 ** 8)).astype(np.uint32)  # the first 9 digits (32-bit arithmetic from here)
-    lo = (D - hi.astype(np.uint64) * np.uint64(10 ** 8)).astype(np.uint32)
-    d0 = hi // np.uint32(10 ** 8)
-    hi = hi - d0 * np.uint32(10 ** 8)
-    src[:, 0] = 48 + d0.astype(np.uint8)
-    for j, (part, p) in enumerate(((hi, 10 ** 4), (hi, 1), (lo, 10 ** 4), (lo, 1))):
-        c = part // np.uint32(p) if p > 1 else part % np.uint32(10 ** 4)
-        src[:, 1 + 4 * j:5 + 4 * j] = _DIG_BYTES[c]
-    src[:, 17:23] = _SRC_CONST
+    src, k = _source(D, e)
     ae = np.abs(e)
-    src[:, 23:26] = _EXP3[np.minimum(ae, 999)]
-    src[:, 26] = np.where(e < 0, 45, 43)
-    nz = src[:, 16:0:-1] != 48
-    k = np.where(nz.any(axis=1), 17 - np.argmax(nz, axis=1), 1)  # significant digits
     fixed = (e >= -4) & (e < 16)
     cls = np.where(fixed, (e + 4) * 17 + (k - 1), _NFIXED + (k - 1) * 2 + (ae >= 100))
     cls = np.where(fixed | (ae < 1000), cls, 0) + _NCLASS * np.signbit(x)

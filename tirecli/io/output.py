@@ -76,7 +76,7 @@ def _csv_cells(values) -> list[str]:
 
 
 #: Rows formatted and written at a time by :func:`write_csv` (memory stays bounded whatever the frame).
-CSV_CHUNK_ROWS = 32768
+CSV_CHUNK_ROWS = 16384
 
 
 def write_csv(path: str | Path, frame, comments: list[str] | tuple = ()) -> Path:
@@ -185,6 +185,7 @@ def write_parquet(path: str | Path, frame, comments: list[str] | tuple = ()) -> 
     that mix texts and numbers (e.g. ``kappa0``: a number or ``Z``) are written as the texts of the CSV
     (empty cells as nulls), categorical columns as their values (texts)."""
     import pyarrow as pa
+    import pyarrow.compute as pc
     import pyarrow.parquet as pq
 
     frame = frame.copy(deep=False)
@@ -192,18 +193,29 @@ def write_parquet(path: str | Path, frame, comments: list[str] | tuple = ()) -> 
         col = frame[c]
         if col.dtype == object and not all(isinstance(v, str) or v is None for v in col.unique()):
             frame[c] = [None if v is None or (isinstance(v, float) and math.isnan(v)) else str(v) for v in col]
-    plain = {c: frame[c].cat.categories.dtype for c in frame.columns if frame[c].dtype == "category"}
-    schema = pa.Schema.from_pandas(frame.iloc[:0].astype(plain), preserve_index=False)  # (converted by pyarrow)
+    categorical = [c for c in frame.columns if frame[c].dtype == "category"]
+    schema = pa.Schema.from_pandas(frame.iloc[:0].astype({c: frame[c].cat.categories.dtype for c in categorical}),
+                                   preserve_index=False)
     if comments:
         schema = schema.with_metadata({**(schema.metadata or {}), b"tirecli.comments": "\n".join(comments).encode()})
+    # the C library's allocator: pyarrow's default one would keep each row group's buffers (tens of MB)
+    pool = pa.system_memory_pool()
+    # a column converted as pyarrow converts a frame's; a categorical one taken from its categories
+    values = {c: pa.array(frame[c].cat.categories, type=schema.field(c).type, from_pandas=True, memory_pool=pool)
+              for c in categorical}
+
+    def column(part, c):
+        if c in values:
+            codes = part[c].cat.codes.to_numpy()
+            return pc.take(values[c], pa.array(codes, mask=codes < 0, memory_pool=pool), memory_pool=pool)
+        return pa.array(part[c], type=schema.field(c).type, from_pandas=True, memory_pool=pool)
+
     path = Path(path)
     rows = PARQUET_GROUP_ROWS
-    pool = pa.default_memory_pool()
-    with atomic_write(path, "wb") as fh, pq.ParquetWriter(fh, schema) as writer:
+    with atomic_write(path, "wb") as fh, pq.ParquetWriter(fh, schema, memory_pool=pool) as writer:
         for lo in range(0, max(len(frame), 1), rows):  # a row group at a time: bounded memory
-            writer.write_table(pa.Table.from_pandas(frame.iloc[lo:lo + rows], schema=schema, preserve_index=False,
-                                                    nthreads=1))
-            pool.release_unused()  # else the allocator keeps each group's buffers (tens of MB)
+            part = frame.iloc[lo:lo + rows]
+            writer.write_table(pa.Table.from_arrays([column(part, c) for c in frame.columns], schema=schema))
     return path
 
 

@@ -284,10 +284,12 @@ def plan(config: Config):
     return checked, tire, variants, thetas_fm
 
 
-#: Memory per row of a sweep [bytes]: the frame's 11 columns (88 bytes), the figure's selections of
-#: its curves; the model's temporaries and the CSV text are per block (:data:`BLOCK_POINTS`,
-#: :data:`tirecli.io.output.CSV_CHUNK_ROWS`), a few MB whatever the sweep. Measured: 10^6 rows
-#: peak at ~250 MB of which ~120 MB are the libraries.
+#: Memory per row of a sweep [bytes], an upper bound: the frame's float columns (at most 72 bytes; a
+#: column constant over the sweep is stored once) and its two categorical text columns (2 bytes); the
+#: model's temporaries, the figure's selections of its curves, the CSV text and the Parquet row groups
+#: are per block (:data:`BLOCK_POINTS`, :data:`tirecli.io.output.CSV_CHUNK_ROWS`,
+#: :data:`tirecli.io.output.PARQUET_GROUP_ROWS`), a few MB whatever the sweep. Measured: 10^6 rows
+#: (constant theta, kappa0, Z) peak at ~240 MB of which ~130 MB are the libraries.
 BYTES_PER_ROW = 160
 
 
