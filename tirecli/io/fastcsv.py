@@ -142,13 +142,13 @@ def _runs(x):
     """The runs of equal values of the float array ``x`` (equal bits: ``-0.0`` is not ``0.0``), so that a
     column that repeats its values (a constant; a sweep's speeds, adhesion, unused NaN columns) is
     formatted once per run: ``(first, ids)`` with ``x[first]`` the value of each run and ``ids`` the
-    run of each value (``x[first][ids]`` is ``x``), or None when the runs are more than half the values
-    (formatting every value is then as fast)."""
+    run of each value (``x[first][ids]`` is ``x``), or None when nearly every value is a run of its own
+    (more than 7 in 8)."""
     if x.size < 2:
         return None
     bits = x.view(np.uint64)
     change = bits[1:] != bits[:-1]
-    if np.count_nonzero(change) >= x.size // 2:
+    if np.count_nonzero(change) >= x.size - x.size // 8:
         return None
     first = np.concatenate([[0], np.flatnonzero(change) + 1])
     ids = np.concatenate([[0], np.cumsum(change, dtype=np.intp)])
@@ -482,6 +482,11 @@ def repr_matrix(x) -> np.ndarray:
     return m
 
 
+#: Runs of a float column (:func:`_runs`) at most formatted one by one with ``repr`` (below, cheaper than
+#: the vectorized :func:`repr_matrix`).
+_FEW_RUNS = 64
+
+
 class _ZeroByte(Exception):
     """A text holds a zero byte (the padding of the byte matrices): format the chunk with ``cells``."""
 
@@ -489,20 +494,24 @@ class _ZeroByte(Exception):
 def _column_matrix(values, cells) -> np.ndarray:
     """The CSV text of one column as an ``(n, width)`` byte matrix, zero bytes after each text.
 
-    Floats: :func:`repr_matrix` (each run of equal values formatted once: :func:`_runs`); integers, booleans:
-    ``cells(values)`` (the slow, exact text); other values (text, categoricals) formatted once per distinct
-    value.
+    Floats: :func:`repr_matrix` (each run of equal values formatted once: :func:`_runs`; a few runs by
+    ``cells``); integers, booleans: ``cells(values)`` (the slow, exact text); other values (text,
+    categoricals) formatted once per distinct value.
     """
+    codes = None
     if values.dtype.kind == "f":
         x = np.asarray(values, dtype=float)
         runs = _runs(x)
-        m = repr_matrix(x if runs is None else x[runs[0]])
-        used = np.flatnonzero(m.any(axis=0))  # the texts are left-aligned: drop the all-padding tail
-        m = m[:, :int(used[-1]) + 1 if used.size else 0]
-        return m if runs is None else m[runs[1]]
-    if values.dtype.kind in "iub":
+        if runs is not None and runs[0].size <= _FEW_RUNS:  # a few values: formatted by cells (repr)
+            texts = cells(x[runs[0]])
+            codes = runs[1]
+        else:
+            m = repr_matrix(x if runs is None else x[runs[0]])
+            used = np.flatnonzero(m.any(axis=0))  # the texts are left-aligned: drop the all-padding tail
+            m = m[:, :int(used[-1]) + 1 if used.size else 0]
+            return m if runs is None else m[runs[1]]
+    elif values.dtype.kind in "iub":
         texts = cells(values)
-        codes = None
     elif getattr(values.dtype, "name", "") == "category":  # a pandas Categorical: its codes index its categories
         codes = values.codes
         texts = cells(np.asarray(values.categories, dtype=object)) + [""]  # code -1 (missing): an empty cell
