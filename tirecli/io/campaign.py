@@ -22,7 +22,7 @@ from pathlib import Path
 
 import numpy as np
 
-from tirecli.io.atomic import atomic_write
+from tirecli.io import output
 from tirecli.io.output import require_pyarrow
 
 #: Column of a stored record listing the facts it holds (JSON).
@@ -30,13 +30,12 @@ FACTS = "_facts"
 
 
 def write_parquet(path: str | Path, frame) -> Path:
-    """Write a DataFrame as Parquet (no index) through a temporary file."""
+    """Write a DataFrame as Parquet (no index) through a temporary file, its folder made if needed
+    (:func:`tirecli.io.output.write_parquet`)."""
     require_pyarrow("a campaign (Parquet files)")
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
-    with atomic_write(path, "wb") as fh:
-        frame.to_parquet(fh, index=False, engine="pyarrow")
-    return path
+    return output.write_parquet(path, frame)
 
 
 def read_parquet(path: str | Path):

@@ -193,8 +193,10 @@ def write_parquet(path: str | Path, frame, comments: list[str] | tuple = ()) -> 
         col = frame[c]
         if col.dtype == object and not all(isinstance(v, str) or v is None for v in col.unique()):
             frame[c] = [None if v is None or (isinstance(v, float) and math.isnan(v)) else str(v) for v in col]
+    rows = PARQUET_GROUP_ROWS
     categorical = [c for c in frame.columns if frame[c].dtype == "category"]
-    schema = pa.Schema.from_pandas(frame.iloc[:0].astype({c: frame[c].cat.categories.dtype for c in categorical}),
+    # the types pyarrow infers from the first row group (object columns are typed by their values)
+    schema = pa.Schema.from_pandas(frame.iloc[:rows].astype({c: frame[c].cat.categories.dtype for c in categorical}),
                                    preserve_index=False)
     if comments:
         schema = schema.with_metadata({**(schema.metadata or {}), b"tirecli.comments": "\n".join(comments).encode()})
@@ -211,7 +213,6 @@ def write_parquet(path: str | Path, frame, comments: list[str] | tuple = ()) -> 
         return pa.array(part[c], type=schema.field(c).type, from_pandas=True, memory_pool=pool)
 
     path = Path(path)
-    rows = PARQUET_GROUP_ROWS
     with atomic_write(path, "wb") as fh, pq.ParquetWriter(fh, schema, memory_pool=pool) as writer:
         for lo in range(0, max(len(frame), 1), rows):  # a row group at a time: bounded memory
             part = frame.iloc[lo:lo + rows]
