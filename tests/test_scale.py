@@ -200,6 +200,26 @@ def test_sweep_parquet_equals_csv(cli, tmp_path):
     assert "data/sweep.parquet" in run and "sweep.csv" not in run
 
 
+def test_campaign_parquet_as_pandas_writes_it(tmp_path, monkeypatch):
+    """Campaign files go through the row-group writer: the schema (types inferred from the values, the
+    pandas metadata) and the values pandas' own writer gives, over several row groups too."""
+    pq = pytest.importorskip("pyarrow.parquet")
+    from tirecli.io import campaign
+
+    n = 50
+    frame = pd.DataFrame({"id": [f"p{i:03d}" for i in range(n)], "error": [None] * n,
+                          "note": np.array(["x" if i % 3 else None for i in range(n)], dtype=object),
+                          "k": np.arange(n), "ok": np.arange(n) % 2 == 0, "v": np.linspace(0, 1, n)})
+    frame.loc[4, "v"] = np.nan
+    frame.to_parquet(tmp_path / "pandas.parquet", index=False, engine="pyarrow")
+    for group in (output.PARQUET_GROUP_ROWS, 7):
+        monkeypatch.setattr(output, "PARQUET_GROUP_ROWS", group)
+        path = campaign.write_parquet(tmp_path / f"sub{group}" / "ours.parquet", frame)
+        assert pq.read_schema(path).equals(pq.read_schema(tmp_path / "pandas.parquet"), check_metadata=True)
+        assert pq.ParquetFile(path).metadata.num_row_groups == -(-n // group)
+        pd.testing.assert_frame_equal(campaign.read_parquet(path), pd.read_parquet(tmp_path / "pandas.parquet"))
+
+
 def test_format_errors_are_one_line(cli, tmp_path, monkeypatch):
     cfg = tmp_path / "s.yaml"
     cfg.write_text(SWEEP)

@@ -188,35 +188,44 @@ def write_parquet(path: str | Path, frame, comments: list[str] | tuple = ()) -> 
     import pyarrow.compute as pc
     import pyarrow.parquet as pq
 
-    frame = frame.copy(deep=False)
-    for c in frame.columns:
-        col = frame[c]
-        if col.dtype == object and not all(isinstance(v, str) or v is None for v in col.unique()):
-            frame[c] = [None if v is None or (isinstance(v, float) and math.isnan(v)) else str(v) for v in col]
+    dtypes = frame.dtypes
+    mixed = [c for c in frame.columns[dtypes == object]
+             if not all(isinstance(v, str) or v is None for v in frame[c].unique())]
+    if mixed:
+        frame = frame.copy(deep=False)
+        for c in mixed:
+            frame[c] = [None if v is None or (isinstance(v, float) and math.isnan(v)) else str(v) for v in frame[c]]
     rows = PARQUET_GROUP_ROWS
-    categorical = [c for c in frame.columns if frame[c].dtype == "category"]
-    # the types pyarrow infers from the first row group (object columns are typed by their values)
-    schema = pa.Schema.from_pandas(frame.iloc[:rows].astype({c: frame[c].cat.categories.dtype for c in categorical}),
-                                   preserve_index=False)
+    categorical = [c for c, t in dtypes.items() if t == "category"]
+    # the types pyarrow infers from the values of the first row group (categoricals: texts); without
+    # categoricals that group converted by pyarrow at once, else every group column by column below
+    head = frame.iloc[:rows] if len(frame) > rows else frame
+    first = None if categorical else pa.Table.from_pandas(head, preserve_index=False, nthreads=1)
+    schema = first.schema if first is not None else pa.Schema.from_pandas(
+        head.astype({c: frame[c].cat.categories.dtype for c in categorical}), preserve_index=False)
     if comments:
         schema = schema.with_metadata({**(schema.metadata or {}), b"tirecli.comments": "\n".join(comments).encode()})
-    # the C library's allocator: pyarrow's default one would keep each row group's buffers (tens of MB)
+    # a column converted as pyarrow converts a frame's (a categorical taken from its categories), with
+    # the C library's allocator (pyarrow's default one would keep each group's buffers: tens of MB)
     pool = pa.system_memory_pool()
-    # a column converted as pyarrow converts a frame's; a categorical one taken from its categories
     values = {c: pa.array(frame[c].cat.categories, type=schema.field(c).type, from_pandas=True, memory_pool=pool)
               for c in categorical}
 
-    def column(part, c):
+    def column(c, col, kind):
         if c in values:
-            codes = part[c].cat.codes.to_numpy()
+            codes = col.cat.codes.to_numpy()
             return pc.take(values[c], pa.array(codes, mask=codes < 0, memory_pool=pool), memory_pool=pool)
-        return pa.array(part[c], type=schema.field(c).type, from_pandas=True, memory_pool=pool)
+        return pa.array(col, type=kind, from_pandas=True, memory_pool=pool)
 
     path = Path(path)
     with atomic_write(path, "wb") as fh, pq.ParquetWriter(fh, schema, memory_pool=pool) as writer:
-        for lo in range(0, max(len(frame), 1), rows):  # a row group at a time: bounded memory
+        if first is not None:
+            writer.write_table(first)
+            del first
+        for lo in range(0 if categorical else rows, max(len(frame), 1), rows):  # a row group at a time: bounded memory
             part = frame.iloc[lo:lo + rows]
-            writer.write_table(pa.Table.from_arrays([column(part, c) for c in frame.columns], schema=schema))
+            writer.write_table(pa.Table.from_arrays([column(c, col, kind) for (c, col), kind in zip(part.items(), schema.types)],
+                                                    schema=schema))
     return path
 
 
