@@ -334,7 +334,8 @@ def write_table(path, header: str, columns, lines=None, lead: bytes = b"", threa
 
 _WR = 24  # widest repr of a double: '-0.00012345678901234567' (23) or '-1.2345678901234567e-308' (24)
 _MARGIN = 0.02  # decisions closer than this (in units of the 17th digit) to a boundary are redone with repr
-_TZ4 = np.array([4] + [len(f"{c:04d}") - len(f"{c:04d}".rstrip("0")) for c in range(1, 10000)], dtype=np.int8)  # trailing zeros
+_TZ4 = np.array([4] + [len(f"{c:04d}") - len(f"{c:04d}".rstrip("0")) for c in range(1, 10000)],
+                dtype=np.int8)  # trailing zeros of the 4-digit group c
 
 
 def _repr_digits(a):

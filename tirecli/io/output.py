@@ -224,8 +224,8 @@ def write_parquet(path: str | Path, frame, comments: list[str] | tuple = ()) -> 
             del first
         for lo in range(0 if categorical else rows, max(len(frame), 1), rows):  # a row group at a time: bounded memory
             part = frame.iloc[lo:lo + rows]
-            writer.write_table(pa.Table.from_arrays([column(c, col, kind) for (c, col), kind in zip(part.items(), schema.types)],
-                                                    schema=schema))
+            arrays = [column(c, col, kind) for (c, col), kind in zip(part.items(), schema.types)]
+            writer.write_table(pa.Table.from_arrays(arrays, schema=schema))
     return path
 
 

@@ -190,7 +190,8 @@ def sweep_frame(variants, p, slips, speeds, thetas_fm, progress=None, block: int
     # text columns as categoricals of their few values (a byte per row, no string per row); categories
     # sorted, so that they order as the texts do
     data = {"model": pd.Categorical.from_codes(model, categories=_texts(sorted(labels))),
-            "direction": pd.Categorical.from_codes(1 - braking.view(np.int8), categories=_texts(["braking", "driving"]))}
+            "direction": pd.Categorical.from_codes(1 - braking.view(np.int8),
+                                                   categories=_texts(["braking", "driving"]))}
     for c in order:
         data[c] = cols[c] if c in cols else np.broadcast_to(np.float64(const[c]), n)
     return pd.DataFrame(data, copy=False)
