@@ -89,3 +89,22 @@ def test_legends_outside_stay_off_the_axes():
     fig.canvas.draw()
     leg = ax.get_legend().get_window_extent()
     assert leg.x0 >= ax.get_window_extent().x1
+
+
+def test_many_cases_histories_mark_locks_without_shading_and_show_the_torque_band(many_cases):
+    """With a colour scale, per-case lock shadings would cover the slip panel: only their ends are
+    marked; the right axis shows the band of all cases' brake torques (not one case's torque)."""
+    import matplotlib
+
+    from tirecli.figures.registry import get
+
+    fig = get("transient-histories").draw(many_cases)
+    locks = sum(len(tr.events["lock"]) for tr in many_cases.payload["runs"].values())
+    slip_ax = [ax for ax in fig.axes if ax.get_ylabel().startswith("slip")][0]
+    assert not [p for p in slip_ax.patches if isinstance(p, matplotlib.patches.Polygon | matplotlib.patches.Rectangle)]
+    if locks:
+        assert any(line.get_marker() == "v" for line in slip_ax.lines)
+    twins = [ax for ax in fig.axes if ax.get_ylabel().startswith("brake torque")]
+    assert len(twins) == 1 and "band of the 14 coupled cases" in twins[0].get_ylabel()
+    lo, hi = twins[0].get_ylim()
+    assert lo <= 0 and hi >= 1250  # every case's peak torque is inside the band

@@ -184,13 +184,55 @@ def test_save_figure_lays_out_once_for_several_formats(tmp_path):
     assert [p.name for p in save_figure(fig, tmp_path, "g", formats=("png",))] == ["g.png"]
 
 
+def test_a_cache_hit_reads_each_cached_file_once(cli, tmp_path, monkeypatch):
+    """The files of a cache entry are read once: the bytes whose hash was checked are the bytes copied."""
+    out = tmp_path / "rep"
+    _report(cli, out, "--jobs", "1")
+    cache = (out / ".tirecli-cache").resolve()
+    reads, real = [], Path.read_bytes
+
+    def read_bytes(self):
+        if cache in self.resolve().parents and self.name != "manifest.json" and self.name != "card.json":
+            reads.append(str(self))
+        return real(self)
+
+    monkeypatch.setattr(Path, "read_bytes", read_bytes)
+    before = {**_files(out, "data/*/*.csv"), **_files(out, "figures/*")}
+    summary = _report(cli, out, "--jobs", "1")
+    assert summary["study_cached"] == dict.fromkeys(STUDIES, True)
+    assert reads and len(reads) == len(set(reads)), "a cached file was read twice"
+    assert {**_files(out, "data/*/*.csv"), **_files(out, "figures/*")} == before
+
+
+def test_svg_files_are_the_same_from_run_to_run(tmp_path):
+    """Clip paths and markers get ids from a fixed salt (matplotlib draws a random one per id)."""
+    from tirecli.figures.style import new_figure
+    from tirecli.io.output import save_figure
+
+    def saved(sub):
+        fig, ax = new_figure(width=4, height=3)
+        ax.plot([0, 1], [0, 1], marker="o")
+        ax.fill_between([0, 1], [0, 0], [1, 2])
+        (tmp_path / sub).mkdir()
+        return save_figure(fig, tmp_path / sub, "f", formats=("svg",))[0].read_bytes()
+
+    a, b = saved("a"), saved("b")
+    assert b"clip-path" in a and a == b
+
+
 @pytest.mark.parametrize("study", ["fm-fig1-left", "mcps-fig3"])
-def test_a_png_is_the_file_savefig_writes(tmp_path, study):
-    """The PNG drawn once (layout and rendering in one pass) is byte for byte what ``savefig`` writes."""
+def test_a_png_has_the_pixels_savefig_writes(tmp_path, study):
+    """The PNG drawn once (layout and rendering in one pass, tirecli's encoder) has pixel for pixel the
+    image and the resolution of the file ``savefig`` writes (with the same settings); the same figure
+    gives the same bytes."""
     import io
 
+    import matplotlib
+    import numpy as np
+    from PIL import Image
+
     from tirecli.figures.registry import load_all
-    from tirecli.io.output import save_figure
+    from tirecli.io.output import SAVE_RC, save_figure
     from tirecli.studies.base import builtin_config, run_study
 
     res = run_study(builtin_config(study))
@@ -201,9 +243,34 @@ def test_a_png_is_the_file_savefig_writes(tmp_path, study):
         if not hasattr(fig, "savefig"):
             continue
         ref = io.BytesIO()
-        f.draw(res).savefig(ref, format="png", dpi=150, metadata={"Software": None})
+        with matplotlib.rc_context(SAVE_RC):
+            f.draw(res).savefig(ref, format="png", dpi=150, metadata={"Software": None})
         (path,) = save_figure(fig, tmp_path, f.id, dpi=150, formats=("png",))
-        assert path.read_bytes() == ref.getvalue(), f.id
+        with Image.open(ref) as a, Image.open(path) as b:
+            assert a.size == b.size and b.info["dpi"] == pytest.approx(a.info["dpi"]), f.id
+            assert np.array_equal(np.asarray(a.convert("RGBA")), np.asarray(b.convert("RGBA"))), f.id
+        (again,) = save_figure(f.draw(res), tmp_path, f.id + "-again", dpi=150, formats=("png",))
+        assert again.read_bytes() == path.read_bytes(), f.id
+
+
+def test_png_bytes_keeps_every_pixel():
+    """An opaque image is written as RGB, one with transparency as RGBA; both decode to the same pixels."""
+    import io
+
+    import numpy as np
+    from PIL import Image
+
+    from tirecli.io.output import png_bytes
+
+    rng = np.random.default_rng(3)
+    img = rng.integers(0, 256, size=(7, 5, 4), dtype=np.uint8)
+    img[..., 3] = 255
+    seethrough = img.copy()
+    seethrough[2, 3, 3] = 17
+    for arr, mode in ((img, "RGB"), (seethrough, "RGBA")):
+        with Image.open(io.BytesIO(png_bytes(arr, 150))) as im:
+            assert im.mode == mode and im.size == (5, 7) and im.info["dpi"] == pytest.approx((150, 150), rel=1e-3)
+            assert np.array_equal(np.asarray(im.convert("RGBA")), arr)
 
 
 def _sum_on_threads() -> int:

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import importlib.util
 import math
+import os
 
 import numpy as np
 import pandas as pd
@@ -304,6 +305,74 @@ def test_spooled_frame_reads_back():
     pd.testing.assert_frame_equal(spool.to_frame(), pd.concat(parts, ignore_index=True), check_dtype=False)
     with pytest.raises(ValueError):
         spool.append(parts[0][["t", "case", "x"]])
+
+
+def test_spooled_frame_filled_by_a_helper_process(tmp_path):
+    """Rows formatted in a forked helper process: the same text and count as in this process; the
+    helper's error is raised where the rows are read."""
+    from tirecli.io.output import SpooledFrame, write_csv
+
+    rng = np.random.default_rng(4)
+    parts = [pd.DataFrame({"case": [f"c{k}"] * 500, "t": rng.standard_normal(500), "x": rng.random(500) < 0.5})
+             for k in range(5)]
+    texts = []
+    for background in (False, True):
+        spool = SpooledFrame(["case", "t", "x"])
+        first = spool.extend(iter(parts), background=background, first=lambda: {"pid": os.getpid()})
+        assert (first()["pid"] != os.getpid()) == background  # made by the helper
+        assert len(spool) == 2500
+        texts.append(write_csv(tmp_path / f"{background}.csv", spool).read_bytes())
+    assert texts[0] == texts[1]
+
+    def failing():
+        yield parts[0]
+        raise ValueError("part 2 is broken")
+
+    spool = SpooledFrame(["case", "t", "x"])
+    assert spool.extend(failing(), background=True)() is None
+    with pytest.raises(ValueError, match="part 2 is broken"):
+        write_csv(tmp_path / "f.csv", spool)
+    spool = SpooledFrame(["case", "t", "x"])
+    first = spool.extend(iter(parts), background=True, first=lambda: 1 / 0)
+    with pytest.raises(ZeroDivisionError):
+        first()
+    with pytest.raises(ZeroDivisionError):
+        len(spool)
+
+
+@pytest.mark.parametrize("dt", [0.002, 0.0])
+def test_drawn_rows_are_rows_of_the_timeseries(dt):
+    """The rows kept for the figures of a streamed run, evaluated alone, are those rows of the whole
+    time series (the same numbers)."""
+    from tirecli.config.loader import config_from_text
+    from tirecli.studies import simulate
+
+    config = config_from_text(_many_cases(2).replace("dt: 0.002", f"dt: {dt}"), label="<test>")
+    checked, tire, vehicle, cases = simulate.plan(config)
+    car = vehicle.model()
+    trs = simulate.run_cases(cases, tire.model(), car, checked["t_end"])
+    for c in cases:
+        cache = trs[c.label].sample_cache  # a kept run's samples (runs.quarter_car(reuse=True))
+        whole = simulate._frame(trs[c.label], c, dt, car.r, 20.0)
+        kept = len(cache)
+        drawn = simulate._frame(trs[c.label], c, dt, car.r, 20.0, points=40, keep=False)
+        assert len(cache) == kept and (kept >= 1 or dt == 0)  # keep=False: not kept with the run
+        rows = simulate._thinned(len(whole), 40)
+        assert 20 < len(drawn) <= 41 and rows[-1] == len(whole) - 1
+        pd.testing.assert_frame_equal(drawn, whole.iloc[rows].reset_index(drop=True), check_exact=True)
+
+
+def test_many_cases_same_files_with_or_without_the_helper_process(cli, tmp_path, monkeypatch):
+    from tirecli.numerics import pool
+
+    cfg = tmp_path / "many.yaml"
+    cfg.write_text(_many_cases(14))
+    for helper in (True, False):
+        monkeypatch.setattr(pool, "helper_process_ok", lambda helper=helper: helper)
+        code, _, err = cli("--quiet", "simulate", cfg, "--out", tmp_path / str(helper))
+        assert code == 0, err
+    for name in ("data/timeseries.csv", "data/events.csv", "figures/transient-histories.png"):
+        assert (tmp_path / "True" / name).read_bytes() == (tmp_path / "False" / name).read_bytes()
 
 
 # --------------------------------------------------------------------------- mf eval

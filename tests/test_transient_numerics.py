@@ -228,6 +228,45 @@ def test_wheel_lock_holds_and_releases(table2, car):
     assert np.all(-car.r * F <= tr.out["brake_torque"][locked] + 1e-9)
 
 
+@pytest.mark.parametrize("case", ["lock", "step-release", "open-loop", "exponential-lock"])
+def test_one_state_steps_equal_the_general_steps_bit_for_bit(table2, car, monkeypatch, case):
+    """The stepper of a load with one tire state (uniform, exponential: scalar ``_eval1``/``_attempt1``)
+    gives the runs of the general loops over the states exactly: free, locked (T_max = 1100 N m) and
+    prescribed (open loop) steps."""
+    from tirecli.numerics.characteristics import CharacteristicsStepper
+
+    var = FrictionVariant("distributed", load="exponential", lam=2.0) if case.startswith("exponential") else \
+        FrictionVariant("distributed")
+
+    def run():
+        if case == "open-loop":
+            return constant_slip(var, table2, car, s=-0.15, t_end=0.05, tol=1e-5)
+        return runs.quarter_car(var, table2, car, fm_torque(1100.0 if case.endswith("lock") else 1000.0, case == "step-release"),
+                                Constant(1.0), 20.0, 80.0, 3.5)
+
+    made, real_init = [], CharacteristicsStepper.__init__
+
+    def init(self, *args, **kwargs):
+        real_init(self, *args, **kwargs)
+        made.append(self.__dict__.get("attempt"))
+
+    monkeypatch.setattr(CharacteristicsStepper, "__init__", init)
+    fast = run()
+    assert made and all(m is not None for m in made), "the one-state steps were not used"
+
+    def general(self, *args, **kwargs):
+        real_init(self, *args, **kwargs)
+        del self._eval, self.attempt  # the methods with the loops over the states
+
+    monkeypatch.setattr(CharacteristicsStepper, "__init__", general)
+    slow = run()
+    if case.endswith("lock"):
+        assert fast.events["lock"] and fast.events["lock"] == slow.events["lock"]
+    assert fast.stats == slow.stats
+    for a, b in [(fast.t, slow.t), (fast.y, slow.y), (fast.dy, slow.dy)] + [(fast.out[k], slow.out[k]) for k in fast.out]:
+        assert np.array_equal(a, b, equal_nan=True)
+
+
 def test_plain_negative_torque_would_reverse_the_wheel_but_the_brake_does_not(table2, car):
     """docs/models/lugre_friction.md §7: brake torque never drives the wheel backwards, even held far above the grip limit."""
     tq = Transitions(0.0, (Change(0.1, -2500.0, 0.2, "linear"),))

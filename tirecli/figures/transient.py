@@ -100,7 +100,9 @@ def _case_legend(fig, axes, ncol=2, scale=None, all_axes=None):
                   "time for every case (coupled quarter car solid, open-loop tire runs dashed), from the integrator's "
                   "dense output on the output grid. Brake torque on the right axis of the speed panel. Wheel lock "
                   "intervals are shaded on the slip panel, their start (down triangle) and end (up triangle) marked "
-                  "at the root-found event times." + MANY)
+                  "at the root-found event times." + MANY + " Then the lock intervals are only marked (not shaded) and "
+                  "the right axis shows the band of the brake torques of all coupled cases (their least and greatest "
+                  "value at each time).")
 def draw_histories(result):
     require(result, "simulate", "transient-histories")
     cases = result.payload["cases"]
@@ -108,6 +110,7 @@ def draw_histories(result):
     fig, (a, b, c) = new_figure(nrows=3, width=7.0, height=8.5, sharex=True)
     shown_torque = marked = False
     styles, scale = _case_styles(cases)
+    torques = []   # (t, T_b) of every coupled case, for the band drawn with a colour scale
     for i, case in enumerate(cases):
         tr = run_of(result, case.label)
         d = per_case[case.label]   # the integrator's dense output on the output grid
@@ -118,19 +121,24 @@ def draw_histories(result):
         b.plot(d["t"], d["slip"], **st)
         c.plot(d["t"], d["mu"], **st, label=_label(case, scale))
         for t_lock, t_unlock in tr.events["lock"]:   # wheel lock intervals: both ends marked
-            b.axvspan(t_lock, t_unlock if t_unlock is not None else float(d["t"].iloc[-1]), color=st["color"],
-                      alpha=0.08, lw=0)
+            if scale is None:   # many cases' shadings would cover the panel: their ends are marked
+                b.axvspan(t_lock, t_unlock if t_unlock is not None else float(d["t"].iloc[-1]), color=st["color"],
+                          alpha=0.08, lw=0)
             b.plot([t_lock], [-1.0], marker="v", color=st["color"], ms=6, ls="none",
                    label=None if marked else "wheel locks")
             if t_unlock is not None:
                 b.plot([t_unlock], [-1.0], marker="^", color=st["color"], ms=6, ls="none",
                        label=None if marked else "wheel unlocks")
             marked = True
-        if case.mode == "coupled" and not shown_torque and np.nanmax(np.abs(d["torque"])) > 0:
+        if case.mode == "coupled" and scale is not None:
+            torques.append((np.asarray(d["t"], dtype=float), np.asarray(d["brake_torque"], dtype=float)))
+        elif case.mode == "coupled" and not shown_torque and np.nanmax(np.abs(d["torque"])) > 0:
             ax2 = a.twinx()
             ax2.plot(d["t"], d["brake_torque"], color="0.5", lw=0.8)
             ax2.set_ylabel(f"brake torque T_b [N m] ({case.label})", color="0.4", fontsize=8)
             shown_torque = True
+    if torques:
+        _torque_band(a, torques)
     finish(a, "", "v (solid), r omega (dotted) [m/s]", _wrap(result.meta.get("title") or "Transient runs"),
            legend=False)
     finish(b, "", "slip s [-]", legend=marked, loc="lower left")
@@ -138,6 +146,27 @@ def draw_histories(result):
     _case_legend(fig, c, scale=scale, all_axes=[a, b, c])
     _mark(fig, result)
     return fig
+
+
+def _torque_band(ax, torques: list, points: int = 2000) -> None:
+    """The band between the least and the greatest brake torque T_b [N m] of many cases at each time,
+    on a right axis of ``ax``; ``torques``: ``(t [s], T_b [N m])`` of each case on its own output grid
+    (each case counts until its run ends)."""
+    if not any(np.nanmax(np.abs(T), initial=0.0) > 0 for _, T in torques):
+        return
+    grid = np.linspace(0.0, max(t[-1] for t, _ in torques), points)
+    vals = np.full((len(torques), grid.size), np.nan)
+    for k, (t, T) in enumerate(torques):
+        inside = grid <= t[-1]
+        vals[k, inside] = np.interp(grid[inside], t, T)
+    lo, hi = np.nanmin(vals, axis=0), np.nanmax(vals, axis=0)
+    ax2 = ax.twinx()
+    ax2.set_zorder(ax.get_zorder() - 1)   # the band behind the speed curves
+    ax.patch.set_visible(False)
+    ax2.fill_between(grid, lo, hi, color="0.5", alpha=0.15, lw=0)
+    ax2.plot(grid, lo, color="0.5", lw=0.7)
+    ax2.plot(grid, hi, color="0.5", lw=0.7)
+    ax2.set_ylabel(f"brake torque T_b [N m]\n(band of the {len(torques)} coupled cases)", color="0.4", fontsize=8)
 
 
 def case_frames(result) -> dict:

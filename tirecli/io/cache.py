@@ -83,19 +83,29 @@ def _read_json(path: Path):
         return None
 
 
-def _valid_files(root: Path, files) -> bool:
-    """Whether ``files`` (relative path -> SHA-256) are all present under ``root`` with those hashes."""
+def _valid_files(root: Path, files, keep: dict | None = None) -> bool:
+    """Whether ``files`` (relative path -> SHA-256) are all present under ``root`` with those hashes;
+    ``keep`` (path -> bytes) receives the contents checked, so that a copy needs no second read."""
     if not isinstance(files, dict):
         return False
     for rel, digest in files.items():
         if not _safe_rel(rel):
             return False
         try:
-            if sha256((root / rel).read_bytes()) != digest:
-                return False
+            data = (root / rel).read_bytes()
         except OSError:
             return False
+        if sha256(data) != digest:
+            return False
+        if keep is not None:
+            keep[root / rel] = data
     return True
+
+
+def _deps_hold(deps, deps_now) -> bool:
+    """Whether the built-in sets recorded in ``deps`` (name -> SHA-256) are unchanged (``deps_now(name)``:
+    the current SHA-256 of set ``name``)."""
+    return isinstance(deps, dict) and all(deps_now(name) == digest for name, digest in deps.items())
 
 
 def _safe_rel(rel) -> bool:
@@ -109,6 +119,7 @@ class StudyCache:
         self.base = Path(root) / f"v{FORMAT}"
         self.dir = self.base / study / key
         self.study, self.key = study, key
+        self._checked: dict[Path, bytes] = {}  # contents read and checked by manifest() and figure(), until copied
 
     # ------------------------------------------------------------------ reading
 
@@ -118,10 +129,9 @@ class StudyCache:
         m = _read_json(self.dir / "manifest.json")
         if not isinstance(m, dict) or m.get("format") != FORMAT or m.get("key") != self.key:
             return None
-        deps = m.get("deps")
-        if not isinstance(deps, dict) or any(deps_now(name) != digest for name, digest in deps.items()):
+        if not _deps_hold(m.get("deps"), deps_now) or not isinstance(m.get("record"), dict):
             return None
-        if not _valid_files(self.dir / "files", m.get("files")) or not isinstance(m.get("record"), dict):
+        if not _valid_files(self.dir / "files", m.get("files"), self._checked):
             return None
         return m
 
@@ -130,22 +140,27 @@ class StudyCache:
         the built-in sets read for it (``card['deps']``, as in :meth:`manifest`) unchanged; or None."""
         d = self.dir / f"fig-{fid}-{fkey}"
         card = _read_json(d / "card.json")
-        if not isinstance(card, dict) or card.get("id") != fid or not _valid_files(d, card.get("hashes")):
+        if not isinstance(card, dict) or card.get("id") != fid or not _deps_hold(card.get("deps"), deps_now):
             return None
-        deps = card.get("deps")
-        if not isinstance(deps, dict) or any(deps_now(name) != digest for name, digest in deps.items()):
+        if not _valid_files(d, card.get("hashes"), self._checked):
             return None
         return card
 
     def copy_study(self, manifest: dict, dest: Path) -> None:
         """Copy the study's files into the report folder ``dest`` (``data/STUDY/...``, ``studies/STUDY.json``)."""
         for rel in sorted(manifest["files"]):
-            _copy(self.dir / "files" / rel, dest / _study_target(self.study, rel))
+            self._copy(self.dir / "files" / rel, dest / _study_target(self.study, rel))
 
     def copy_figure(self, card: dict, fid: str, fkey: str, dest: Path) -> None:
         """Copy the figure's files into ``dest/figures``."""
         for rel in sorted(card["hashes"]):
-            _copy(self.dir / f"fig-{fid}-{fkey}" / rel, dest / "figures" / rel)
+            self._copy(self.dir / f"fig-{fid}-{fkey}" / rel, dest / "figures" / rel)
+
+    def _copy(self, src: Path, dst: Path) -> None:
+        """Write ``src`` to ``dst``: the bytes checked by :meth:`manifest` or :meth:`figure` (read now if not checked)."""
+        data = self._checked.pop(src, None)
+        dst.parent.mkdir(parents=True, exist_ok=True)
+        _write(dst, src.read_bytes() if data is None else data)
 
     # ------------------------------------------------------------------ writing
 
@@ -153,7 +168,9 @@ class StudyCache:
         """Keep the study's files (read from the report folder ``src``) with its run ``record``
         (facts the cards need) and ``deps`` (built-in set -> SHA-256), unless a valid entry with
         these deps is there (it keeps its figures). Any failure is ignored: the cache is an optimisation."""
-        if self.manifest(lambda name: deps.get(name, "")) is not None:
+        valid = self.manifest(lambda name: deps.get(name, "")) is not None
+        self._checked.clear()
+        if valid:
             return
         with contextlib.suppress(OSError):
             rels = [f"data/{n}.csv" for n in data_names] + ["study.json"]
@@ -228,11 +245,6 @@ def _dump(obj) -> str:
 def _write(path: Path, data: bytes | str) -> None:
     with atomic_write(path, "wb") as fh:
         fh.write(data.encode("utf-8") if isinstance(data, str) else data)
-
-
-def _copy(src: Path, dst: Path) -> None:
-    dst.parent.mkdir(parents=True, exist_ok=True)
-    _write(dst, src.read_bytes())
 
 
 def read_timings(root: str | Path) -> dict:

@@ -27,6 +27,18 @@ def default_jobs() -> int:
         return max(os.cpu_count() or 1, 1)
 
 
+def helper_process_ok() -> bool:
+    """Whether this process may hand work to a forked helper process and go on meanwhile: on Linux
+    (``fork``), with more than one core (:func:`default_jobs`), and not in a worker whose cores are
+    shared already (a campaign's pinned worker, :data:`LIMIT` 1; a daemonic pool worker, which may
+    not start processes)."""
+    import multiprocessing
+    import sys
+
+    return (sys.platform.startswith("linux") and default_jobs() > 1 and LIMIT != 1
+            and not multiprocessing.current_process().daemon)
+
+
 def _drop_after_fork() -> None:
     """In a forked child: the parent's pool has no threads here (work given to it would wait for ever);
     the child starts its own when it first needs one."""

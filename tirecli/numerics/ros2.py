@@ -302,17 +302,18 @@ class Trajectory:
             self.__dict__["_rec"] = rec
         return rec
 
-    def sample(self, tq) -> tuple:
+    def sample(self, tq, keep: bool = True) -> tuple:
         """States and outputs at the times ``tq`` [s] from the dense output: ``(states, {name: array})``.
 
         Between steps, the states are the integrator's own step from the last recorded point to the
         time asked (``advance``: damped like the steps in the stiff bristle directions, where a
         polynomial through the end slopes would amplify the step's error by the decay rate times the
         step) and the outputs are the model's at those states; at a recorded time the recorded values
-        are returned exactly.
+        are returned exactly. ``keep=False``: the result is not kept in :attr:`sample_cache` (a
+        sampling done once, such as each case of a run streamed to disk: memory stays flat).
         """
         tq = np.atleast_1d(np.asarray(tq, dtype=float))
-        cache, key = self.sample_cache, None
+        cache, key = (self.sample_cache if keep else None), None
         if cache is not None:
             key = tq.tobytes()
             if key in cache:

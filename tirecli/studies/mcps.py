@@ -251,16 +251,18 @@ def plan_stationary(config: Config):
     checked["carcass"] = [carc] if isinstance(carc, str) else list(dict.fromkeys(carc))
     fams = _points(checked)
     n = sum(f[1].size for f in fams) * len(checked["fz"]) * len(checked["carcass"])
-    if n > compute_cap(MAX_STATIONARY_POINTS):
+    cap = compute_cap(MAX_STATIONARY_POINTS)
+    if n > cap:
         raise ConfigError(config.origins.problem((), f"{n} stationary points (slips x loads x carcasses) exceed the "
-                                                     f"budget of {compute_cap(MAX_STATIONARY_POINTS):.0f}: use coarser grids " + cap_hint()))
+                                                     f"budget of {cap:.0f}: use coarser grids " + cap_hint()))
     Estimate().add(n, tuple(("combined", k) for k in ("alpha", "kappa")) + tuple((k,) for k in FAMILIES) + (("fz",),),
                    f"the stationary points ({n:,}: slips x {len(checked['fz'])} load(s) x "
                    f"{len(checked['carcass'])} carcass(es))", BYTES_PER_ROW).check(config.origins)
     nc = sum(f[1].size for f in fams if f[0] == "curvature") * len(checked["fz"]) * len(checked["carcass"])
-    if nc > compute_cap(MAX_CURVATURE_POINTS):
+    cap = compute_cap(MAX_CURVATURE_POINTS)
+    if nc > cap:
         raise ConfigError(config.origins.problem(("curvature",), f"{nc} curvature points (x loads x carcasses) exceed "
-                                                                 f"the budget of {compute_cap(MAX_CURVATURE_POINTS):.0f} (each integrates "
+                                                                 f"the budget of {cap:.0f} (each integrates "
                                                                  "the patch along its length): use a coarser grid " + cap_hint()))
     cal = checked["calibrate"]
     if cal is True:
@@ -471,9 +473,10 @@ SLIDER = Map(fields=common_fields() | {
 def plan_slider(config: Config):
     checked, ps = collect(lambda: config.checked(SLIDER), lambda: tire_set(config))
     steps = int(checked["periods"]) * int(checked["samples"])
-    if steps > compute_cap(MAX_STEPS):
+    cap = compute_cap(MAX_STEPS)
+    if steps > cap:
         raise ConfigError(config.origins.problem(("samples",), f"{steps} steps (periods x samples) exceed the budget "
-                                                               f"of {compute_cap(MAX_STEPS):.0f}: fewer samples per period " + cap_hint()))
+                                                               f"of {cap:.0f}: fewer samples per period " + cap_hint()))
     runs_ = 2 if checked["compare_period"] else 1
     Estimate().add(runs_ * (steps + 1), (("samples",), ("periods",)),
                    f"data/slider.csv ({runs_} run(s) x {steps:,} steps)", BYTES_PER_ROW).check(config.origins)
@@ -598,13 +601,15 @@ def plan_standstill(config: Config):
     steps = legs * int(checked["samples"])
     sliders = 2 * int(checked["nodes"]) + int(checked["grid"])
     rows = legs * int(checked["patch_samples"]) * int(checked["grid"])
-    if steps > compute_cap(MAX_STEPS) or steps * sliders > compute_cap(MAX_SLIDER_STEPS):
+    cap, slider_cap = compute_cap(MAX_STEPS), compute_cap(MAX_SLIDER_STEPS)
+    if steps > cap or steps * sliders > slider_cap:
         raise ConfigError(config.origins.problem(("samples",), f"{steps:.0f} steps of {sliders} sliders exceed the budget "
-                                                               f"({compute_cap(MAX_STEPS):.0f} steps, {compute_cap(MAX_SLIDER_STEPS):.0e} slider-steps): "
+                                                               f"({cap:.0f} steps, {slider_cap:.0e} slider-steps): "
                                                                "fewer samples, cycles, nodes or grid points " + cap_hint()))
-    if rows > compute_cap(MAX_PATCH_ROWS):
+    row_cap = compute_cap(MAX_PATCH_ROWS)
+    if rows > row_cap:
         raise ConfigError(config.origins.problem(("patch_samples",), f"data/patch.csv would hold {rows:.0f} rows (budget "
-                                                                     f"{compute_cap(MAX_PATCH_ROWS):.0f}): fewer patch_samples or grid points " + cap_hint()))
+                                                                     f"{row_cap:.0f}): fewer patch_samples or grid points " + cap_hint()))
     (Estimate().add(steps, (("samples",), ("cycles",)), f"data/standstill.csv ({steps:,.0f} steps)", BYTES_PER_ROW)
      .add(rows, (("patch_samples",), ("grid",), ("cycles",)), f"data/patch.csv ({rows:,.0f} rows)", BYTES_PER_ROW)
      .check(config.origins))
@@ -761,15 +766,16 @@ def plan_relaxation(config: Config):
         raise ConfigError(config.origins.problem(("carcass",), "two cases share a label; give each a distinct 'label'"))
     p = ps.model()
     est = Estimate()
+    cap = compute_cap(MAX_ELEMENT_STEPS)
     for c in cases:
         n = _cells(p, checked, c)
         steps = checked["distance"] / (p.patch(checked["fz"]).l / n)
         est.add(steps + 1, (("distance",), ("cells",), ("speed",)), f"data/relaxation.csv (case {c.label!r}: "
                 f"{steps:,.0f} steps of {n} cells)", BYTES_PER_ROW)
-        if n * steps > compute_cap(MAX_ELEMENT_STEPS):
+        if n * steps > cap:
             raise ConfigError(config.origins.problem((), f"case {token(c.label)}: the run needs {n} cells x {steps:.3g} steps "
                                                          f"(speed {checked['speed']:g} m/s, distance {checked['distance']:g} m), "
-                                                         f"over the budget of {compute_cap(MAX_ELEMENT_STEPS):.0e} element-steps (short "
+                                                         f"over the budget of {cap:.0e} element-steps (short "
                                                          "relaxation lengths at large slip angles and the belt's fast modes at "
                                                          "low speed need small steps): shorten 'distance' or raise 'speed' " + cap_hint()))
     est.check(config.origins)

@@ -203,8 +203,9 @@ def _theta_fm_fn(profile, convention):
     at = getattr(profile, "at", None)
     at_fm = None
     if at is not None and convention == "obs":
-        def at_fm(t):
+        def inverse(t):
             return 1.0 / at(t)
+        at_fm = inverse
     elif at is not None and convention == "fm":
         at_fm = at
 

@@ -595,9 +595,22 @@ def _event_rows(ev: dict) -> list:
     return rows
 
 
-def _frame(tr, case: Case, dt: float, r: float, gain: float) -> pd.DataFrame:
+def _thinned(n: int, points: int) -> np.ndarray:
+    """Indices of every k-th of ``n`` rows, the last one kept: at most ``points + 1`` rows."""
+    keep = np.zeros(n, dtype=bool)
+    keep[::-(-n // points)] = True
+    keep[-1:] = True
+    return np.flatnonzero(keep)
+
+
+def _frame(tr, case: Case, dt: float, r: float, gain: float, points: int | None = None,
+           keep: bool = True) -> pd.DataFrame:
     """The time series of a run on the output grid, from the integrator's dense output (states
-    interpolated by the step's cubic Hermite, outputs evaluated by the model there)."""
+    interpolated by the step's cubic Hermite, outputs evaluated by the model there).
+
+    ``points``: only every k-th row of the grid, the last kept (:func:`_thinned`; the rows the
+    figures draw), evaluated alone: the same values as those rows of the whole frame. ``keep=False``:
+    the samples are not kept with the run (:meth:`~tirecli.numerics.ros2.Trajectory.sample`)."""
     import pandas as pd
 
     t = tr.t
@@ -606,10 +619,17 @@ def _frame(tr, case: Case, dt: float, r: float, gain: float) -> pd.DataFrame:
         tg = np.round(np.arange(n + 1) * dt, 12)
         if tg[-1] < t[-1] - 1e-12:
             tg = np.append(tg, t[-1])
-        Y, O = tr.sample(tg)
+        if points is not None:
+            tg = tg[_thinned(tg.size, points)]
+        Y, O = tr.sample(tg, keep)
         distance = runs.distance_at(tr, tg)
     else:
         tg, Y, O, distance = t, tr.y, tr.out, tr.out["distance"]
+        if points is not None:
+            rows = _thinned(t.size, points)
+            O = {k: np.asarray(O[k])[rows] for k in ("vr", "mu", "torque", "brake_torque", "theta", "zdot", "kappa0",
+                                                     "zbar", "locked") if k in O}
+            tg, Y, distance = t[rows], Y[rows], distance[rows]
     out = {"case": case.label, "mode": case.mode, "model": case.variant.default_label(), "t": tg,
            "v": Y[:, 0], "omega": Y[:, 1], "romega": r * Y[:, 1]}
     for k in ("vr", "mu", "torque", "brake_torque", "theta", "zdot", "kappa0"):
@@ -636,33 +656,47 @@ TIMESERIES_COLUMNS = ["case", "mode", "model", "t", "v", "omega", "romega", "sli
 
 
 def _timeseries(trs: dict, cases: list, dt: float, r: float, gain: float):
-    """``(timeseries, drawn)``: the frame ``timeseries`` of every case (:func:`_frame`) and, when it is
-    streamed, ``{label: frame}`` of each case's rows thinned for the figures (else None).
+    """``(timeseries, drawn, events)``: the frame ``timeseries`` of every case (:func:`_frame`), when it
+    is streamed ``{label: frame}`` of each case's rows thinned for the figures (else None), and the
+    facts of every case (:func:`_events`).
 
     Up to :data:`SPOOL_CASES` cases the frame is a DataFrame. With more, each case's rows are written
     to disk, :data:`SPOOL_ROWS` rows at a time (:class:`tirecli.io.output.SpooledFrame`, copied into
     ``data/timeseries.csv``; the same text) and the figures draw every k-th row (at most
-    :data:`DRAWN_POINTS` a case, the last kept)."""
+    :data:`DRAWN_POINTS` a case, the last kept). With a spare core a helper process finds the events
+    and formats the rows (:meth:`~tirecli.io.output.SpooledFrame.extend`) while this one evaluates
+    the rows drawn and goes on to the figures; the same numbers and text."""
     import pandas as pd
 
-    if len(cases) <= SPOOL_CASES:
-        return pd.concat([_frame(trs[c.label], c, dt, r, gain) for c in cases], ignore_index=True), None
-    from tirecli.io.output import SpooledFrame
+    def events():
+        return [_events(trs[c.label], c, r) for c in cases]
 
-    spool, drawn = SpooledFrame(TIMESERIES_COLUMNS), {}
-    pending, rows = [], 0
-    for i, c in enumerate(cases):
-        f = _frame(trs[c.label], c, dt, r, gain)
-        pending.append(f)
-        rows += len(f)
-        if rows >= SPOOL_ROWS or i == len(cases) - 1:   # a few cases at a time: fewer, larger CSV blocks
-            spool.append(pd.concat(pending, ignore_index=True) if len(pending) > 1 else f)
-            pending, rows = [], 0
-        keep = np.zeros(len(f), dtype=bool)
-        keep[::-(-len(f) // DRAWN_POINTS)] = True
-        keep[-1:] = True
-        drawn[c.label] = f[keep].reset_index(drop=True)
-    return spool, drawn
+    if len(cases) <= SPOOL_CASES:
+        frame = pd.concat([_frame(trs[c.label], c, dt, r, gain) for c in cases], ignore_index=True)
+        return frame, None, events()
+    from tirecli.io.output import SpooledFrame
+    from tirecli.numerics.pool import helper_process_ok
+
+    drawn = {}
+    helper = helper_process_ok()
+
+    def parts():  # a few cases at a time: fewer, larger CSV blocks
+        pending, rows = [], 0
+        for i, c in enumerate(cases):
+            f = _frame(trs[c.label], c, dt, r, gain, keep=False)
+            if not helper:  # in this process: the rows drawn taken from the whole frame
+                drawn[c.label] = f.iloc[_thinned(len(f), DRAWN_POINTS)].reset_index(drop=True)
+            pending.append(f)
+            rows += len(f)
+            if rows >= SPOOL_ROWS or i == len(cases) - 1:
+                yield pd.concat(pending, ignore_index=True) if len(pending) > 1 else f
+                pending, rows = [], 0
+
+    spool = SpooledFrame(TIMESERIES_COLUMNS)
+    found = spool.extend(parts(), background=helper, first=events)
+    if helper:  # the helper makes the whole frames: the rows drawn evaluated alone here, meanwhile
+        drawn = {c.label: _frame(trs[c.label], c, dt, r, gain, DRAWN_POINTS, keep=False) for c in cases}
+    return spool, drawn, found()
 
 
 def _measure(trs: dict, labels: list, meas: dict, r: float, gain: float):
@@ -707,7 +741,7 @@ def _underflow_cause(err, case, car, t_end) -> RunError:
     """The step-size underflow of a coupled case as a one-line error naming an implausible wheel torque
     input (its peak over the run against ``r F_n``) when there is one, else ``err`` with the case's label."""
     tq = case.torque
-    peak = max(abs(tq.at(float(t))) for t in run_times(t_end, None, tq.breakpoints(t_end)))
+    peak = float(np.max(np.abs(np.asarray(tq(run_times(t_end, None, tq.breakpoints(t_end))), dtype=float))))
     scale = car.r * car.F_n
     where = f"case {token(case.label)}: {err}"
     if not peak > IMPLAUSIBLE_TORQUE * scale:
@@ -761,8 +795,7 @@ def run_simulate(config: Config, progress=None) -> StudyResult:
     t_end = checked["t_end"]
     gain = (checked["input"] or {}).get("pressure_gain") or DEFAULT_PRESSURE_GAIN
     trs = run_cases(cases, p, car, t_end, _sample_times(meas, t_end), progress)
-    timeseries, drawn = _timeseries(trs, cases, checked["output"]["dt"], car.r, gain)
-    events = [_events(trs[c.label], c, car.r) for c in cases]
+    timeseries, drawn, events = _timeseries(trs, cases, checked["output"]["dt"], car.r, gain)
     data = {"timeseries": timeseries,
             "events": pd.DataFrame([row for e in events for row in _event_rows(e)])}
     synthetic = False
