@@ -2,6 +2,7 @@
 budget of a large sweep, simulate with many cases, ``mf eval``. No timings here (benchmarks/bench_scale.py)."""
 from __future__ import annotations
 
+import importlib.util
 import math
 import os
 
@@ -60,6 +61,44 @@ def test_chunked_csv_identical_to_previous_writer(tmp_path, monkeypatch):
     assert output.write_csv(tmp_path / "e.csv", empty, ["c"]).read_bytes().decode() == previous_csv_text(empty, ["c"])
 
 
+def test_runs_of_equal_values_formatted_once_keep_their_text(tmp_path, monkeypatch):
+    """Columns that repeat values (formatted once per run, a few runs by repr): signed zeros, NaN runs,
+    runs across chunk edges, a column of many runs; the text is the previous writer's."""
+    n = 3000
+    idx = np.arange(n)
+    frame = pd.DataFrame({
+        "zeros": np.where(idx % 3 == 1, -0.0, 0.0),  # equal values, different texts
+        "steps": np.repeat([5.0, 0.1, np.nan, 1e22, -2.5e-7], n // 5),
+        "half": np.where(idx < n // 2, 20.0, np.linspace(0, 1, n)),  # a run, then distinct values
+        "pairs": np.repeat(np.linspace(-1, 1, n // 2), 2),  # many runs of two
+        "const": np.full(n, 1 / 3),
+    })
+    monkeypatch.setattr(output, "CSV_CHUNK_ROWS", 701)
+    path = output.write_csv(tmp_path / "runs.csv", frame)
+    assert path.read_bytes().decode() == previous_csv_text(frame)
+    first, ids = fastcsv._runs(frame["pairs"].to_numpy())
+    assert first.size == n // 2 and np.array_equal(frame["pairs"].to_numpy()[first][ids], frame["pairs"].to_numpy())
+    assert fastcsv._runs(np.linspace(0, 1, 100)) is None
+
+
+def test_ordered_map_keeps_the_order_and_raises():
+    from tirecli.numerics.pool import ordered_map
+
+    def slow_square(k):
+        import time
+
+        time.sleep(0.001 * (k % 3))  # later items may finish first
+        if k == 13:
+            raise ValueError("thirteen")
+        return k * k
+
+    for threads in (1, 2, 3):
+        assert list(ordered_map(slow_square, range(13), threads)) == [k * k for k in range(13)]
+        with pytest.raises(ValueError, match="thirteen"):
+            list(ordered_map(slow_square, range(20), threads))
+    assert list(ordered_map(slow_square, [], 2)) == []
+
+
 # --------------------------------------------------------------------------- sweep
 
 SWEEP = """study: sweep
@@ -104,6 +143,30 @@ def test_blockwise_sweep_equals_one_block():
     assert whole.loc[whole["model"] == variants[0].label, ["kappa0", "Z"]].isna().all().all()
 
 
+def test_sweep_frame_compact_columns_same_csv(tmp_path):
+    """The sweep frame's text columns are categoricals and its columns constant over the sweep are
+    stored once; its CSV is the previous writer's text of the same values (categories as texts)."""
+    from tirecli.studies.sweep import sweep_frame
+
+    one_theta = SWEEP.replace("theta: [0.5, 1.0]", "theta: [0.8]").replace(
+        "    - {model: lumped, kappa0: Z}\n    - {model: lumped, kappa0: 1.5, label: k15}\n", "")
+    for text, constant in ((SWEEP, []), (one_theta, ["theta", "theta_obs", "kappa0", "Z"])):
+        variants, p, slips, speeds, thetas = _sweep_inputs(text)
+        with np.errstate(all="ignore"):
+            df = sweep_frame(variants, p, slips, speeds, thetas, block=50)
+        assert df["model"].dtype == "category" and df["direction"].dtype == "category"
+        for col in ("speed", "v", "romega", "theta", "theta_obs", "slip", "mu", "kappa0", "Z"):
+            assert (df[col].to_numpy().strides == (0,)) == (col in constant), col
+        for col in constant:
+            assert len(set(df[col].astype(str))) == 1, col
+        plain = df.astype({"model": object, "direction": object})
+        assert output.write_csv(tmp_path / "s.csv", df).read_bytes().decode() == previous_csv_text(plain)
+        if importlib.util.find_spec("pyarrow"):  # Parquet: the values as texts, not categoricals
+            back = pd.read_parquet(output.write_parquet(tmp_path / "s.parquet", df))
+            assert str(back["model"].dtype) == str(back["direction"].dtype) == "str"
+            pd.testing.assert_frame_equal(back, plain.astype({"model": "str", "direction": "str"}))
+
+
 def _exact_csv(path):
     """A CSV of tirecli as a frame, numbers parsed by Python's float (exact), text kept."""
     raw = pd.read_csv(path, comment="#", dtype=str, keep_default_na=False)
@@ -136,6 +199,26 @@ def test_sweep_parquet_equals_csv(cli, tmp_path):
                 assert [None if pd.isna(v) else str(v) for v in a] == [None if pd.isna(v) else str(v) for v in b], col
     run = (tmp_path / "parquet" / "run.json").read_text()
     assert "data/sweep.parquet" in run and "sweep.csv" not in run
+
+
+def test_campaign_parquet_as_pandas_writes_it(tmp_path, monkeypatch):
+    """Campaign files go through the row-group writer: the schema (types inferred from the values, the
+    pandas metadata) and the values pandas' own writer gives, over several row groups too."""
+    pq = pytest.importorskip("pyarrow.parquet")
+    from tirecli.io import campaign
+
+    n = 50
+    frame = pd.DataFrame({"id": [f"p{i:03d}" for i in range(n)], "error": [None] * n,
+                          "note": np.array(["x" if i % 3 else None for i in range(n)], dtype=object),
+                          "k": np.arange(n), "ok": np.arange(n) % 2 == 0, "v": np.linspace(0, 1, n)})
+    frame.loc[4, "v"] = np.nan
+    frame.to_parquet(tmp_path / "pandas.parquet", index=False, engine="pyarrow")
+    for group in (output.PARQUET_GROUP_ROWS, 7):
+        monkeypatch.setattr(output, "PARQUET_GROUP_ROWS", group)
+        path = campaign.write_parquet(tmp_path / f"sub{group}" / "ours.parquet", frame)
+        assert pq.read_schema(path).equals(pq.read_schema(tmp_path / "pandas.parquet"), check_metadata=True)
+        assert pq.ParquetFile(path).metadata.num_row_groups == -(-n // group)
+        pd.testing.assert_frame_equal(campaign.read_parquet(path), pd.read_parquet(tmp_path / "pandas.parquet"))
 
 
 def test_format_errors_are_one_line(cli, tmp_path, monkeypatch):

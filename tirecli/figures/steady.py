@@ -15,14 +15,20 @@ MU_TOL = 5e-4   # reference values are printed to 4 decimals
 S_TOL = 2e-3    # peak slip, printed to 3 decimals
 
 
+#: Rows compared at a time by :func:`curve` (a large sweep's frame is not copied per curve).
+_SELECT_BLOCK = 65536
+
+
 def curve(df, model=None, speed=None, theta=None, direction="braking"):
     """``(|s|, |mu|)`` of one curve of a sweep frame, sorted by ``|s|``."""
     sel = (df["direction"] == direction).to_numpy(dtype=bool, copy=True)
     if model is not None:
         sel &= (df["model"] == model).to_numpy()
     for col, value in (("speed", speed), ("theta", theta)):
-        if value is not None:  # np.isclose(column, value), with fewer temporaries
-            sel &= np.abs(df[col].to_numpy() - value) <= 1e-8 + 1e-5 * abs(value)
+        if value is not None:  # np.isclose(column, value), a block at a time (no temporaries as long as the frame)
+            x, tol = df[col].to_numpy(), 1e-8 + 1e-5 * abs(value)
+            for lo in range(0, x.size, _SELECT_BLOCK):
+                sel[lo:lo + _SELECT_BLOCK] &= np.abs(x[lo:lo + _SELECT_BLOCK] - value) <= tol
     s = np.abs(df["slip"].to_numpy()[sel])  # only the two columns drawn are selected (large sweeps)
     mu = np.abs(df["mu"].to_numpy()[sel])
     order = np.argsort(s, kind="stable")

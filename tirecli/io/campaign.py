@@ -22,34 +22,26 @@ from pathlib import Path
 
 import numpy as np
 
-from tirecli.errors import UsageError
-from tirecli.io.atomic import atomic_write
+from tirecli.io import output
+from tirecli.io.output import require_pyarrow
 
 #: Column of a stored record listing the facts it holds (JSON).
 FACTS = "_facts"
 
 
-def _pyarrow():
-    try:
-        import pyarrow  # noqa: F401
-    except ImportError:
-        raise UsageError("campaigns write Parquet: pip install 'tirecli[campaign]' (pyarrow)") from None
-
-
 def write_parquet(path: str | Path, frame) -> Path:
-    """Write a DataFrame as Parquet (no index) through a temporary file."""
-    _pyarrow()
+    """Write a DataFrame as Parquet (no index) through a temporary file, its folder made if needed
+    (:func:`tirecli.io.output.write_parquet`)."""
+    require_pyarrow("a campaign (Parquet files)")
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
-    with atomic_write(path, "wb") as fh:
-        frame.to_parquet(fh, index=False, engine="pyarrow")
-    return path
+    return output.write_parquet(path, frame)
 
 
 def read_parquet(path: str | Path):
     import pandas as pd
 
-    _pyarrow()
+    require_pyarrow("a campaign (Parquet files)")
     return pd.read_parquet(path, engine="pyarrow")
 
 

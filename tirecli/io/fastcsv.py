@@ -46,30 +46,32 @@ _BLOCK = 65536
 
 
 def _scaled17(a):
-    """``(e, y, d)`` of positive finite ``a``: decimal exponent ``e``, ``y = a * 10^(16 - e)`` (``a`` in units
-    of its 17th significant digit, in long double: error ~0.01 unit) and ``d = rint(y)`` in [1e16, 1e17)."""
+    """``(e, y, d, D)`` of positive finite ``a``: decimal exponent ``e``, ``y = a * 10^(16 - e)`` (``a`` in
+    units of its 17th significant digit, in long double: error ~0.01 unit), ``d = rint(y)`` in [1e16, 1e17)
+    and ``D``, ``d`` as uint64."""
     e = np.floor(np.log10(a)).astype(np.int64)
     al = a.astype(np.longdouble)
     y = al * _P10[_P10_OFF + 16 - e]
     d = np.rint(y)
+    D = d.astype(np.uint64)
     for _ in range(2):  # log10 can be off by one next to powers of ten
-        hi = d >= 1e17
-        lo = d < 1e16
+        hi = D >= np.uint64(10 ** 17)
+        lo = D < np.uint64(10 ** 16)
         if not (hi.any() or lo.any()):
             break
         e = e + hi - lo
         y = al * _P10[_P10_OFF + 16 - e]
         d = np.rint(y)
-    return e, y, d
+        D = d.astype(np.uint64)
+    return e, y, d, D
 
 
 def _digits(a):
     """``(D, e)``: the 17-digit integer ``D`` (``10^16 <= D < 10^17``, shorter results padded with
     zeros) and decimal exponent with ``a ~= D * 10^(e - 16)``, using 15, 16 or 17 significant
     digits: the fewest that read back to ``a`` (``a > 0`` finite)."""
-    e, y, d = _scaled17(a)
+    e, y, d, D = _scaled17(a)
     frac = (y - d).astype(np.float64)  # y = D + frac, |frac| <= 0.5
-    D = d.astype(np.uint64)
     # half the gaps to the neighbouring doubles, in units of the 17th digit, less the error of y
     # (computed in double: 1e-16 relative is nothing against the 0.02-unit margin; where the
     # scale overflows, near the ends of the double range, no shorter form is tried)
@@ -136,13 +138,37 @@ def _fill(x, w, sep: str) -> np.ndarray:
     return np.flatnonzero(odd | (big & ~nan))
 
 
+def _runs(x):
+    """The runs of equal values of the float array ``x`` (equal bits: ``-0.0`` is not ``0.0``), so that a
+    column that repeats its values (a constant; a sweep's speeds, adhesion, unused NaN columns) is
+    formatted once per run: ``(first, ids)`` with ``x[first]`` the value of each run and ``ids`` the
+    run of each value (``x[first][ids]`` is ``x``), or None when nearly every value is a run of its own
+    (more than 7 in 8)."""
+    if x.size < 2:
+        return None
+    bits = x.view(np.uint64)
+    change = bits[1:] != bits[:-1]
+    if np.count_nonzero(change) >= x.size - x.size // 8:
+        return None
+    first = np.concatenate([[0], np.flatnonzero(change) + 1])
+    ids = np.concatenate([[0], np.cumsum(change, dtype=np.intp)])
+    return first, ids
+
+
 def _fill_column(x, w, sep: str) -> np.ndarray:
-    """:func:`_fill`, a constant column formatted once."""
-    if x.size > 1 and x[0] == x[-1] and (x == x[0]).all():
-        slow = _fill(x[:1], w[:1], sep)
-        w[1:] = w[0]
-        return np.arange(x.size) if slow.size else slow
-    return _fill(x, w, sep)
+    """:func:`_fill`, each run of equal values (:func:`_runs`) formatted once."""
+    runs = _runs(x)
+    if runs is None:
+        return _fill(x, w, sep)
+    first, ids = runs
+    part = np.empty((first.size, w.shape[1]), dtype=w.dtype)
+    slow = _fill(x[first], part, sep)
+    w[...] = part[ids]
+    if not slow.size:
+        return slow
+    marked = np.zeros(first.size, dtype=bool)
+    marked[slow] = True
+    return np.flatnonzero(marked[ids])
 
 
 def _rows_block(cols, lo, hi, prefix=None) -> bytes:
@@ -209,12 +235,10 @@ def _exact(v: float) -> bytes:
 
 def _blocks(cols, threads, prefix=None):
     """The texts of the rows of ``cols`` (see :func:`_rows_block`), block by block in order, formatted
-    on the shared thread pool (a few blocks ahead of the consumer)."""
-    n = cols[0].size if cols else 0
-    starts = list(range(0, n, _BLOCK))
-    from tirecli.numerics.pool import default_threads, thread_pool
+    on the shared thread pool (:func:`tirecli.numerics.pool.ordered_map`)."""
+    from tirecli.numerics.pool import ordered_map
 
-    nthreads = default_threads() if threads is None else max(1, threads)
+    n = cols[0].size if cols else 0
 
     def block(s):
         text = _rows_block(cols, s, min(s + _BLOCK, n), prefix)
@@ -222,17 +246,7 @@ def _blocks(cols, threads, prefix=None):
             text = b"".join(b"\n" + r for r in _verified(cols, text.split(b"\n")[1:], s))
         return text
 
-    if len(starts) < 2 or nthreads < 2:
-        yield from map(block, starts)
-        return
-    pool = thread_pool(nthreads)
-    ahead = 2 * nthreads
-    futures = [pool.submit(block, s) for s in starts[:ahead]]
-    for k in range(len(starts)):
-        if k + ahead < len(starts):
-            futures.append(pool.submit(block, starts[k + ahead]))
-        yield futures[k].result()
-        futures[k] = None
+    return ordered_map(block, range(0, n, _BLOCK), threads)
 
 
 def format_rows(columns, threads: int | None = None) -> list[bytes]:
@@ -320,8 +334,8 @@ def write_table(path, header: str, columns, lines=None, lead: bytes = b"", threa
 
 _WR = 24  # widest repr of a double: '-0.00012345678901234567' (23) or '-1.2345678901234567e-308' (24)
 _MARGIN = 0.02  # decisions closer than this (in units of the 17th digit) to a boundary are redone with repr
-_DIG_BYTES = _DIGITS4.view(np.uint8).reshape(-1, 4)  # row c: the 4 ASCII digits of c
-_EXP3 = np.array([list(f"{k:03d}".encode()) for k in range(1000)], dtype=np.uint8)
+_TZ4 = np.array([4] + [len(f"{c:04d}") - len(f"{c:04d}".rstrip("0")) for c in range(1, 10000)],
+                dtype=np.int8)  # trailing zeros of the 4-digit group c
 
 
 def _repr_digits(a):
@@ -329,30 +343,34 @@ def _repr_digits(a):
     ``repr(a)`` padded with zeros, ``e`` the decimal exponent of the first digit; ``unsure`` marks the
     values where a rounding decision came within the error of the extended-precision arithmetic
     (their text is taken from ``repr`` instead)."""
-    e, y, d = _scaled17(a)
+    e, y, d, D = _scaled17(a)
     frac = (y - d).astype(np.float64)
-    D = d.astype(np.uint64)
     unsure = (D < np.uint64(10 ** 16)) | (D >= np.uint64(10 ** 17))
     with np.errstate(over="ignore", invalid="ignore"):
         scale = _P10D[_P10_OFF + 16 - e]
         g_up = np.spacing(a) * scale * 0.5
         g_dn = np.spacing(np.nextafter(a, 0.0)) * scale * 0.5
     unsure |= ~(np.isfinite(g_up) & np.isfinite(g_dn))
-    best = D.copy()
-    done = np.zeros(a.size, dtype=bool)
+    best = D
+    g_max = np.maximum(g_up, g_dn)
+    low = (D % np.uint64(10 ** 4)).astype(np.int64)  # the last four digits
+    left = None  # the values without a shorter candidate yet (None: all)
     for step in (100, 10):  # 15, then 16 significant digits; the nearest candidate of each length
-        rem = (D % np.uint64(step)).astype(np.int64)
+        rem = low % step
         r = rem + frac  # y above the candidate below, in units
         up = r > step / 2
-        c = D - rem.astype(np.uint64) + np.where(up, np.uint64(step), np.uint64(0))
         diff = np.where(up, step - r, -r)  # candidate - y
+        dist = np.abs(diff)
         gap = np.where(diff >= 0, g_up, g_dn)
-        ok = ~done & (np.abs(diff) < gap)
-        near_half = (np.abs(r - step / 2) < _MARGIN) & (np.maximum(g_up, g_dn) > step / 2 - _MARGIN)  # which is nearer?
-        unsure |= ~done & (near_half | (np.abs(np.abs(diff) - gap) < _MARGIN))  # inside the interval?
-        best = np.where(ok, c, best)
-        done |= ok
-    unsure |= ~done & (np.abs(frac) > 0.5 - _MARGIN)  # 17 digits, rounded near a half
+        ok = dist < gap
+        doubt = ((np.abs(r - step / 2) < _MARGIN) & (g_max > step / 2 - _MARGIN)) | (np.abs(dist - gap) < _MARGIN)
+        if left is not None:  # which is nearer? inside the interval?
+            ok &= left
+            doubt &= left
+        unsure |= doubt
+        best = np.where(ok, D - rem.astype(np.uint64) + up * np.uint64(step), best)
+        left = ~ok if left is None else left & ~ok
+    unsure |= left & (np.abs(frac) > 0.5 - _MARGIN)  # 17 digits, rounded near a half
     top = best >= np.uint64(10 ** 17)
     if top.any():
         best = np.where(top, np.uint64(10 ** 16), best)
@@ -362,7 +380,7 @@ def _repr_digits(a):
 
 def _layouts() -> np.ndarray:
     """Gather table of :func:`repr_matrix`: row ``class`` gives, for each of the 24 text bytes, the
-    column of the source row (17 digits, then ``0 . e - + NUL``, three exponent digits, exponent sign)."""
+    column of the source row (:func:`_source`)."""
     ZERO, POINT, E, MINUS, NUL, X0, XS = 17, 18, 19, 20, 22, 23, 26
     table = np.full((2, _NCLASS, _WR), NUL, dtype=np.intp)
     for neg in (0, 1):
@@ -378,14 +396,44 @@ def _layouts() -> np.ndarray:
                 k, three = (cls - _NFIXED) // 2 + 1, (cls - _NFIXED) % 2
                 text += [0] + ([POINT] + list(range(1, k)) if k > 1 else []) + [E, XS]
                 text += [X0, X0 + 1, X0 + 2] if three else [X0 + 1, X0 + 2]
-            table[neg, cls, :len(text)] = text
+            # digit i (0-16) is in source column 16 (the first) or i - 1 (the others: four aligned words)
+            table[neg, cls, :len(text)] = [c if c >= 17 else 16 if c == 0 else c - 1 for c in text]
     return table.reshape(2 * _NCLASS, _WR)
 
 
 _NFIXED = 20 * 17  # fixed notation: decimal exponent -4..15 x 1..17 digits
 _NCLASS = _NFIXED + 17 * 2  # and scientific: 1..17 digits x 2 or 3 exponent digits
 _LAYOUT = _layouts()
-_SRC_CONST = np.frombuffer(b"0.e-+\0", dtype=np.uint8)
+_W4 = np.array([int.from_bytes(bytes([48 + d]) + b"0.e", "little") for d in range(10)], dtype=np.uint32)
+_W5 = np.array([int.from_bytes(b"-+\0" + f"{k:03d}"[:1].encode(), "little") for k in range(1000)], dtype=np.uint32)
+_W6 = np.array([int.from_bytes(f"{k:03d}"[1:].encode() + sign + b"\0", "little") for sign in (b"+", b"-")
+                for k in range(1000)], dtype=np.uint32)
+
+
+def _source(D, e) -> np.ndarray:
+    """The source rows of :func:`_gather` for the 17-digit integers ``D`` and decimal exponents ``e``
+    (``|e| < 1000``), and the number of significant digits of each: ``(src, k)``. A row is 28 bytes,
+    written as seven little-endian 32-bit words: the digits 2 to 17 (four words), the first digit,
+    ``0 . e - + NUL``, the three digits of ``|e|``, the exponent's sign, a spare byte."""
+    n = D.size
+    src = np.empty((n, 7), dtype="<u4")
+    hi = (D // np.uint64(10 ** 8)).astype(np.uint32)  # the first 9 digits (32-bit arithmetic from here)
+    lo = (D - hi.astype(np.uint64) * np.uint64(10 ** 8)).astype(np.uint32)
+    d0 = hi // np.uint32(10 ** 8)
+    hi = hi - d0 * np.uint32(10 ** 8)
+    groups = (hi // np.uint32(10 ** 4), hi % np.uint32(10 ** 4), lo // np.uint32(10 ** 4), lo % np.uint32(10 ** 4))
+    for j, c in enumerate(groups):
+        src[:, j] = _DIGITS4[c]
+    src[:, 4] = _W4[d0]
+    ae = np.minimum(np.abs(e), 999)
+    src[:, 5] = _W5[ae]
+    src[:, 6] = _W6[ae + 1000 * (e < 0)]
+    tz = np.zeros(n, dtype=np.intp)  # trailing zeros of the digits 2-17
+    later_zero = np.ones(n, dtype=bool)
+    for c in groups[::-1]:
+        tz += _TZ4[c] * later_zero
+        later_zero &= c == 0
+    return src.view(np.uint8), 17 - tz
 
 
 def _gather(src, cls) -> np.ndarray:
@@ -416,21 +464,8 @@ def repr_matrix(x) -> np.ndarray:
     a = np.abs(x)
     regular = np.isfinite(x) & (a != 0)
     D, e, unsure = _repr_digits(np.where(regular, a, 1.0))
-    src = np.empty((n, 27), dtype=np.uint8)
-    hi = (D // np.uint64(10 ** 8)).astype(np.uint32)  # the first 9 digits (32-bit arithmetic from here)
-    lo = (D - hi.astype(np.uint64) * np.uint64(10 ** 8)).astype(np.uint32)
-    d0 = hi // np.uint32(10 ** 8)
-    hi = hi - d0 * np.uint32(10 ** 8)
-    src[:, 0] = 48 + d0.astype(np.uint8)
-    for j, (part, p) in enumerate(((hi, 10 ** 4), (hi, 1), (lo, 10 ** 4), (lo, 1))):
-        c = part // np.uint32(p) if p > 1 else part % np.uint32(10 ** 4)
-        src[:, 1 + 4 * j:5 + 4 * j] = _DIG_BYTES[c]
-    src[:, 17:23] = _SRC_CONST
+    src, k = _source(D, e)
     ae = np.abs(e)
-    src[:, 23:26] = _EXP3[np.minimum(ae, 999)]
-    src[:, 26] = np.where(e < 0, 45, 43)
-    nz = src[:, 16:0:-1] != 48
-    k = np.where(nz.any(axis=1), 17 - np.argmax(nz, axis=1), 1)  # significant digits
     fixed = (e >= -4) & (e < 16)
     cls = np.where(fixed, (e + 4) * 17 + (k - 1), _NFIXED + (k - 1) * 2 + (ae >= 100))
     cls = np.where(fixed | (ae < 1000), cls, 0) + _NCLASS * np.signbit(x)
@@ -448,6 +483,11 @@ def repr_matrix(x) -> np.ndarray:
     return m
 
 
+#: Runs of a float column (:func:`_runs`) at most formatted one by one with ``repr`` (below, cheaper than
+#: the vectorized :func:`repr_matrix`).
+_FEW_RUNS = 64
+
+
 class _ZeroByte(Exception):
     """A text holds a zero byte (the padding of the byte matrices): format the chunk with ``cells``."""
 
@@ -455,23 +495,27 @@ class _ZeroByte(Exception):
 def _column_matrix(values, cells) -> np.ndarray:
     """The CSV text of one column as an ``(n, width)`` byte matrix, zero bytes after each text.
 
-    Floats: :func:`repr_matrix` (a constant or all-NaN column formatted once); integers, booleans:
-    ``cells(values)`` (the slow, exact text); other values (text) formatted once per distinct value.
+    Floats: :func:`repr_matrix` (each run of equal values formatted once: :func:`_runs`; a few runs by
+    ``cells``); integers, booleans: ``cells(values)`` (the slow, exact text); other values (text,
+    categoricals) formatted once per distinct value.
     """
-    n = len(values)
+    codes = None
     if values.dtype.kind == "f":
         x = np.asarray(values, dtype=float)
-        if np.isnan(x).all():
-            return np.zeros((n, 0), dtype=np.uint8)
-        if x[0] == x[-1] and (x == x[0]).all():
-            m = repr_matrix(x[:1])
-            return np.broadcast_to(m[:, :int(np.count_nonzero(m))], (n, int(np.count_nonzero(m))))
-        m = repr_matrix(x)
-        used = np.flatnonzero(m.any(axis=0))  # the texts are left-aligned: drop the all-padding tail
-        return m[:, :int(used[-1]) + 1 if used.size else 0]
-    if values.dtype.kind in "iub":
+        runs = _runs(x)
+        if runs is not None and runs[0].size <= _FEW_RUNS:  # a few values: formatted by cells (repr)
+            texts = cells(x[runs[0]])
+            codes = runs[1]
+        else:
+            m = repr_matrix(x if runs is None else x[runs[0]])
+            used = np.flatnonzero(m.any(axis=0))  # the texts are left-aligned: drop the all-padding tail
+            m = m[:, :int(used[-1]) + 1 if used.size else 0]
+            return m if runs is None else m[runs[1]]
+    elif values.dtype.kind in "iub":
         texts = cells(values)
-        codes = None
+    elif getattr(values.dtype, "name", "") == "category":  # a pandas Categorical: its codes index its categories
+        codes = values.codes
+        texts = cells(np.asarray(values.categories, dtype=object)) + [""]  # code -1 (missing): an empty cell
     else:
         import pandas as pd
 
@@ -487,8 +531,8 @@ def _column_matrix(values, cells) -> np.ndarray:
     return mat if codes is None else mat[codes]
 
 
-def _csv_block(columns, lo: int, hi: int, cells) -> bytes:
-    """Rows ``lo:hi`` of ``columns`` as CSV text, each row ending with a newline."""
+def _csv_block(columns, lo: int, hi: int, cells) -> np.ndarray:
+    """Rows ``lo:hi`` of ``columns`` as CSV text (the bytes of a uint8 array), each row ending with a newline."""
     n = hi - lo
     parts = []
     for j, col in enumerate(columns):
@@ -497,18 +541,16 @@ def _csv_block(columns, lo: int, hi: int, cells) -> bytes:
         parts.append(_column_matrix(col[lo:hi], cells))
     parts.append(np.broadcast_to(np.uint8(10), (n, 1)))  # '\n'
     m = np.concatenate(parts, axis=1).ravel()
-    return m[m != 0].tobytes()  # without the padding
+    return m[m != 0]  # without the padding
 
 
 def csv_chunks(columns, n: int, rows: int, cells):
-    """The CSV text of ``n`` rows of ``columns`` (arrays), ``rows`` rows at a time (in order), formatted
-    on the shared thread pool a few chunks ahead; ``cells(values)`` gives the exact texts of an array
+    """The CSV text of ``n`` rows of ``columns`` (arrays), ``rows`` rows at a time (in order, each a
+    ``bytes`` or a uint8 array), formatted on the shared thread pool
+    (:func:`tirecli.numerics.pool.ordered_map`); ``cells(values)`` gives the exact texts of an array
     of integers or objects (quoting them as needed). A text holding a zero byte cannot be laid out in
     a byte matrix and is formatted by ``cells`` alone."""
-    from tirecli.numerics.pool import default_threads, thread_pool
-
-    starts = list(range(0, n, rows))
-    nthreads = default_threads()
+    from tirecli.numerics.pool import ordered_map
 
     def block(lo):
         hi = min(lo + rows, n)
@@ -518,13 +560,7 @@ def csv_chunks(columns, n: int, rows: int, cells):
             cols = [cells(np.asarray(c[lo:hi], dtype=None if c.dtype.kind in "fiub" else object)) for c in columns]
             return "".join(",".join(r) + "\n" for r in zip(*cols)).encode()
 
-    if len(starts) == 1 or nthreads == 1:
-        for lo in starts:
-            yield block(lo)
-        return
-    pool = thread_pool(nthreads)
-    for k in range(0, len(starts), nthreads):
-        yield from pool.map(block, starts[k:k + nthreads])
+    return ordered_map(block, range(0, n, rows))
 
 
 def field_counts(body: bytes):

@@ -76,7 +76,7 @@ def _csv_cells(values) -> list[str]:
 
 
 #: Rows formatted and written at a time by :func:`write_csv` (memory stays bounded whatever the frame).
-CSV_CHUNK_ROWS = 32768
+CSV_CHUNK_ROWS = 16384
 
 
 def write_csv(path: str | Path, frame, comments: list[str] | tuple = ()) -> Path:
@@ -279,32 +279,66 @@ def check_data_format(data_format: str) -> None:
     if data_format not in DATA_FORMATS:
         raise UsageError(f"--format {data_format!r}: expected one of {', '.join(DATA_FORMATS)}")
     if data_format == "parquet":
-        try:
-            import pyarrow  # noqa: F401
-        except ImportError:
-            raise UsageError("--format parquet needs pyarrow: pip install 'tirecli[campaign]'") from None
+        require_pyarrow("--format parquet")
+
+
+def require_pyarrow(what: str):
+    """The pyarrow module (the Parquet library of the ``campaign`` extra), or a one-line UsageError
+    ``WHAT needs pyarrow: pip install ...`` where it cannot be imported."""
+    try:
+        import pyarrow
+    except ImportError:
+        raise UsageError(f"{what} needs pyarrow: pip install 'tirecli[campaign]'") from None
+    return pyarrow
 
 
 def write_parquet(path: str | Path, frame, comments: list[str] | tuple = ()) -> Path:
     """Write a DataFrame as Parquet (pyarrow, no index; ``comments`` in the file's key-value metadata
-    under ``tirecli.comments``). Object columns that mix texts and numbers (e.g. ``kappa0``: a number
-    or ``Z``) are written as the texts of the CSV (empty cells as nulls)."""
+    under ``tirecli.comments``), :data:`PARQUET_GROUP_ROWS` rows (a row group) at a time. Object columns
+    that mix texts and numbers (e.g. ``kappa0``: a number or ``Z``) are written as the texts of the CSV
+    (empty cells as nulls), categorical columns as their values (texts)."""
     import pyarrow as pa
+    import pyarrow.compute as pc
     import pyarrow.parquet as pq
 
-    frame = frame.copy(deep=False)
-    for c in frame.columns:
-        col = frame[c]
-        if col.dtype == object and not all(isinstance(v, str) or v is None for v in col.unique()):
-            frame[c] = [None if v is None or (isinstance(v, float) and math.isnan(v)) else str(v) for v in col]
-    schema = pa.Schema.from_pandas(frame.iloc[:0], preserve_index=False)
+    dtypes = frame.dtypes
+    mixed = [c for c in frame.columns[dtypes == object]
+             if not all(isinstance(v, str) or v is None for v in frame[c].unique())]
+    if mixed:
+        frame = frame.copy(deep=False)
+        for c in mixed:
+            frame[c] = [None if v is None or (isinstance(v, float) and math.isnan(v)) else str(v) for v in frame[c]]
+    rows = PARQUET_GROUP_ROWS
+    categorical = [c for c, t in dtypes.items() if t == "category"]
+    # the types pyarrow infers from the values of the first row group (categoricals: texts); without
+    # categoricals that group converted by pyarrow at once, else every group column by column below
+    head = frame.iloc[:rows] if len(frame) > rows else frame
+    first = None if categorical else pa.Table.from_pandas(head, preserve_index=False, nthreads=1)
+    schema = first.schema if first is not None else pa.Schema.from_pandas(
+        head.astype({c: frame[c].cat.categories.dtype for c in categorical}), preserve_index=False)
     if comments:
         schema = schema.with_metadata({**(schema.metadata or {}), b"tirecli.comments": "\n".join(comments).encode()})
+    # a column converted as pyarrow converts a frame's (a categorical taken from its categories), with
+    # the C library's allocator (pyarrow's default one would keep each group's buffers: tens of MB)
+    pool = pa.system_memory_pool()
+    values = {c: pa.array(frame[c].cat.categories, type=schema.field(c).type, from_pandas=True, memory_pool=pool)
+              for c in categorical}
+
+    def column(c, col, kind):
+        if c in values:
+            codes = col.cat.codes.to_numpy()
+            return pc.take(values[c], pa.array(codes, mask=codes < 0, memory_pool=pool), memory_pool=pool)
+        return pa.array(col, type=kind, from_pandas=True, memory_pool=pool)
+
     path = Path(path)
-    rows = PARQUET_GROUP_ROWS
-    with atomic_write(path, "wb") as fh, pq.ParquetWriter(fh, schema) as writer:
-        for lo in range(0, max(len(frame), 1), rows):  # a row group at a time: bounded memory
-            writer.write_table(pa.Table.from_pandas(frame.iloc[lo:lo + rows], schema=schema, preserve_index=False))
+    with atomic_write(path, "wb") as fh, pq.ParquetWriter(fh, schema, memory_pool=pool) as writer:
+        if first is not None:
+            writer.write_table(first)
+            del first
+        for lo in range(0 if categorical else rows, max(len(frame), 1), rows):  # a row group at a time: bounded memory
+            part = frame.iloc[lo:lo + rows]
+            arrays = [column(c, col, kind) for (c, col), kind in zip(part.items(), schema.types)]
+            writer.write_table(pa.Table.from_arrays(arrays, schema=schema))
     return path
 
 

@@ -5,6 +5,7 @@ the CPU cache and the blocks run on these threads. Results never depend on the n
 """
 from __future__ import annotations
 
+import collections
 import os
 import threading
 from concurrent.futures import ThreadPoolExecutor
@@ -64,3 +65,23 @@ def thread_pool(n: int) -> ThreadPoolExecutor:
             _POOL = ThreadPoolExecutor(max_workers=n, thread_name_prefix="tirecli")
             _SIZE = n
         return _POOL
+
+
+def ordered_map(fn, items, threads: int | None = None):
+    """``fn(item)`` of each of ``items``, yielded in their order, computed on the shared pool
+    (:func:`thread_pool` of ``threads`` workers, default :func:`default_threads`) at most one item more
+    than the workers ahead of the consumer, so memory holds a few results whatever the number of
+    items. With one thread or one item, in the calling thread."""
+    items = list(items)
+    nthreads = default_threads() if threads is None else max(1, int(threads))
+    if len(items) < 2 or nthreads < 2:
+        yield from map(fn, items)
+        return
+    pool = thread_pool(nthreads)
+    pending: collections.deque = collections.deque()
+    for item in items:
+        if len(pending) > nthreads:
+            yield pending.popleft().result()
+        pending.append(pool.submit(fn, item))
+    while pending:
+        yield pending.popleft().result()

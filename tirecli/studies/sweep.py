@@ -124,7 +124,10 @@ def sweep_frame(variants, p, slips, speeds, thetas_fm, progress=None, block: int
     Rows: for each variant, theta, held speed, the slips in order. The points are evaluated in blocks
     of ``block`` (default :data:`BLOCK_POINTS`) into the frame's columns, so memory holds the frame
     and one block's temporaries; every point is computed on its own, so the values do not depend
-    on the block size.
+    on the block size. The slip x speed columns (``speed, v, romega, slip``, the direction) are
+    computed for the first (variant, theta) and copied for the others. A column with one value in
+    every row (``theta`` and ``theta_obs`` of a single adhesion, ``kappa0`` and ``Z`` without lumped
+    models) is stored once (a read-only broadcast view); ``model`` and ``direction`` are categoricals.
     """
     import pandas as pd
 
@@ -134,47 +137,85 @@ def sweep_frame(variants, p, slips, speeds, thetas_fm, progress=None, block: int
     grid = slips.size * speeds.size  # rows of one (variant, theta)
     n = grid * len(variants) * len(thetas_fm)
     order = ("speed", "v", "romega", "theta", "theta_obs", "slip", "mu", "kappa0", "Z")
-    values = np.empty((len(order), n))  # the frame's float block, filled in place (no copy into the frame)
-    cols = dict(zip(order, values))
-    model = np.empty(n, dtype=np.intp)  # index of the variant
+    const = _constant_columns(variants, p, thetas_fm)
+    stored = [c for c in order if c not in const]
+    cols = dict(zip(stored, np.empty((len(stored), n))))  # the frame's float columns, filled in place
+    labels = [v.label for v in variants]
+    model = np.empty(n, dtype=np.min_scalar_type(-len(variants)))  # code of the variant's label (sorted labels)
+    rank = {label: k for k, label in enumerate(sorted(labels))}
     braking = np.empty(n, dtype=bool)
+    first = slice(0, grid)  # the rows of the first (variant, theta)
     if progress is not None:
         progress.start(max(n // block, 1), "sweep")
     at = 0
-    for iv, var in enumerate(variants):
+    for var in variants:
         k0 = var.lumped_kappa0(p) if var.model == "lumped" else None
         for th in thetas_fm:
-            model[at:at + grid] = iv
-            cols["theta"][at:at + grid] = th
-            cols["theta_obs"][at:at + grid] = float(theta_obs_from_fm(th))
+            group = slice(at, at + grid)
+            model[group] = rank[var.label]
+            if "theta" in cols:
+                cols["theta"][group] = th
+                cols["theta_obs"][group] = float(theta_obs_from_fm(th))
+            if at:  # the slip x speed columns of the first (variant, theta)
+                for c in ("speed", "v", "romega", "slip"):
+                    cols[c][group] = cols[c][first]
+                braking[group] = braking[first]
             for lo in range(0, grid, block):
                 hi = min(lo + block, grid)
-                idx = np.arange(lo, hi)
-                S, V = slips[idx % slips.size], speeds[idx // slips.size]  # rows: speed, then slip
-                v, romega = speeds_from_slip(S, V)
-                vr = romega - v
                 rows = slice(at + lo, at + hi)
-                cols["speed"][rows], cols["v"][rows], cols["romega"][rows], cols["slip"][rows] = V, v, romega, S
-                braking[rows] = S <= 0.0
+                if not at:
+                    idx = np.arange(lo, hi)
+                    S, V = slips[idx % slips.size], speeds[idx // slips.size]  # rows: speed, then slip
+                    cols["speed"][rows], cols["slip"][rows] = V, S
+                    cols["v"][rows], cols["romega"][rows] = speeds_from_slip(S, V)
+                    braking[rows] = S <= 0.0
+                v, romega = cols["v"][rows], cols["romega"][rows]
+                vr = romega - v
                 cols["mu"][rows] = var.mu_ss(vr, romega, p, th)
                 if var.model == "lumped":
                     x = lugre.patch_ratio(vr, romega, p, th)
-                    cols["kappa0"][rows] = lugre.kappa0_of_x(x) if k0 == "Z" else float(k0)
+                    if "kappa0" in cols:
+                        cols["kappa0"][rows] = lugre.kappa0_of_x(x) if k0 == "Z" else float(k0)
                     with np.errstate(divide="ignore"):
                         cols["Z"][rows] = p.L / x  # x = L/Z; 0 -> inf (no slip), inf -> 0 (locked wheel)
                 else:
-                    cols["kappa0"][rows] = np.nan
-                    cols["Z"][rows] = np.nan
+                    for c in ("kappa0", "Z"):
+                        if c in cols:
+                            cols[c][rows] = np.nan
                 if progress is not None:
                     progress.advance(1)
             at += grid
     if progress is not None:
         progress.close()
-    df = pd.DataFrame(values.T, columns=list(order), copy=False)
-    # text columns taken from their few values (no Python string per row)
-    df.insert(0, "direction", pd.array(np.array(["driving", "braking"], dtype=object), dtype="str").take(braking.view(np.int8)))
-    df.insert(0, "model", pd.array(np.array([v.label for v in variants], dtype=object), dtype="str").take(model))
-    return df
+    # text columns as categoricals of their few values (a byte per row, no string per row); categories
+    # sorted, so that they order as the texts do
+    data = {"model": pd.Categorical.from_codes(model, categories=_texts(sorted(labels))),
+            "direction": pd.Categorical.from_codes(1 - braking.view(np.int8),
+                                                   categories=_texts(["braking", "driving"]))}
+    for c in order:
+        data[c] = cols[c] if c in cols else np.broadcast_to(np.float64(const[c]), n)
+    return pd.DataFrame(data, copy=False)
+
+
+def _constant_columns(variants, p, thetas_fm) -> dict:
+    """The float columns of :func:`sweep_frame` that hold one value in every row: ``{name: value}``."""
+    const = {}
+    if len(thetas_fm) == 1:
+        const["theta"] = float(thetas_fm[0])
+        const["theta_obs"] = float(theta_obs_from_fm(thetas_fm[0]))
+    k0 = {v.lumped_kappa0(p) if v.model == "lumped" else "nan" for v in variants}  # "nan": distributed
+    if len(k0) == 1 and "Z" not in k0:  # every variant distributed, or lumped with the same constant
+        const["kappa0"] = float(k0.pop())
+    if all(v.model != "lumped" for v in variants):
+        const["Z"] = np.nan
+    return const
+
+
+def _texts(values):
+    """The categories of a text column of :func:`sweep_frame` (pandas' text dtype)."""
+    import pandas as pd
+
+    return pd.Index(np.array(values, dtype=object), dtype="str")
 
 
 PEAK_COLUMNS = ["model", "variant", "load", "lambda", "kappa0", "direction", "speed", "theta", "theta_obs",
@@ -244,10 +285,12 @@ def plan(config: Config):
     return checked, tire, variants, thetas_fm
 
 
-#: Memory per row of a sweep [bytes]: the frame's 11 columns (88 bytes), the figure's selections of
-#: its curves; the model's temporaries and the CSV text are per block (:data:`BLOCK_POINTS`,
-#: :data:`tirecli.io.output.CSV_CHUNK_ROWS`), a few MB whatever the sweep. Measured: 10^6 rows
-#: peak at ~250 MB of which ~120 MB are the libraries.
+#: Memory per row of a sweep [bytes], an upper bound: the frame's float columns (at most 72 bytes; a
+#: column constant over the sweep is stored once) and its two categorical text columns (2 bytes); the
+#: model's temporaries, the figure's selections of its curves, the CSV text and the Parquet row groups
+#: are per block (:data:`BLOCK_POINTS`, :data:`tirecli.io.output.CSV_CHUNK_ROWS`,
+#: :data:`tirecli.io.output.PARQUET_GROUP_ROWS`), a few MB whatever the sweep. Measured: 10^6 rows
+#: (constant theta, kappa0, Z) peak at ~240 MB of which ~130 MB are the libraries.
 BYTES_PER_ROW = 160
 
 
