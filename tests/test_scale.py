@@ -418,3 +418,26 @@ def test_mf_eval_results_unchanged(cli, tmp_path):
     for k in ("fx", "fy", "mz", "mx", "my"):
         assert np.array_equal(got[k].to_numpy(), np.asarray(getattr(res, k), dtype=float)), k
     assert np.array_equal(got["kappa"].to_numpy(), cols["kappa"])
+
+
+def test_helper_process_errors_keep_their_type_and_text(tmp_path):
+    """An error of the helper process is raised here as the same class with the same text, also for
+    errors whose constructor does not take their message (``FormulaError``, ``ConfigError``): a usage
+    error stays a one-line usage error (exit code 2), not an internal error."""
+    from tirecli.errors import ConfigError, Problem
+    from tirecli.io.output import SpooledFrame
+    from tirecli.models.profiles import FormulaError
+
+    errors = [FormulaError("100/(t-0.5)", "gives inf at t = 0.5 s"),
+              ConfigError([Problem("a.yaml", 3, "input.torque", "not finite"), Problem("a.yaml", 4, "t_end", "< 0")])]
+    for error in errors:
+        def failing(error=error):
+            yield pd.DataFrame({"x": [1.0]})
+            raise error
+
+        spool = SpooledFrame(["x"])
+        spool.extend(failing(), background=True)
+        with pytest.raises(type(error)) as info:
+            len(spool)
+        assert str(info.value) == str(error)
+        assert vars(info.value) == vars(error)

@@ -182,6 +182,8 @@ class SpooledFrame:
             proc.join()
         if kind == "died":
             value = RuntimeError(f"{value} (exit code {proc.exitcode})")
+        elif kind == "error":
+            value = _received_error(value)
         if kind in ("error", "died"):
             self._error = value
             raise value
@@ -235,9 +237,8 @@ _PENDING = object()
 
 def _spool_in_helper(spool: SpooledFrame, parts, first, conn) -> None:
     """The helper process of :meth:`SpooledFrame.extend`: send ``("first", first())`` (with ``first``),
-    write the parts, send ``("done", rows)``; on an error ``("error", exception)`` instead (the
-    exception's text when it cannot be sent as it is)."""
-    import pickle
+    write the parts, send ``("done", rows)``; on an error ``("error", exception)`` instead
+    (:func:`_sendable_error`)."""
     import signal
 
     signal.signal(signal.SIGINT, signal.SIG_IGN)  # Ctrl-C is the parent's to handle
@@ -253,12 +254,42 @@ def _spool_in_helper(spool: SpooledFrame, parts, first, conn) -> None:
         spool._fh.flush()
         message = ("done", spool._rows)
     except BaseException as exc:  # noqa: BLE001 - every failure goes to the parent
-        try:
-            message = ("error", pickle.loads(pickle.dumps(exc)))
-        except Exception:  # noqa: BLE001 - not picklable: its text
-            message = ("error", RuntimeError(f"{type(exc).__name__}: {exc}"))
+        message = ("error", _sendable_error(exc))
     conn.send(message)
     conn.close()
+
+
+def _sendable_error(exc: BaseException):
+    """``exc`` as the helper process sends it (:func:`_received_error` makes it an exception again): the
+    same class, text and attributes. Pickle rebuilds an exception by calling its class with its
+    ``args``, which gives another text (or fails) for a class whose constructor takes other values
+    than its message (``ConfigError(problems)``, ``FormulaError(formula, reason)``); such an error is
+    sent as ``(class, args, attributes)`` and rebuilt without its constructor. As a last resort, its
+    text in a RuntimeError."""
+    import pickle
+
+    def same(copy) -> bool:
+        return type(copy) is type(exc) and str(copy) == str(exc)
+
+    with contextlib.suppress(Exception):
+        if same(pickle.loads(pickle.dumps(exc))):
+            return exc
+    with contextlib.suppress(Exception):
+        state = (type(exc), exc.args, dict(vars(exc)))
+        if same(_received_error(pickle.loads(pickle.dumps(state)))):
+            return state
+    return RuntimeError(f"{type(exc).__name__}: {exc}")
+
+
+def _received_error(value) -> BaseException:
+    """The exception sent by :func:`_sendable_error`."""
+    if not isinstance(value, tuple):
+        return value
+    cls, args, attrs = value
+    exc = cls.__new__(cls, *args)  # the constructor bypassed, as pickle does with the attributes
+    exc.args = args
+    exc.__dict__.update(attrs)
+    return exc
 
 
 def _end_helper(proc, conn) -> None:
