@@ -441,3 +441,21 @@ def test_helper_process_errors_keep_their_type_and_text(tmp_path):
             len(spool)
         assert str(info.value) == str(error)
         assert vars(info.value) == vars(error)
+
+
+def test_parquet_text_column_empty_in_its_first_row_group(tmp_path, monkeypatch):
+    """A text column (object) without a value in the first row group (pyarrow infers the type null
+    there) and texts later is written: its texts read back."""
+    pytest.importorskip("pyarrow")
+    from tirecli.io import output
+
+    monkeypatch.setattr(output, "PARQUET_GROUP_ROWS", 4)
+    note = pd.Series([None] * 6 + ["late", None, "last"], dtype=object)
+    for frame in (pd.DataFrame({"x": np.arange(9.0), "note": note}),
+                  pd.DataFrame({"x": np.arange(9.0), "note": note,
+                                "model": pd.Categorical.from_codes([0, 1] * 4 + [0], categories=["a", "b"])})):
+        path = output.write_parquet(tmp_path / "f.parquet", frame)
+        back = pd.read_parquet(path)
+        assert (back["note"][6], back["note"][8]) == ("late", "last")
+        assert back["note"].isna().tolist() == [True] * 6 + [False, True, False]
+        assert back["x"].tolist() == list(np.arange(9.0))

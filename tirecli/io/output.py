@@ -347,6 +347,9 @@ def write_parquet(path: str | Path, frame, comments: list[str] | tuple = ()) -> 
     first = None if categorical else pa.Table.from_pandas(head, preserve_index=False, nthreads=1)
     schema = first.schema if first is not None else pa.Schema.from_pandas(
         head.astype({c: frame[c].cat.categories.dtype for c in categorical}), preserve_index=False)
+    for i, field in enumerate(schema):  # no value in the first group (type null) but texts later: texts
+        if field.type == pa.null() and frame[field.name].notna().any():
+            schema, first = schema.set(i, pa.field(field.name, pa.string())), None
     if comments:
         schema = schema.with_metadata({**(schema.metadata or {}), b"tirecli.comments": "\n".join(comments).encode()})
     # a column converted as pyarrow converts a frame's (a categorical taken from its categories), with
@@ -362,11 +365,12 @@ def write_parquet(path: str | Path, frame, comments: list[str] | tuple = ()) -> 
         return pa.array(col, type=kind, from_pandas=True, memory_pool=pool)
 
     path = Path(path)
+    start = 0 if first is None else rows  # the first row group to convert below
     with atomic_write(path, "wb") as fh, pq.ParquetWriter(fh, schema, memory_pool=pool) as writer:
         if first is not None:
             writer.write_table(first)
             del first
-        for lo in range(0 if categorical else rows, max(len(frame), 1), rows):  # a row group at a time: bounded memory
+        for lo in range(start, max(len(frame), 1), rows):  # a row group at a time: bounded memory
             part = frame.iloc[lo:lo + rows]
             arrays = [column(c, col, kind) for (c, col), kind in zip(part.items(), schema.types)]
             writer.write_table(pa.Table.from_arrays(arrays, schema=schema))
