@@ -459,3 +459,48 @@ def test_parquet_text_column_empty_in_its_first_row_group(tmp_path, monkeypatch)
         assert (back["note"][6], back["note"][8]) == ("late", "last")
         assert back["note"].isna().tolist() == [True] * 6 + [False, True, False]
         assert back["x"].tolist() == list(np.arange(9.0))
+
+
+def test_helper_process_ends_when_its_parent_is_killed(tmp_path):
+    """A parent killed outright (``kill -9``) while its helper process has a message larger than the
+    pipe's buffer to send: the helper ends (it held the pipe's other end and waited for ever)."""
+    import contextlib
+    import signal
+    import subprocess
+    import sys
+    import time
+
+    if not sys.platform.startswith("linux"):
+        pytest.skip("the helper process runs on Linux only")
+
+    script = tmp_path / "parent.py"
+    script.write_text(
+        "import os, sys, time\nimport pandas as pd\nfrom tirecli.io.output import SpooledFrame\n"
+        "spool = SpooledFrame(['a'])\n"
+        "spool.extend(iter([pd.DataFrame({'a': [1.0]})]), background=True, first=lambda: b'x' * 1_000_000)\n"
+        "print(spool._helper[0].pid, flush=True)\ntime.sleep(600)\n")
+    env = {**os.environ, "PYTHONPATH": os.pathsep.join(p for p in sys.path if p)}
+    parent = subprocess.Popen([sys.executable, str(script)], stdout=subprocess.PIPE, text=True, env=env)
+    try:
+        helper = int(parent.stdout.readline())
+        time.sleep(1.0)  # the helper is blocked on its message
+        parent.send_signal(signal.SIGKILL)
+        parent.wait()
+
+        def running() -> bool:
+            try:
+                with open(f"/proc/{helper}/stat") as fh:
+                    return fh.read().rsplit(")", 1)[1].split()[0] != "Z"
+            except OSError:
+                return False
+
+        for _ in range(300):  # a liveness check: it ends at once (a few ms), or never
+            if not running():
+                break
+            time.sleep(0.1)
+        assert not running()
+    finally:
+        parent.kill()
+        with contextlib.suppress(NameError, ProcessLookupError):
+            if running():
+                os.kill(helper, signal.SIGKILL)

@@ -159,7 +159,7 @@ class SpooledFrame:
         ctx = multiprocessing.get_context("fork")
         recv, send = ctx.Pipe(duplex=False)
         self._fh.flush()
-        proc = ctx.Process(target=_spool_in_helper, args=(self, parts, first, send), daemon=True,
+        proc = ctx.Process(target=_spool_in_helper, args=(self, parts, first, send, recv), daemon=True,
                            name="tirecli-spool")
         proc.start()
         send.close()
@@ -235,12 +235,15 @@ class SpooledFrame:
 _PENDING = object()
 
 
-def _spool_in_helper(spool: SpooledFrame, parts, first, conn) -> None:
+def _spool_in_helper(spool: SpooledFrame, parts, first, conn, parent_end) -> None:
     """The helper process of :meth:`SpooledFrame.extend`: send ``("first", first())`` (with ``first``),
     write the parts, send ``("done", rows)``; on an error ``("error", exception)`` instead
-    (:func:`_sendable_error`)."""
+    (:func:`_sendable_error`). ``parent_end``, the parent's end of the pipe, is closed here: a parent
+    killed outright (``kill -9``, out of memory) leaves the pipe without a reader, so that the helper
+    ends at its next message instead of waiting for ever to send one larger than the pipe's buffer."""
     import signal
 
+    parent_end.close()
     signal.signal(signal.SIGINT, signal.SIG_IGN)  # Ctrl-C is the parent's to handle
     signal.signal(signal.SIGTERM, signal.SIG_DFL)
     from tirecli.numerics import pool
@@ -253,9 +256,12 @@ def _spool_in_helper(spool: SpooledFrame, parts, first, conn) -> None:
             spool.append(frame)
         spool._fh.flush()
         message = ("done", spool._rows)
+    except BrokenPipeError:  # the parent is gone
+        return
     except BaseException as exc:  # noqa: BLE001 - every failure goes to the parent
         message = ("error", _sendable_error(exc))
-    conn.send(message)
+    with contextlib.suppress(BrokenPipeError):
+        conn.send(message)
     conn.close()
 
 
