@@ -39,8 +39,8 @@ _HEAD = {sep: _words(f"{sep}{chr(1) if neg == 0 else '-'}{dig}." for neg in (0, 
 _FILL = 1  # filler byte, removed at the end
 _EXTENDED = np.finfo(np.longdouble).nmant >= 63
 _P10_OFF = 360
-_P10 = np.longdouble(10) ** np.arange(-_P10_OFF, _P10_OFF + 1, dtype=np.longdouble)
-with np.errstate(over="ignore"):
+with np.errstate(over="ignore"):  # (long double no wider than double: inf beyond 1e308, no warning at import)
+    _P10 = np.longdouble(10) ** np.arange(-_P10_OFF, _P10_OFF + 1, dtype=np.longdouble)
     _P10D = _P10.astype(np.float64)  # inf beyond 1e308, 0 below the smallest double
 _BLOCK = 65536
 
@@ -456,11 +456,18 @@ def repr_matrix(x) -> np.ndarray:
     notation for decimal exponents -4 to 15, else ``d.ddde+XX``), vectorized: the digits of
     :func:`_repr_digits`, gathered into place by a table of the 2 x 374 layouts (sign, notation,
     exponent, number of digits); the few values near a rounding boundary and the infinities are
-    formatted with ``repr``."""
+    formatted with ``repr``. Where ``long double`` is no wider than ``double`` (its error would be
+    units of the 17th digit: wrong digits), every text is taken from ``repr``."""
     x = np.ascontiguousarray(x, dtype=float).ravel()
     n = x.size
     if n == 0:
         return np.zeros((0, _WR), dtype=np.uint8)
+    if not _EXTENDED:
+        m = np.zeros((n, _WR), dtype=np.uint8)
+        some = np.flatnonzero(~np.isnan(x))
+        texts = np.array([repr(v).encode() for v in x[some].tolist()], dtype=f"S{_WR}")
+        m[some] = texts.view(np.uint8).reshape(some.size, _WR)
+        return m
     a = np.abs(x)
     regular = np.isfinite(x) & (a != 0)
     D, e, unsure = _repr_digits(np.where(regular, a, 1.0))

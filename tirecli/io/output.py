@@ -159,7 +159,7 @@ class SpooledFrame:
         ctx = multiprocessing.get_context("fork")
         recv, send = ctx.Pipe(duplex=False)
         self._fh.flush()
-        proc = ctx.Process(target=_spool_in_helper, args=(self, parts, first, send), daemon=True,
+        proc = ctx.Process(target=_spool_in_helper, args=(self, parts, first, send, recv), daemon=True,
                            name="tirecli-spool")
         proc.start()
         send.close()
@@ -182,6 +182,8 @@ class SpooledFrame:
             proc.join()
         if kind == "died":
             value = RuntimeError(f"{value} (exit code {proc.exitcode})")
+        elif kind == "error":
+            value = _received_error(value)
         if kind in ("error", "died"):
             self._error = value
             raise value
@@ -233,13 +235,15 @@ class SpooledFrame:
 _PENDING = object()
 
 
-def _spool_in_helper(spool: SpooledFrame, parts, first, conn) -> None:
+def _spool_in_helper(spool: SpooledFrame, parts, first, conn, parent_end) -> None:
     """The helper process of :meth:`SpooledFrame.extend`: send ``("first", first())`` (with ``first``),
-    write the parts, send ``("done", rows)``; on an error ``("error", exception)`` instead (the
-    exception's text when it cannot be sent as it is)."""
-    import pickle
+    write the parts, send ``("done", rows)``; on an error ``("error", exception)`` instead
+    (:func:`_sendable_error`). ``parent_end``, the parent's end of the pipe, is closed here: a parent
+    killed outright (``kill -9``, out of memory) leaves the pipe without a reader, so that the helper
+    ends at its next message instead of waiting for ever to send one larger than the pipe's buffer."""
     import signal
 
+    parent_end.close()
     signal.signal(signal.SIGINT, signal.SIG_IGN)  # Ctrl-C is the parent's to handle
     signal.signal(signal.SIGTERM, signal.SIG_DFL)
     from tirecli.numerics import pool
@@ -252,13 +256,46 @@ def _spool_in_helper(spool: SpooledFrame, parts, first, conn) -> None:
             spool.append(frame)
         spool._fh.flush()
         message = ("done", spool._rows)
+    except BrokenPipeError:  # the parent is gone
+        return
     except BaseException as exc:  # noqa: BLE001 - every failure goes to the parent
-        try:
-            message = ("error", pickle.loads(pickle.dumps(exc)))
-        except Exception:  # noqa: BLE001 - not picklable: its text
-            message = ("error", RuntimeError(f"{type(exc).__name__}: {exc}"))
-    conn.send(message)
+        message = ("error", _sendable_error(exc))
+    with contextlib.suppress(BrokenPipeError):
+        conn.send(message)
     conn.close()
+
+
+def _sendable_error(exc: BaseException):
+    """``exc`` as the helper process sends it (:func:`_received_error` makes it an exception again): the
+    same class, text and attributes. Pickle rebuilds an exception by calling its class with its
+    ``args``, which gives another text (or fails) for a class whose constructor takes other values
+    than its message (``ConfigError(problems)``, ``FormulaError(formula, reason)``); such an error is
+    sent as ``(class, args, attributes)`` and rebuilt without its constructor. As a last resort, its
+    text in a RuntimeError."""
+    import pickle
+
+    def same(copy) -> bool:
+        return type(copy) is type(exc) and str(copy) == str(exc)
+
+    with contextlib.suppress(Exception):
+        if same(pickle.loads(pickle.dumps(exc))):
+            return exc
+    with contextlib.suppress(Exception):
+        state = (type(exc), exc.args, dict(vars(exc)))
+        if same(_received_error(pickle.loads(pickle.dumps(state)))):
+            return state
+    return RuntimeError(f"{type(exc).__name__}: {exc}")
+
+
+def _received_error(value) -> BaseException:
+    """The exception sent by :func:`_sendable_error`."""
+    if not isinstance(value, tuple):
+        return value
+    cls, args, attrs = value
+    exc = cls.__new__(cls, *args)  # the constructor bypassed, as pickle does with the attributes
+    exc.args = args
+    exc.__dict__.update(attrs)
+    return exc
 
 
 def _end_helper(proc, conn) -> None:
@@ -316,6 +353,9 @@ def write_parquet(path: str | Path, frame, comments: list[str] | tuple = ()) -> 
     first = None if categorical else pa.Table.from_pandas(head, preserve_index=False, nthreads=1)
     schema = first.schema if first is not None else pa.Schema.from_pandas(
         head.astype({c: frame[c].cat.categories.dtype for c in categorical}), preserve_index=False)
+    for i, field in enumerate(schema):  # no value in the first group (type null) but texts later: texts
+        if field.type == pa.null() and frame[field.name].notna().any():
+            schema, first = schema.set(i, pa.field(field.name, pa.string())), None
     if comments:
         schema = schema.with_metadata({**(schema.metadata or {}), b"tirecli.comments": "\n".join(comments).encode()})
     # a column converted as pyarrow converts a frame's (a categorical taken from its categories), with
@@ -331,11 +371,12 @@ def write_parquet(path: str | Path, frame, comments: list[str] | tuple = ()) -> 
         return pa.array(col, type=kind, from_pandas=True, memory_pool=pool)
 
     path = Path(path)
+    start = 0 if first is None else rows  # the first row group to convert below
     with atomic_write(path, "wb") as fh, pq.ParquetWriter(fh, schema, memory_pool=pool) as writer:
         if first is not None:
             writer.write_table(first)
             del first
-        for lo in range(0 if categorical else rows, max(len(frame), 1), rows):  # a row group at a time: bounded memory
+        for lo in range(start, max(len(frame), 1), rows):  # a row group at a time: bounded memory
             part = frame.iloc[lo:lo + rows]
             arrays = [column(c, col, kind) for (c, col), kind in zip(part.items(), schema.types)]
             writer.write_table(pa.Table.from_arrays(arrays, schema=schema))
