@@ -166,3 +166,20 @@ def test_transient_guide_quotes_the_checks_it_lists(cli, tmp_path):
         if "<=" in reference:  # a stated upper bound must be one the checks hold
             for cid, bound in zip(ids, number.findall(reference)):
                 assert checks[f"{fig}/{cid}"]["value"] <= float(bound), (cid, bound)
+
+
+def test_documented_commands_write_inside_the_working_folder():
+    """A documented command line writes where the reader runs it (``--out tirecli-out/...``), not to a
+    folder of the machine the docs were written on (docs/models/mcps_tire.md had ``--out /tmp/docrx``,
+    which does not exist on Windows and is shared with other users elsewhere)."""
+    from pathlib import PurePosixPath, PureWindowsPath
+
+    from doc_commands import shell_commands
+
+    bad = []
+    for cmd in shell_commands():
+        for opt, value in zip(cmd.argv, cmd.argv[1:]):
+            if opt in ("--out", "-o", "--junit", "--cache", "--data", "-d", "--points") and (
+                    PurePosixPath(value).is_absolute() or PureWindowsPath(value).is_absolute()):
+                bad.append(cmd.id)
+    assert bad == []
