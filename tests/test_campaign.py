@@ -183,6 +183,9 @@ def test_unknown_output_fails_naming_it(cli, tmp_path):
     code, out, err = run_braking_campaign(cli, tmp_path, "[1.4, 1.6]", "[v_final, stoping_distance]")
     assert code == 2
     assert "outputs[1]" in err and "stoping_distance" in err and "did you mean 'stopping_distance'" in err
+    # one plain line (not the quoted text of a KeyError), and no empty output folder left behind
+    assert len(err.strip().splitlines()) == 1 and ": \"no fact" not in err and ": no fact named 'stoping_distance'" in err
+    assert not (tmp_path / "o").exists()
 
 
 def test_ctrl_c_keeps_finished_points_and_a_rerun_resumes(cli, tmp_path, monkeypatch):
