@@ -33,7 +33,10 @@ def campaign(
     if junit is not None:
         from tirecli.io import junit as jx
 
-        jx.target(junit, inputs=[config])  # a bad --junit fails before the campaign runs
+        from tirecli.app_campaign import default_out
+
+        # a bad --junit fails before the campaign runs
+        jx.target(junit, inputs=[config], outputs=_campaign_outputs(out or default_out(config)))
     summary = run_campaign(config, out, jobs, scheduler, progress(), note=echo)
     rec = summary.record
     pts = rec["points"]
@@ -56,5 +59,11 @@ def campaign(
     if junit is not None:
         named = [{**r, "id": f"campaign {rec['campaign']}/{r['id']}"} for r in records]  # classname: the campaign
         suite = jx.checks_suite(f"campaign {rec['campaign']}", named, rec["wall_time_s"])
-        result_line(f"wrote {jx.write(junit, [suite], 'tirecli campaign', done=f'the results are in {summary.out}')}")
+        result_line(f"wrote {jx.write(junit, [suite], 'tirecli campaign', done=f'the results are in {summary.out}', outputs=_campaign_outputs(summary.out))}")
     strict_exit(records, strict)
+
+
+def _campaign_outputs(out) -> list[Path]:
+    """What a campaign writes in ``out`` (files, and folders it writes into): no place for ``--junit``."""
+    return [Path(out) / name for name in ("results.parquet", "results.csv", "summary.json", "figures", "points",
+                                          "timeseries")]

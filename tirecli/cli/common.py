@@ -136,7 +136,7 @@ def run(command: str, config: Path, set_: Optional[List[str]], out: Optional[str
     from tirecli.io import junit as jx
 
     budget = max_samples(max_samples_)
-    target = jx.target(junit, inputs=[config]) if junit is not None else None
+    target = jx.target(junit, inputs=[config], outputs=run_outputs(out)) if junit is not None else None
     t0 = time.perf_counter()
     try:
         return run_config(command, config, overrides(set_) + list(extra), out, progress(), budget,
@@ -157,6 +157,14 @@ def run(command: str, config: Path, set_: Optional[List[str]], out: Optional[str
         raise
 
 
+def run_outputs(out: Optional[str]) -> list[Path]:
+    """What a run command writes in ``--out`` (files, and folders it writes into), for refusing a
+    ``--junit`` there before the run (none when the folder is the default, known only after loading)."""
+    if out is None or not str(out).strip():
+        return []
+    return [Path(out) / name for name in ("run.json", "data", "figures", "fitted.yaml", "calibrated.yaml")]
+
+
 def finish(summary, command: str, config: Path, junit: Optional[str], strict: bool, overridden: bool) -> None:
     """The end of a run command: :func:`report_run`, the ``--junit`` file, the ``--strict`` exit code."""
     report_run(summary, command, overridden=overridden)
@@ -169,7 +177,8 @@ def finish(summary, command: str, config: Path, junit: Optional[str], strict: bo
                            output=f"study: {summary.result.study}\nconfig: {config}\n"
                                   f"outputs: {Path(summary.out) / 'run.json'}")
         suite = jx.checks_suite(f"{command} {stem}", records, summary.wall_time, first=run_case)
-        result_line(f"wrote {jx.write(junit, [suite], f'tirecli {command}', done=f'the results are in {summary.out}')}")
+        written = [summary.paths["run"], *summary.paths["data"], *summary.paths["figures"], *summary.paths["files"]]
+        result_line(f"wrote {jx.write(junit, [suite], f'tirecli {command}', done=f'the results are in {summary.out}', outputs=written)}")
     strict_exit(records, strict)
 
 

@@ -41,7 +41,7 @@ def report(
     if junit is not None:
         from tirecli.io import junit as jx
 
-        jx.target(junit)  # a bad --junit fails before the studies run
+        jx.target(junit, outputs=_report_outputs(out))  # a bad --junit fails before the studies run
     summary = build_report(out, only=only or None, progress=progress(), campaigns=[campaign] if campaign else [],
                            jobs=_jobs(jobs), cache=_cache_dir(cache), use_cache=not no_cache,
                            formats=_formats(formats))
@@ -52,8 +52,14 @@ def report(
         echo(f"check failed: {c['id']}: {c['value']} vs reference {c['reference']} (tolerance {c['tolerance']})")
     result_line(f"wrote {Path(out) / 'index.html'}")
     if junit is not None:
-        result_line(f"wrote {jx.write(junit, report_suites(summary), 'tirecli report', done=f'the report is in {out}')}")
+        result_line(f"wrote {jx.write(junit, report_suites(summary), 'tirecli report', done=f'the report is in {out}', outputs=_report_outputs(out))}")
     strict_exit(summary["checks"], strict)
+
+
+def _report_outputs(out) -> list[Path]:
+    """What the report writes in ``out`` (files, and folders it writes into): no place for ``--junit``."""
+    return [Path(out) / name for name in ("index.html", "summary.json", "data", "docs", "figures", "studies",
+                                          "campaigns", ".tirecli-cache")]
 
 
 def _jobs(value: Optional[int]) -> Optional[int]:
