@@ -75,6 +75,10 @@ def _cache_dir(value: Optional[str]) -> Optional[str]:
 
     if value is not None and not value.strip():
         raise UsageError("--cache '': empty; give a folder")
+    if value is not None:  # a file there would leave the report without a cache, silently
+        from tirecli.io.files import check_output_dir
+
+        check_output_dir(value, option="--cache")
     return value
 
 
