@@ -402,3 +402,17 @@ def test_formula_that_cannot_be_evaluated_is_an_input_error(cli, tmp_path, expr,
                    f"initial: {{v: 20}}\nt_end: 1\ninput: {{torque: {{expr: \"{expr}\"}}}}\ncases: [{{model: lumped}}]\n")
     rc, out, err = cli("simulate", cfg, "--out", tmp_path / "o", "--quiet")
     assert rc == code and words in err and "internal error" not in err
+
+
+def test_fit_data_is_named_as_written(cli, tmp_path, monkeypatch):
+    """``tirecli fit fit.yaml --data bad.csv`` named the file by its absolute path in the error (and in
+    run.json), while the same file given as ``data.csv`` in the config is named as written."""
+    (tmp_path / "bad.csv").write_text("t,v,s,mu\n0,20,-0.01,-0.1\n0.01,nan,-0.02,-0.2\n")
+    (tmp_path / "fit.yaml").write_text(FIT.format(csv="unused.csv"))
+    monkeypatch.chdir(tmp_path)
+    code, out, err = cli("fit", "fit.yaml", "--data", "bad.csv", "--out", "o")
+    assert code == 2 and err.startswith("error: bad.csv: column 'v' row 2: empty or NaN"), err
+    (tmp_path / "sub").mkdir()  # from another folder than the config's: the data file is still found
+    monkeypatch.chdir(tmp_path / "sub")
+    code, out, err = cli("fit", "../fit.yaml", "--data", "../bad.csv", "--out", "o")
+    assert code == 2 and "bad.csv: column 'v' row 2: empty or NaN" in err, err
