@@ -364,3 +364,15 @@ def test_mf_eval_names_a_tir_file_as_the_user_wrote_it(cli, tmp_path, monkeypatc
     assert "[LONGITUDINAL_COEFFICIENTS] is missing" in err
     code, _, err2 = cli("tir", "check", "nolong.tir")
     assert code == 2 and err2 == err
+
+
+@pytest.mark.parametrize("sep", [";", "\t"])
+def test_a_points_file_of_another_separator_says_so(cli, tmp_path, sep):
+    """A semicolon- or tab-separated points file (a spreadsheet export) was refused as 'missing
+    column(s) ... (file has: 1 header field(s) that do not look like column names, not shown)', which
+    does not say why: the message names the separator and what tirecli reads."""
+    pts = tmp_path / "p.csv"
+    pts.write_text(sep.join(["kappa", "alpha", "gamma", "fz"]) + "\n" + sep.join(["0", "0", "0", "4000"]) + "\n")
+    code, out, err = cli("mf", "eval", "externdata-205-60r15", "--points", pts, "--out", tmp_path / "r.csv")
+    assert code == 2 and err.count("\n") == 1 and not (tmp_path / "r.csv").exists()
+    assert f"one field with {sep!r} in it: tirecli reads comma-separated files" in err, err
