@@ -68,6 +68,16 @@ def test_good_config_runs(cli, tmp_path):
      "did you mean 'exponential'"),
     # unknown built-in set
     (GOOD.replace("canudas2003-table1", "canudas2003-table3"), 2, "tire.set", "did you mean 'canudas2003-table2'"),
+    # a key whose value is a block mapping or list (starting on the next line) is named at its own line
+    (GOOD.replace("sweep:", "swep:"), 3, "swep", "did you mean 'sweep'"),
+    ("study: sweep\ntire:\n  set: canudas2003-table1\n  sigm0:\n    value: 170\n", 4, "tire.sigm0",
+     "did you mean 'sigma0'"),
+    ("study: sweep\ntire: canudas2003-table1\nsweep:\n  slip:\n    start: -1\n    num: 5\n", 4, "sweep.slip",
+     "missing required key 'stop'"),
+    ("study: sweep\ntire:\n  set: canudas2003-table1\n  sigma0:\n    - 170\n", 4, "tire.sigma0",
+     "expected a number [1/m], got a list"),
+    ("study: sweep\ntire: canudas2003-table1\nsweep:\n  speeds:\n    - 20\n    - fast\n", 6, "sweep.speeds[1]",
+     "expected a number [m/s]"),
 ])
 def test_config_error_classes(cli, tmp_path, text, line, key, words):
     code, err, path = run_sweep(cli, tmp_path, text)

@@ -198,6 +198,9 @@ def _build(node, path: KeyPath, origins: Origins, file: str, problems: list[Prob
                                         "duplicate key (given twice in one mapping)"))
                 continue
             out[key] = _build(vnode, path + (key,), origins, file, problems)
+            # a problem of a key names the key's line: a block mapping or list value starts on the
+            # next line, and 'swep:' reported at the line of what follows it sent readers one line off
+            origins.set(path + (key,), file, knode.start_mark.line + 1)
         return out
     if isinstance(node, yaml.SequenceNode):
         return [_build(n, path + (i,), origins, file, problems) for i, n in enumerate(node.value)]
