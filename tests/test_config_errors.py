@@ -246,3 +246,15 @@ def test_yaml_dump_quotes_text_that_would_read_as_a_number():
     data = {"a": "1e5", "b": 1e5, "c": "-2E-3", "d": [1, 2.5, "x"], "e": "2001"}
     assert parse_yaml(dump_yaml(data))[0] == data
     assert parse_yaml("a: ._\nb: .5\nc: 5.\nd: 1_0e1\n")[0] == {"a": "._", "b": 0.5, "c": 5.0, "d": 100.0}
+
+
+@pytest.mark.parametrize("command", ["sweep", "simulate", "compare", "campaign"])
+def test_a_tir_file_given_as_config_is_named_as_such(cli, command):
+    """``tirecli sweep my.tir`` said 'malformed YAML: did not find expected <document start>': a .tir
+    file where a YAML config is read is refused as what it is, with how a tyre is used."""
+    from conftest import ROOT
+
+    tir = ROOT / "tests" / "data" / "tir" / "ExternData_sample.tir"
+    code, out, err = cli(command, tir)
+    assert code == 2 and err.count("\n") == 1, err
+    assert "a .tir tyre property file, not a " in err and "tire: in a config" in err and "YAML" not in err

@@ -374,6 +374,17 @@ def load_yaml(path: str | Path) -> tuple[Any, Origins]:
     return parse_yaml(text, str(path))
 
 
+def load_yaml_document(path: str | Path, what: str, use: str) -> tuple[Any, Origins]:
+    """:func:`load_yaml` of a file the command reads as ``what`` (``a study config``): a ``.tir``
+    tyre file there is refused by name with ``use`` (how a tyre is used instead), not as malformed YAML."""
+    if Path(path).suffix.lower() == ".tir":
+        from tirecli.io.files import exists
+
+        if exists(path):
+            raise ConfigError(Problem(str(path), None, "", f"a .tir tyre property file, not {what}: {use}"))
+    return load_yaml(path)
+
+
 def dump_yaml(data: Any) -> str:
     """YAML text for plain data (keys kept in insertion order)."""
     return yaml.dump(data, Dumper=Dumper, sort_keys=False, allow_unicode=True, default_flow_style=False)
