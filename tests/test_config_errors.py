@@ -68,6 +68,9 @@ def test_good_config_runs(cli, tmp_path):
      "did you mean 'exponential'"),
     # unknown built-in set
     (GOOD.replace("canudas2003-table1", "canudas2003-table3"), 2, "tire.set", "did you mean 'canudas2003-table2'"),
+    # a choice in the wrong case
+    (GOOD + "  theta_convention: FM\n", 6, "sweep.theta_convention", "unknown value 'FM'; did you mean 'fm'?"),
+    (GOOD + "  models: [Distributd]\n", 6, "sweep.models[0]", "did you mean 'distributed'"),
     # a key whose value is a block mapping or list (starting on the next line) is named at its own line
     (GOOD.replace("sweep:", "swep:"), 3, "swep", "did you mean 'sweep'"),
     ("study: sweep\ntire:\n  set: canudas2003-table1\n  sigm0:\n    value: 170\n", 4, "tire.sigm0",
