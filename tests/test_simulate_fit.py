@@ -416,3 +416,20 @@ def test_fit_data_is_named_as_written(cli, tmp_path, monkeypatch):
     monkeypatch.chdir(tmp_path / "sub")
     code, out, err = cli("fit", "../fit.yaml", "--data", "../bad.csv", "--out", "o")
     assert code == 2 and "bad.csv: column 'v' row 2: empty or NaN" in err, err
+
+
+def test_an_open_loop_case_ends_with_its_drive_and_says_so(cli, tmp_path):
+    """An open-loop case driven by a CSV shorter than t_end ends at the CSV's last time (the model has
+    no kinematics after it); events.csv called that end 't_end' (``m/s (t_end)`` at 0.05 s of a
+    0.2 s run): it says the drive ended."""
+    (tmp_path / "drive.csv").write_text("t,v,s\n" + "".join(f"{0.01 * k:g},20,-0.05\n" for k in range(6)))
+    cfg = tmp_path / "ol.yaml"
+    cfg.write_text("study: simulate\ntire: canudas2003-table1\nt_end: 0.2\n"
+                   "cases:\n  - {model: lumped, kappa0: Z, label: short, drive: {csv: drive.csv}}\n"
+                   "  - {model: lumped, kappa0: Z, label: long, drive: {v: 20, slip: -0.05}}\n")
+    code, out, err = cli("--quiet", "simulate", cfg, "--out", tmp_path / "o")
+    assert code == 0, err
+    ev = pd.read_csv(tmp_path / "o" / "data" / "events.csv", comment="#")
+    end = ev[ev["event"] == "end"].set_index("case")
+    assert end.loc["short", "t"] == pytest.approx(0.05) and end.loc["short", "unit"] == "m/s (end of the drive)"
+    assert end.loc["long", "t"] == pytest.approx(0.2) and end.loc["long", "unit"] == "m/s (t_end)"
