@@ -273,6 +273,8 @@ checks: [{output: fy, max: 0}]
     code, out, err = cli("report", c, "--out", tmp_path / "rep", "--junit", tmp_path / "rep.xml")
     assert code == 0, err
     assert '<testsuite name="report campaign sob"' in (tmp_path / "rep.xml").read_text()
+    # the closing line names the campaign section (it read '0 figures' beside a section of figures)
+    assert f"the campaign section of {c}, " in out and "0 figures" not in out, out
     html = (tmp_path / "rep" / "index.html").read_text()
     assert 'id="campaign-sob"' in html and "sobol" in html
     rep = json.loads((tmp_path / "rep" / "summary.json").read_text())

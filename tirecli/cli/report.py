@@ -46,8 +46,11 @@ def report(
                            jobs=_jobs(jobs), cache=_cache_dir(cache), use_cache=not no_cache,
                            formats=_formats(formats))
     failed = [c for c in summary["checks"] if not c["passed"]]
-    echo(f"{summary['n_figures']} figure{'' if summary['n_figures'] == 1 else 's'}, {len(summary['checks'])} reference checks, {len(failed)} failed, "
-         f"{summary['wall_time_s']:.1f} s")
+    n = summary["n_figures"]
+    what = f"{n} figure{'' if n == 1 else 's'}" if n or not campaign else ""
+    if campaign:  # its figures are in its section, not among the paper figures counted here
+        what += (" and " if what else "") + f"the campaign section of {campaign}"
+    echo(f"{what}, {len(summary['checks'])} reference checks, {len(failed)} failed, {summary['wall_time_s']:.1f} s")
     for c in failed:
         echo(f"check failed: {c['id']}: {c['value']} vs reference {c['reference']} (tolerance {c['tolerance']})")
     result_line(f"wrote {Path(out) / 'index.html'}")
