@@ -319,7 +319,10 @@ def tire_data(doc: tirio.TirDocument) -> TireData:
                                                        f"{doc.last_line}{after} with no line break, and "
                                                        f"{len(missing)} required coefficient(s) are not in it ({shown})"))
         raise ConfigError(problems)
+    named = {q.key for q in problems}
     for key in missing:
+        if key in named:  # there with a value that cannot be read: that problem says so
+            continue
         sect = CATALOGUE[key].section
         present = f"[{sect}] is missing" if sect not in doc.sections else f"not in [{sect}]"
         problems.append(Problem(doc.file, None, key, f"missing required coefficient ({CATALOGUE[key].meaning}; "
