@@ -376,3 +376,15 @@ def test_a_points_file_of_another_separator_says_so(cli, tmp_path, sep):
     code, out, err = cli("mf", "eval", "externdata-205-60r15", "--points", pts, "--out", tmp_path / "r.csv")
     assert code == 2 and err.count("\n") == 1 and not (tmp_path / "r.csv").exists()
     assert f"one field with {sep!r} in it: tirecli reads comma-separated files" in err, err
+
+
+
+def test_a_tir_file_without_its_model_section_says_so(cli, tmp_path):
+    """mfeval's sample without [MODEL] was refused as 'LONGVL: missing, but QSY3/QSY4 ... need the
+    reference speed', which does not say that the whole section is gone."""
+    text = (ROOT / "tests" / "data" / "tir" / "MagicFormula61_Parameters.tir").read_text(encoding="utf-8")
+    start = text.index("[MODEL]")
+    end = text.index("[", start + 1)
+    (tmp_path / "nomodel.tir").write_text(text[:start] + text[end:], encoding="utf-8")
+    code, out, err = cli("tir", "check", tmp_path / "nomodel.tir")
+    assert code == 2 and "LONGVL: missing" in err and "[MODEL] is missing" in err, err
