@@ -344,3 +344,16 @@ def _worker_threads():
     from tirecli.numerics import pool
 
     return pool.LIMIT, pool.default_threads(), os.environ.get("OPENBLAS_NUM_THREADS")
+
+
+
+@pytest.mark.parametrize("jobs", ["0", "-2"])
+def test_jobs_below_one_is_refused_as_report_refuses_it(cli, tmp_path, jobs):
+    """``campaign --jobs 0`` said 'Invalid value for '--jobs' / '-j': Input should be greater than or
+    equal to 1'; the same one line as ``report --jobs 0``, before anything is written."""
+    c = mf_campaign(tmp_path)
+    code, out, err = cli("campaign", c, "--jobs", jobs, "--out", tmp_path / "o")
+    assert code == 2 and err == f"error: --jobs {jobs}: give a number of processes >= 1\n", err
+    assert not (tmp_path / "o").exists()
+    code, out, err2 = cli("report", "--jobs", jobs, "--out", tmp_path / "r")
+    assert code == 2 and err2 == err

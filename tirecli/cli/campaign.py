@@ -6,7 +6,7 @@ from typing import Optional
 
 import typer
 
-from tirecli.cli.common import JunitOpt, echo, progress, result_line, strict_exit
+from tirecli.cli.common import JunitOpt, echo, jobs_option, progress, result_line, strict_exit
 
 CampaignArg = typer.Argument(..., metavar="CAMPAIGN", help="YAML campaign file (see docs/campaigns.md).", show_default=False)
 
@@ -15,7 +15,7 @@ def campaign(
     config: Path = CampaignArg,
     out: Optional[str] = typer.Option(None, "--out", "-o", metavar="DIR",
                                       help="Output directory [default: tirecli-out/campaign-STEM, STEM the file name without .yaml]."),
-    jobs: Optional[int] = typer.Option(None, "--jobs", "-j", min=1, metavar="N", help="Worker processes [default: the CPU count]."),
+    jobs: Optional[int] = typer.Option(None, "--jobs", "-j", metavar="N", help="Worker processes [default: the CPU count]."),
     scheduler: Optional[str] = typer.Option(None, "--scheduler", metavar="ADDRESS",
                                             help="Run on Dask: 'local' (a LocalCluster of --jobs workers) or tcp://HOST:8786."),
     strict: bool = typer.Option(False, "--strict", help="Exit 1 when a campaign check fails (or a point failed)."),
@@ -37,7 +37,7 @@ def campaign(
 
         # a bad --junit fails before the campaign runs
         jx.target(junit, inputs=[config], outputs=_campaign_outputs(out or default_out(config)))
-    summary = run_campaign(config, out, jobs, scheduler, progress(), note=echo)
+    summary = run_campaign(config, out, jobs_option(jobs), scheduler, progress(), note=echo)
     rec = summary.record
     pts = rec["points"]
     echo(f"campaign {rec['campaign']}: {pts['ok']} ok, {pts['failed']} failed of {pts['total']} points "

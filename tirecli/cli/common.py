@@ -115,6 +115,15 @@ def overrides(values: Optional[List[str]]) -> list[str]:
     return list(values or [])
 
 
+def jobs_option(value: Optional[int]) -> Optional[int]:
+    """The value of ``--jobs`` (UsageError if it is below 1), for ``report`` and ``campaign`` alike."""
+    from tirecli.errors import UsageError
+
+    if value is not None and value < 1:
+        raise UsageError(f"--jobs {value}: give a number of processes >= 1")
+    return value
+
+
 def max_samples(text: Optional[str]) -> Optional[int]:
     """The value of ``--max-samples`` (UsageError if it is not a whole number >= 1)."""
     from tirecli.limits import parse_max_samples

@@ -6,7 +6,7 @@ from typing import List, Optional
 
 import typer
 
-from tirecli.cli.common import JunitOpt, StrictOpt, echo, progress, result_line, strict_exit
+from tirecli.cli.common import JunitOpt, StrictOpt, echo, jobs_option, progress, result_line, strict_exit
 
 
 def report(
@@ -43,7 +43,7 @@ def report(
 
         jx.target(junit, outputs=_report_outputs(out))  # a bad --junit fails before the studies run
     summary = build_report(out, only=only or None, progress=progress(), campaigns=[campaign] if campaign else [],
-                           jobs=_jobs(jobs), cache=_cache_dir(cache), use_cache=not no_cache,
+                           jobs=jobs_option(jobs), cache=_cache_dir(cache), use_cache=not no_cache,
                            formats=_formats(formats))
     failed = [c for c in summary["checks"] if not c["passed"]]
     n = summary["n_figures"]
@@ -63,14 +63,6 @@ def _report_outputs(out) -> list[Path]:
     """What the report writes in ``out`` (files, and folders it writes into): no place for ``--junit``."""
     return [Path(out) / name for name in ("index.html", "summary.json", "data", "docs", "figures", "studies",
                                           "campaigns", ".tirecli-cache")]
-
-
-def _jobs(value: Optional[int]) -> Optional[int]:
-    from tirecli.errors import UsageError
-
-    if value is not None and value < 1:
-        raise UsageError(f"--jobs {value}: give a number of processes >= 1")
-    return value
 
 
 def _cache_dir(value: Optional[str]) -> Optional[str]:
