@@ -183,6 +183,9 @@ def test_unknown_output_fails_naming_it(cli, tmp_path):
     code, out, err = run_braking_campaign(cli, tmp_path, "[1.4, 1.6]", "[v_final, stoping_distance]")
     assert code == 2
     assert "outputs[1]" in err and "stoping_distance" in err and "did you mean 'stopping_distance'" in err
+    # one plain line (not the quoted text of a KeyError), and no empty output folder left behind
+    assert len(err.strip().splitlines()) == 1 and ": \"no fact" not in err and ": no fact named 'stoping_distance'" in err
+    assert not (tmp_path / "o").exists()
 
 
 def test_ctrl_c_keeps_finished_points_and_a_rerun_resumes(cli, tmp_path, monkeypatch):
@@ -270,6 +273,8 @@ checks: [{output: fy, max: 0}]
     code, out, err = cli("report", c, "--out", tmp_path / "rep", "--junit", tmp_path / "rep.xml")
     assert code == 0, err
     assert '<testsuite name="report campaign sob"' in (tmp_path / "rep.xml").read_text()
+    # the closing line names the campaign section (it read '0 figures' beside a section of figures)
+    assert f"the campaign section of {c}, " in out and "0 figures" not in out, out
     html = (tmp_path / "rep" / "index.html").read_text()
     assert 'id="campaign-sob"' in html and "sobol" in html
     rep = json.loads((tmp_path / "rep" / "summary.json").read_text())
@@ -339,3 +344,16 @@ def _worker_threads():
     from tirecli.numerics import pool
 
     return pool.LIMIT, pool.default_threads(), os.environ.get("OPENBLAS_NUM_THREADS")
+
+
+
+@pytest.mark.parametrize("jobs", ["0", "-2"])
+def test_jobs_below_one_is_refused_as_report_refuses_it(cli, tmp_path, jobs):
+    """``campaign --jobs 0`` said 'Invalid value for '--jobs' / '-j': Input should be greater than or
+    equal to 1'; the same one line as ``report --jobs 0``, before anything is written."""
+    c = mf_campaign(tmp_path)
+    code, out, err = cli("campaign", c, "--jobs", jobs, "--out", tmp_path / "o")
+    assert code == 2 and err == f"error: --jobs {jobs}: give a number of processes >= 1\n", err
+    assert not (tmp_path / "o").exists()
+    code, out, err2 = cli("report", "--jobs", jobs, "--out", tmp_path / "r")
+    assert code == 2 and err2 == err

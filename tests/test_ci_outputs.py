@@ -174,6 +174,33 @@ def test_bad_junit_targets_are_usage_errors_before_the_run(cli, tmp_path):
     assert code == 2 and "is a directory" in err and not (tmp_path / "rep").exists()
 
 
+def test_junit_never_replaces_an_output_of_the_run(cli, tmp_path, no_render, monkeypatch):
+    """``--junit OUT/run.json`` replaced the run's run.json with the JUnit XML (exit 0). A --junit on a
+    file the run writes (or in a folder it writes into) is refused: before the run when --out names
+    the folder (report, campaign, run commands), after it when the folder is the default one (the
+    run's files are kept, exit 2)."""
+    out = tmp_path / "out"
+    for target in (out / "run.json", out / "data" / "sweep.csv", out / "fitted.yaml"):
+        code, _, err = cli("sweep", SWEEP, "--out", out, "--junit", target)
+        assert code == 2 and "an output of this run" in err and err.count("\n") == 1, err
+        assert not out.exists()  # refused before the run
+    code, _, err = cli("report", "--out", tmp_path / "rep", "--junit", tmp_path / "rep" / "summary.json")
+    assert code == 2 and "an output of this run" in err and not (tmp_path / "rep").exists()
+    code, _, err = cli("campaign", EXAMPLES / "campaign-mf-fy.yaml", "--out", tmp_path / "camp",
+                       "--junit", tmp_path / "camp" / "results.csv")
+    assert code == 2 and "an output of this run" in err and not (tmp_path / "camp").exists()
+    # the default folder: known once the config is loaded; the run is kept, the JUnit file not written
+    monkeypatch.chdir(tmp_path)
+    run_json = tmp_path / "tirecli-out" / "sweep-fm-fig1-right" / "run.json"
+    code, _, err = cli("sweep", SWEEP, "--junit", run_json)
+    assert code == 2 and "an output of this run" in err and "the results are in" in err, err
+    assert json.loads(run_json.read_text())["study"] == "sweep"
+    # beside the outputs is fine
+    code, _, err = cli("sweep", SWEEP, "--out", out, "--junit", out / "junit.xml")
+    assert code == 0, err
+    assert json.loads((out / "run.json").read_text())["study"] == "sweep" and junit_cases(out / "junit.xml")
+
+
 def test_junit_is_written_atomically(tmp_path, monkeypatch):
     """A failure while writing leaves the earlier file as it was, no temporary file, and one error line."""
     from tirecli.errors import UsageError

@@ -68,6 +68,19 @@ def test_good_config_runs(cli, tmp_path):
      "did you mean 'exponential'"),
     # unknown built-in set
     (GOOD.replace("canudas2003-table1", "canudas2003-table3"), 2, "tire.set", "did you mean 'canudas2003-table2'"),
+    # a choice in the wrong case
+    (GOOD + "  theta_convention: FM\n", 6, "sweep.theta_convention", "unknown value 'FM'; did you mean 'fm'?"),
+    (GOOD + "  models: [Distributd]\n", 6, "sweep.models[0]", "did you mean 'distributed'"),
+    # a key whose value is a block mapping or list (starting on the next line) is named at its own line
+    (GOOD.replace("sweep:", "swep:"), 3, "swep", "did you mean 'sweep'"),
+    ("study: sweep\ntire:\n  set: canudas2003-table1\n  sigm0:\n    value: 170\n", 4, "tire.sigm0",
+     "did you mean 'sigma0'"),
+    ("study: sweep\ntire: canudas2003-table1\nsweep:\n  slip:\n    start: -1\n    num: 5\n", 4, "sweep.slip",
+     "missing required key 'stop'"),
+    ("study: sweep\ntire:\n  set: canudas2003-table1\n  sigma0:\n    - 170\n", 4, "tire.sigma0",
+     "expected a number [1/m], got a list"),
+    ("study: sweep\ntire: canudas2003-table1\nsweep:\n  speeds:\n    - 20\n    - fast\n", 6, "sweep.speeds[1]",
+     "expected a number [m/s]"),
 ])
 def test_config_error_classes(cli, tmp_path, text, line, key, words):
     code, err, path = run_sweep(cli, tmp_path, text)
@@ -236,3 +249,15 @@ def test_yaml_dump_quotes_text_that_would_read_as_a_number():
     data = {"a": "1e5", "b": 1e5, "c": "-2E-3", "d": [1, 2.5, "x"], "e": "2001"}
     assert parse_yaml(dump_yaml(data))[0] == data
     assert parse_yaml("a: ._\nb: .5\nc: 5.\nd: 1_0e1\n")[0] == {"a": "._", "b": 0.5, "c": 5.0, "d": 100.0}
+
+
+@pytest.mark.parametrize("command", ["sweep", "simulate", "compare", "campaign"])
+def test_a_tir_file_given_as_config_is_named_as_such(cli, command):
+    """``tirecli sweep my.tir`` said 'malformed YAML: did not find expected <document start>': a .tir
+    file where a YAML config is read is refused as what it is, with how a tyre is used."""
+    from conftest import ROOT
+
+    tir = ROOT / "tests" / "data" / "tir" / "ExternData_sample.tir"
+    code, out, err = cli(command, tir)
+    assert code == 2 and err.count("\n") == 1, err
+    assert "a .tir tyre property file, not a " in err and "tire: in a config" in err and "YAML" not in err

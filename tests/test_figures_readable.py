@@ -165,3 +165,34 @@ def test_legends_stay_off_the_curves(config):
     camber legend, the transient fit's and MCPS Fig. 3's did)."""
     for fid, fig in _study_figures(config):
         assert _legends_over_curves(fig) == [], fid
+
+
+def test_campaign_figures_keep_their_title_inside_and_legends_off_the_curves():
+    """A campaign's grid figures (examples/campaign-obs-convergence.yaml's results): the suptitle (the
+    campaign's title and what the figure shows) stays inside the figure, wrapped if need be (it ran
+    off both edges), and the interaction panels' legends (one line per value of the other key) cover
+    no curve (the 2e5 line ran through one)."""
+    from types import SimpleNamespace
+
+    import pandas as pd
+
+    from tirecli.figures.campaign import campaign_figures
+
+    gammas, thetas = [5e4, 1e5, 2e5, 4e5, 8e5], [1.25, 1.6666666666666667, 2.5]
+    conv = [2.8722, 2.9106, 2.8371, 2.5559, 2.7714, 2.7264, 1.0246, 1.4179, 1.2283,
+            0.5013, 0.6827, 0.5898, 0.2483, 0.3362, 0.2914]
+    keys = ["observer.gamma", "scenario.theta.changes[0].to"]
+    results = pd.DataFrame({keys[0]: np.repeat(gammas, 3), keys[1]: np.tile(thetas, 5),
+                            "convergence_time": conv, "status": "ok"})
+    design = SimpleNamespace(grid_keys=keys, sample_keys=[])
+    figs = campaign_figures(design, results, ["convergence_time"], {},
+                            "Observer: convergence time over gamma and the wet road's theta")
+    assert set(figs) == {"grid-convergence_time", "interaction-convergence_time"}
+    for name, fig in figs.items():
+        _drawn(fig)
+        title = fig.get_suptitle() and fig._suptitle.get_window_extent()
+        page = fig.bbox
+        assert title.x0 >= page.x0 - 0.5 and title.x1 <= page.x1 + 0.5, name
+        assert _legends_over_curves(fig) == [], name
+        if name.startswith("interaction"):  # each legend names the key its lines are values of
+            assert [ax.get_legend().get_title().get_text() for ax in fig.axes] == keys[::-1]

@@ -346,3 +346,45 @@ def test_tir_show_of_another_kind_of_file_is_one_line(cli, tmp_path):
     for name in ("pyproject.toml", "README.md"):
         code, out, err = cli("tir", "show", root / name)
         assert code == 2 and "not a .tir property file" in err and len(err.strip().splitlines()) == 1
+
+
+def test_mf_eval_names_a_tir_file_as_the_user_wrote_it(cli, tmp_path, monkeypatch):
+    """An error in a relative .tir path named the file by its absolute path (``tir show`` and
+    ``tir check`` name it as given): one line per missing coefficient, the file as typed."""
+    text = (ROOT / "tests" / "data" / "tir" / "MagicFormula61_Parameters.tir").read_text(encoding="utf-8")
+    start = text.index("[LONGITUDINAL_COEFFICIENTS]")
+    end = text.index("[", start + 1)
+    (tmp_path / "nolong.tir").write_text(text[:start] + text[end:], encoding="utf-8")
+    (tmp_path / "p.csv").write_text("kappa,alpha,gamma,fz\n0,0,0,4000\n", encoding="utf-8")
+    monkeypatch.chdir(tmp_path)
+    code, out, err = cli("mf", "eval", "nolong.tir", "--points", "p.csv", "--out", "r.csv")
+    assert code == 2 and not (tmp_path / "r.csv").exists()
+    lines = err.strip().splitlines()
+    assert lines and all(line.startswith("error: nolong.tir: ") for line in lines), err
+    assert "[LONGITUDINAL_COEFFICIENTS] is missing" in err
+    code, _, err2 = cli("tir", "check", "nolong.tir")
+    assert code == 2 and err2 == err
+
+
+@pytest.mark.parametrize("sep", [";", "\t"])
+def test_a_points_file_of_another_separator_says_so(cli, tmp_path, sep):
+    """A semicolon- or tab-separated points file (a spreadsheet export) was refused as 'missing
+    column(s) ... (file has: 1 header field(s) that do not look like column names, not shown)', which
+    does not say why: the message names the separator and what tirecli reads."""
+    pts = tmp_path / "p.csv"
+    pts.write_text(sep.join(["kappa", "alpha", "gamma", "fz"]) + "\n" + sep.join(["0", "0", "0", "4000"]) + "\n")
+    code, out, err = cli("mf", "eval", "externdata-205-60r15", "--points", pts, "--out", tmp_path / "r.csv")
+    assert code == 2 and err.count("\n") == 1 and not (tmp_path / "r.csv").exists()
+    assert f"one field with {sep!r} in it: tirecli reads comma-separated files" in err, err
+
+
+
+def test_a_tir_file_without_its_model_section_says_so(cli, tmp_path):
+    """mfeval's sample without [MODEL] was refused as 'LONGVL: missing, but QSY3/QSY4 ... need the
+    reference speed', which does not say that the whole section is gone."""
+    text = (ROOT / "tests" / "data" / "tir" / "MagicFormula61_Parameters.tir").read_text(encoding="utf-8")
+    start = text.index("[MODEL]")
+    end = text.index("[", start + 1)
+    (tmp_path / "nomodel.tir").write_text(text[:start] + text[end:], encoding="utf-8")
+    code, out, err = cli("tir", "check", tmp_path / "nomodel.tir")
+    assert code == 2 and "LONGVL: missing" in err and "[MODEL] is missing" in err, err

@@ -127,6 +127,9 @@ def test_bad_values_name_file_line_and_key(line, expected):
 def test_text_where_a_number_is_expected():
     p = problems(MINIMAL.replace("PCX1 = 1.6", "PCX1 = 'one'"))
     assert str(p[0]).startswith("t.tir:9: PCX1: expected a number")
+    # one problem: not also 'missing required coefficient (... not in [LONGITUDINAL_COEFFICIENTS])' for a
+    # key that is there with a bad value
+    assert [q.key for q in p] == ["PCX1"], [str(q) for q in p]
 
 
 def test_missing_required_and_defaults():

@@ -176,6 +176,12 @@ def test_observe_command(cli, tmp_path):
     assert "  all 0-8 " in out
     # the figure's caption (what is shown, parameters, [assumed] scenario) travels with the run
     assert "[assumed]" in run["outputs"]["captions"]["obs-fig2"]
+    assert "  change at 5 s: |theta_hat - theta| < 0.05 after " in out and "from the start" not in out
+    # an estimate that starts off is settled from t = 0, which is not a change of theta
+    code, out, err = cli("observe", EXAMPLES / "obs-fig2.yaml", "--out", tmp_path / "e", "--set", "scenario.duration=8",
+                         "--set", "metrics.phases=[0, 4, 8]", "--set", "estimate.theta=1.5", "-q")
+    assert code == 0, err
+    assert "  from the start (initial estimate off): |theta_hat - theta|" in out and "change at 0 s" not in out
 
 
 def test_report_strict_fails_when_speed_error_study_drifts(cli, tmp_path, monkeypatch):

@@ -132,6 +132,15 @@ def test_a_cache_elsewhere_and_an_unreadable_one(cli, tmp_path):
     assert summary["n_failed"] == 0
 
 
+def test_a_cache_that_is_a_file_is_a_usage_error(cli, tmp_path):
+    """``--cache FILE`` (an existing file) ran the report without any cache, silently (exit 0): it is
+    refused before the studies run, naming the option and the file."""
+    (tmp_path / "afile").write_text("")
+    code, out, err = cli("report", "--only", "mcps-fig3", "--out", tmp_path / "rep", "--cache", tmp_path / "afile")
+    assert code == 2 and err.startswith("error: --cache ") and "not a directory" in err and err.count("\n") == 1, err
+    assert not (tmp_path / "rep").exists()
+
+
 def test_one_process_or_two_give_the_same_report(cli, tmp_path):
     one = _report(cli, tmp_path / "one", "--jobs", "1", "--no-cache")
     two = _report(cli, tmp_path / "two", "--jobs", "2", "--no-cache")

@@ -402,3 +402,34 @@ def test_formula_that_cannot_be_evaluated_is_an_input_error(cli, tmp_path, expr,
                    f"initial: {{v: 20}}\nt_end: 1\ninput: {{torque: {{expr: \"{expr}\"}}}}\ncases: [{{model: lumped}}]\n")
     rc, out, err = cli("simulate", cfg, "--out", tmp_path / "o", "--quiet")
     assert rc == code and words in err and "internal error" not in err
+
+
+def test_fit_data_is_named_as_written(cli, tmp_path, monkeypatch):
+    """``tirecli fit fit.yaml --data bad.csv`` named the file by its absolute path in the error (and in
+    run.json), while the same file given as ``data.csv`` in the config is named as written."""
+    (tmp_path / "bad.csv").write_text("t,v,s,mu\n0,20,-0.01,-0.1\n0.01,nan,-0.02,-0.2\n")
+    (tmp_path / "fit.yaml").write_text(FIT.format(csv="unused.csv"))
+    monkeypatch.chdir(tmp_path)
+    code, out, err = cli("fit", "fit.yaml", "--data", "bad.csv", "--out", "o")
+    assert code == 2 and err.startswith("error: bad.csv: column 'v' row 2: empty or NaN"), err
+    (tmp_path / "sub").mkdir()  # from another folder than the config's: the data file is still found
+    monkeypatch.chdir(tmp_path / "sub")
+    code, out, err = cli("fit", "../fit.yaml", "--data", "../bad.csv", "--out", "o")
+    assert code == 2 and "bad.csv: column 'v' row 2: empty or NaN" in err, err
+
+
+def test_an_open_loop_case_ends_with_its_drive_and_says_so(cli, tmp_path):
+    """An open-loop case driven by a CSV shorter than t_end ends at the CSV's last time (the model has
+    no kinematics after it); events.csv called that end 't_end' (``m/s (t_end)`` at 0.05 s of a
+    0.2 s run): it says the drive ended."""
+    (tmp_path / "drive.csv").write_text("t,v,s\n" + "".join(f"{0.01 * k:g},20,-0.05\n" for k in range(6)))
+    cfg = tmp_path / "ol.yaml"
+    cfg.write_text("study: simulate\ntire: canudas2003-table1\nt_end: 0.2\n"
+                   "cases:\n  - {model: lumped, kappa0: Z, label: short, drive: {csv: drive.csv}}\n"
+                   "  - {model: lumped, kappa0: Z, label: long, drive: {v: 20, slip: -0.05}}\n")
+    code, out, err = cli("--quiet", "simulate", cfg, "--out", tmp_path / "o")
+    assert code == 0, err
+    ev = pd.read_csv(tmp_path / "o" / "data" / "events.csv", comment="#")
+    end = ev[ev["event"] == "end"].set_index("case")
+    assert end.loc["short", "t"] == pytest.approx(0.05) and end.loc["short", "unit"] == "m/s (end of the drive)"
+    assert end.loc["long", "t"] == pytest.approx(0.2) and end.loc["long", "unit"] == "m/s (t_end)"

@@ -129,3 +129,57 @@ def test_report_cards_link_their_model_page(tmp_path):
     for doc in [html, page]:
         assert not OUTSIDE.search(doc) and not SPEC_PROSE.search(doc)
     assert "scenario: scenario:" not in html and "ASSUMED</span> scenario: scenario" not in html
+
+
+#: Rows of docs/transient.md's table of FM checks: (figure, words of the row's check column) -> the
+#: check ids whose values the row's tirecli column quotes, in order.
+TRANSIENT_ROWS = {("fm-fig7", "kappa0 = 1"): ["maxdmu-k1", "rms100-k1"],
+                  ("fm-fig7", "kappa0 = 2"): ["maxdmu-k2", "rms100-k2"],
+                  ("fm-fig8", "kappa0(Z) (+ max"): ["maxdmu-kZ", "rms100-kZ", "max100-kZ"],
+                  ("fm-fig8", "coupled quarter car"): ["coupled-dmu", "coupled-ds"]}
+
+
+def test_transient_guide_quotes_the_checks_it_lists(cli, tmp_path):
+    """docs/transient.md's table of the FM Figs. 7-8 checks quotes what `tirecli simulate` gives, to
+    the digits it prints (it said 0.0095 for 0.0097 and 0.1243 for 0.12438), and its reference column
+    states the checks' bounds (it said '<= 0.0046' for a check of 0.0046 +- 0.0005 that 0.00476 passes)."""
+    import json
+
+    text = (ROOT / "docs" / "transient.md").read_text(encoding="utf-8")
+    checks = {}
+    for fig in ("fm-fig7", "fm-fig8"):
+        code, _, err = cli("simulate", ROOT / "examples" / f"{fig}.yaml", "--out", tmp_path / fig, "-q")
+        assert code == 0, err
+        run = json.loads((tmp_path / fig / "run.json").read_text(encoding="utf-8"))
+        checks.update({c["id"]: c for c in run["checks"]})
+    number = re.compile(r"-?\d+\.\d+")
+    for (fig, words), ids in TRANSIENT_ROWS.items():
+        rows = [line for line in text.splitlines() if line.startswith(f"| {fig} |") and words in line]
+        assert len(rows) == 1, (fig, words)
+        _, _, _, quoted, reference, _ = rows[0].split("|")
+        values = number.findall(quoted)
+        assert len(values) == len(ids), rows[0]
+        for q, cid in zip(values, ids):
+            c = checks[f"{fig}/{cid}"]
+            digits = len(q.split(".")[1])
+            assert abs(c["value"] - float(q)) <= 0.5 * 10.0 ** -digits + 1e-12, (cid, q, c["value"])
+        if "<=" in reference:  # a stated upper bound must be one the checks hold
+            for cid, bound in zip(ids, number.findall(reference)):
+                assert checks[f"{fig}/{cid}"]["value"] <= float(bound), (cid, bound)
+
+
+def test_documented_commands_write_inside_the_working_folder():
+    """A documented command line writes where the reader runs it (``--out tirecli-out/...``), not to a
+    folder of the machine the docs were written on (docs/models/mcps_tire.md had ``--out /tmp/docrx``,
+    which does not exist on Windows and is shared with other users elsewhere)."""
+    from pathlib import PurePosixPath, PureWindowsPath
+
+    from doc_commands import shell_commands
+
+    bad = []
+    for cmd in shell_commands():
+        for opt, value in zip(cmd.argv, cmd.argv[1:]):
+            if opt in ("--out", "-o", "--junit", "--cache", "--data", "-d", "--points") and (
+                    PurePosixPath(value).is_absolute() or PureWindowsPath(value).is_absolute()):
+                bad.append(cmd.id)
+    assert bad == []

@@ -192,7 +192,7 @@ def load_tire(ref: str, base_dir: Path | None = None):
 
     if ref not in builtin_names() and not exists(ref):
         read_document(ref)  # raises with a did-you-mean
-    ps = load_set(ref, base_dir or Path.cwd())
+    ps = load_set(ref, base_dir)  # a relative path stays as the user wrote it (messages name it so)
     if ps.kind != "magic_formula":
         raise UsageError(f"{ref}: a {ps.kind} parameter set, not a Magic Formula tyre")
     return ps, mfp.tire_from_set(ps)

@@ -145,6 +145,9 @@ class UnknownFact(KeyError):
         super().__init__(message)
         self.fact = fact
 
+    def __str__(self) -> str:  # the message itself (a KeyError's str() is its repr, in quotes)
+        return str(self.args[0])
+
 
 def run_point(config, wanted=None, keep: bool = False) -> tuple[dict, object]:
     """Run one point's study: ``(facts, frame or None)``; ``wanted`` the fact names needed (None: all)."""

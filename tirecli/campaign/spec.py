@@ -381,10 +381,11 @@ def unit_sample(method: str, n: int, d: int, seed: int, names=None) -> np.ndarra
 
 def load_campaign(path: str | Path) -> Campaign:
     """Read and check a campaign file (the design too, not the points: :func:`check_points`)."""
-    from tirecli.io.yamlio import load_yaml
+    from tirecli.config.loader import TIR_USE
+    from tirecli.io.yamlio import load_yaml_document
 
     path = Path(path)
-    data, origins = load_yaml(path)
+    data, origins = load_yaml_document(path, "a campaign file", TIR_USE)
     if not isinstance(data, dict):
         raise ConfigError(Problem(str(path), 1, "", "expected a YAML mapping of keys at the top level"))
     if "campaign" not in data and "study" in data:

@@ -6,7 +6,7 @@ from typing import Optional
 
 import typer
 
-from tirecli.cli.common import JunitOpt, echo, progress, result_line, strict_exit
+from tirecli.cli.common import JunitOpt, echo, jobs_option, progress, result_line, strict_exit
 
 CampaignArg = typer.Argument(..., metavar="CAMPAIGN", help="YAML campaign file (see docs/campaigns.md).", show_default=False)
 
@@ -15,7 +15,7 @@ def campaign(
     config: Path = CampaignArg,
     out: Optional[str] = typer.Option(None, "--out", "-o", metavar="DIR",
                                       help="Output directory [default: tirecli-out/campaign-STEM, STEM the file name without .yaml]."),
-    jobs: Optional[int] = typer.Option(None, "--jobs", "-j", min=1, metavar="N", help="Worker processes [default: the CPU count]."),
+    jobs: Optional[int] = typer.Option(None, "--jobs", "-j", metavar="N", help="Worker processes [default: the CPU count]."),
     scheduler: Optional[str] = typer.Option(None, "--scheduler", metavar="ADDRESS",
                                             help="Run on Dask: 'local' (a LocalCluster of --jobs workers) or tcp://HOST:8786."),
     strict: bool = typer.Option(False, "--strict", help="Exit 1 when a campaign check fails (or a point failed)."),
@@ -33,8 +33,11 @@ def campaign(
     if junit is not None:
         from tirecli.io import junit as jx
 
-        jx.target(junit, inputs=[config])  # a bad --junit fails before the campaign runs
-    summary = run_campaign(config, out, jobs, scheduler, progress(), note=echo)
+        from tirecli.app_campaign import default_out
+
+        # a bad --junit fails before the campaign runs
+        jx.target(junit, inputs=[config], outputs=_campaign_outputs(out or default_out(config)))
+    summary = run_campaign(config, out, jobs_option(jobs), scheduler, progress(), note=echo)
     rec = summary.record
     pts = rec["points"]
     echo(f"campaign {rec['campaign']}: {pts['ok']} ok, {pts['failed']} failed of {pts['total']} points "
@@ -56,5 +59,11 @@ def campaign(
     if junit is not None:
         named = [{**r, "id": f"campaign {rec['campaign']}/{r['id']}"} for r in records]  # classname: the campaign
         suite = jx.checks_suite(f"campaign {rec['campaign']}", named, rec["wall_time_s"])
-        result_line(f"wrote {jx.write(junit, [suite], 'tirecli campaign', done=f'the results are in {summary.out}')}")
+        result_line(f"wrote {jx.write(junit, [suite], 'tirecli campaign', done=f'the results are in {summary.out}', outputs=_campaign_outputs(summary.out))}")
     strict_exit(records, strict)
+
+
+def _campaign_outputs(out) -> list[Path]:
+    """What a campaign writes in ``out`` (files, and folders it writes into): no place for ``--junit``."""
+    return [Path(out) / name for name in ("results.parquet", "results.csv", "summary.json", "figures", "points",
+                                          "timeseries")]

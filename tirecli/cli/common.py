@@ -115,6 +115,15 @@ def overrides(values: Optional[List[str]]) -> list[str]:
     return list(values or [])
 
 
+def jobs_option(value: Optional[int]) -> Optional[int]:
+    """The value of ``--jobs`` (UsageError if it is below 1), for ``report`` and ``campaign`` alike."""
+    from tirecli.errors import UsageError
+
+    if value is not None and value < 1:
+        raise UsageError(f"--jobs {value}: give a number of processes >= 1")
+    return value
+
+
 def max_samples(text: Optional[str]) -> Optional[int]:
     """The value of ``--max-samples`` (UsageError if it is not a whole number >= 1)."""
     from tirecli.limits import parse_max_samples
@@ -136,7 +145,7 @@ def run(command: str, config: Path, set_: Optional[List[str]], out: Optional[str
     from tirecli.io import junit as jx
 
     budget = max_samples(max_samples_)
-    target = jx.target(junit, inputs=[config]) if junit is not None else None
+    target = jx.target(junit, inputs=[config], outputs=run_outputs(out)) if junit is not None else None
     t0 = time.perf_counter()
     try:
         return run_config(command, config, overrides(set_) + list(extra), out, progress(), budget,
@@ -157,6 +166,14 @@ def run(command: str, config: Path, set_: Optional[List[str]], out: Optional[str
         raise
 
 
+def run_outputs(out: Optional[str]) -> list[Path]:
+    """What a run command writes in ``--out`` (files, and folders it writes into), for refusing a
+    ``--junit`` there before the run (none when the folder is the default, known only after loading)."""
+    if out is None or not str(out).strip():
+        return []
+    return [Path(out) / name for name in ("run.json", "data", "figures", "fitted.yaml", "calibrated.yaml")]
+
+
 def finish(summary, command: str, config: Path, junit: Optional[str], strict: bool, overridden: bool) -> None:
     """The end of a run command: :func:`report_run`, the ``--junit`` file, the ``--strict`` exit code."""
     report_run(summary, command, overridden=overridden)
@@ -169,7 +186,8 @@ def finish(summary, command: str, config: Path, junit: Optional[str], strict: bo
                            output=f"study: {summary.result.study}\nconfig: {config}\n"
                                   f"outputs: {Path(summary.out) / 'run.json'}")
         suite = jx.checks_suite(f"{command} {stem}", records, summary.wall_time, first=run_case)
-        result_line(f"wrote {jx.write(junit, [suite], f'tirecli {command}', done=f'the results are in {summary.out}')}")
+        written = [summary.paths["run"], *summary.paths["data"], *summary.paths["figures"], *summary.paths["files"]]
+        result_line(f"wrote {jx.write(junit, [suite], f'tirecli {command}', done=f'the results are in {summary.out}', outputs=written)}")
     strict_exit(records, strict)
 
 

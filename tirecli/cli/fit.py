@@ -29,7 +29,7 @@ def fit(config: Path = ConfigArg, out: Optional[str] = OutOpt, set_: Optional[Li
     """
     from tirecli.studies.fit import overrides_for
 
-    summary = run("fit", config, set_, out, junit, extra=overrides_for(str(data) if data else None, map_),
+    summary = run("fit", config, set_, out, junit, extra=overrides_for(str(data) if data else None, map_, config),
                   max_samples_=max_samples_)
     df = summary.result.data["parameters"]
     meta = summary.result.meta

@@ -29,7 +29,9 @@ def metrics_table(result) -> list[str]:
         lines.append(f"  v_r zero crossings [s]: {cr} (excluded: +-{result.meta['metric_settings']['crossing_margin']:g} s)")
         tol = result.meta["metric_settings"]["settle_tolerance"]
         for s in m["settling"]:
-            lines.append(f"  change at {s['at']:g} s: " + (f"|theta_hat - theta| stays >= {tol:g} to the end of the run"
+            # t = 0 is listed when the estimate starts off (theta_hat(0) != theta(0) or a speed error)
+            when = "from the start (initial estimate off)" if s["at"] == 0 else f"change at {s['at']:g} s"
+            lines.append(f"  {when}: " + (f"|theta_hat - theta| stays >= {tol:g} to the end of the run"
                                                              if s["time"] is None else
                                                              f"|theta_hat - theta| < {tol:g} after {s['time']:.3f} s"))
         lines.append(f"  max |v_hat - v| = {m['max_abs_v_error']:.3g} m/s; excitation |v_r| > "

@@ -6,7 +6,7 @@ from typing import List, Optional
 
 import typer
 
-from tirecli.cli.common import JunitOpt, StrictOpt, echo, progress, result_line, strict_exit
+from tirecli.cli.common import JunitOpt, StrictOpt, echo, jobs_option, progress, result_line, strict_exit
 
 
 def report(
@@ -41,27 +41,28 @@ def report(
     if junit is not None:
         from tirecli.io import junit as jx
 
-        jx.target(junit)  # a bad --junit fails before the studies run
+        jx.target(junit, outputs=_report_outputs(out))  # a bad --junit fails before the studies run
     summary = build_report(out, only=only or None, progress=progress(), campaigns=[campaign] if campaign else [],
-                           jobs=_jobs(jobs), cache=_cache_dir(cache), use_cache=not no_cache,
+                           jobs=jobs_option(jobs), cache=_cache_dir(cache), use_cache=not no_cache,
                            formats=_formats(formats))
     failed = [c for c in summary["checks"] if not c["passed"]]
-    echo(f"{summary['n_figures']} figure{'' if summary['n_figures'] == 1 else 's'}, {len(summary['checks'])} reference checks, {len(failed)} failed, "
-         f"{summary['wall_time_s']:.1f} s")
+    n = summary["n_figures"]
+    what = f"{n} figure{'' if n == 1 else 's'}" if n or not campaign else ""
+    if campaign:  # its figures are in its section, not among the paper figures counted here
+        what += (" and " if what else "") + f"the campaign section of {campaign}"
+    echo(f"{what}, {len(summary['checks'])} reference checks, {len(failed)} failed, {summary['wall_time_s']:.1f} s")
     for c in failed:
         echo(f"check failed: {c['id']}: {c['value']} vs reference {c['reference']} (tolerance {c['tolerance']})")
     result_line(f"wrote {Path(out) / 'index.html'}")
     if junit is not None:
-        result_line(f"wrote {jx.write(junit, report_suites(summary), 'tirecli report', done=f'the report is in {out}')}")
+        result_line(f"wrote {jx.write(junit, report_suites(summary), 'tirecli report', done=f'the report is in {out}', outputs=_report_outputs(out))}")
     strict_exit(summary["checks"], strict)
 
 
-def _jobs(value: Optional[int]) -> Optional[int]:
-    from tirecli.errors import UsageError
-
-    if value is not None and value < 1:
-        raise UsageError(f"--jobs {value}: give a number of processes >= 1")
-    return value
+def _report_outputs(out) -> list[Path]:
+    """What the report writes in ``out`` (files, and folders it writes into): no place for ``--junit``."""
+    return [Path(out) / name for name in ("index.html", "summary.json", "data", "docs", "figures", "studies",
+                                          "campaigns", ".tirecli-cache")]
 
 
 def _cache_dir(value: Optional[str]) -> Optional[str]:
@@ -69,6 +70,10 @@ def _cache_dir(value: Optional[str]) -> Optional[str]:
 
     if value is not None and not value.strip():
         raise UsageError("--cache '': empty; give a folder")
+    if value is not None:  # a file there would leave the report without a cache, silently
+        from tirecli.io.files import check_output_dir
+
+        check_output_dir(value, option="--cache")
     return value
 
 

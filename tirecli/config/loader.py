@@ -18,7 +18,7 @@ import yaml
 from tirecli import limits
 from tirecli.config.schema import Spec, check_document
 from tirecli.errors import ConfigError, Problem, UsageError, clip, token
-from tirecli.io.yamlio import Origins, format_key, load_value, load_yaml, parse_yaml
+from tirecli.io.yamlio import Origins, format_key, load_value, load_yaml_document, parse_yaml
 from tirecli.parameters.sets import ParameterSet, resolve_group
 
 OVERRIDE_FILE = "<command line --set>"
@@ -132,10 +132,14 @@ def set_value(data: dict, origins: Origins, path: tuple, value: Any, what: str,
     origins.set(path, *origin)
 
 
+#: How a .tir file is used, for a command given one in place of a YAML file.
+TIR_USE = "name it as tire: in a config, or use it with tirecli mf eval or tirecli tir show"
+
+
 def load_config(path: str | Path, overrides: list[str] | tuple = ()) -> Config:
     """Read a config file and apply ``overrides``."""
     path = Path(path)
-    data, origins = load_yaml(path)
+    data, origins = load_yaml_document(path, "a study config", TIR_USE)
     return _finish(data, origins, path.parent, str(path), overrides)
 
 

@@ -174,7 +174,11 @@ class Str(Spec):
             ctx.fail(path, too_long)
             return MISSING
         if self.choices is not None and value not in self.choices:
-            hint = difflib.get_close_matches(value, self.choices, n=1)
+            same = [c for c in self.choices if c.lower() == value.lower()]  # 'FM' for 'fm': case counts
+            hint = same or difflib.get_close_matches(value, self.choices, n=1)
+            if not hint:
+                folded = difflib.get_close_matches(value.lower(), [c.lower() for c in self.choices], n=1)
+                hint = [c for c in self.choices if folded and c.lower() == folded[0]][:1]
             dym = f"; did you mean {hint[0]!r}?" if hint else ""
             ctx.fail(path, f"unknown value {token(value)}{dym} (expected one of: {', '.join(self.choices)})")
             return MISSING

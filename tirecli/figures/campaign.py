@@ -17,7 +17,7 @@ import re
 import numpy as np
 import pandas as pd
 
-from tirecli.figures.style import COLORS, finish, new_figure
+from tirecli.figures.style import COLORS, finish, new_figure, suptitle
 
 #: Figures per kind are drawn for at most this many outputs (the first ones listed).
 MAX_OUTPUTS = 12
@@ -54,13 +54,14 @@ def _grid_effects(results, keys, output, title):
         finish(ax, key, output, legend=ax is axes[0])
     for ax in axes[n:]:
         ax.set_visible(False)
-    fig.suptitle(title, fontsize=10)
+    suptitle(fig, title)
     return fig
 
 
 def _interactions(results, keys, output, title):
     pairs = list(itertools.permutations(keys, 2))[:6]
-    fig, axes = new_figure(ncols=min(len(pairs), 3), nrows=(len(pairs) + 2) // 3, width=4.0 * min(len(pairs), 3),
+    # one line per value of the other key fills the panel: the legend (titled with that key) goes right of it
+    fig, axes = new_figure(ncols=min(len(pairs), 3), nrows=(len(pairs) + 2) // 3, width=5.6 * min(len(pairs), 3),
                            height=3.2 * ((len(pairs) + 2) // 3))
     axes = np.atleast_1d(axes).ravel()
     for ax, (kx, kl) in zip(axes, pairs):
@@ -71,13 +72,13 @@ def _interactions(results, keys, output, title):
             x, cats = _positions(sub[kx])
             order = np.argsort(x, kind="stable")
             ax.plot(x[order], sub[output].to_numpy()[order], "o-", color=COLORS[i % len(COLORS)],
-                    label=f"{kl} = {lev:.4g}" if isinstance(lev, float) else f"{kl} = {lev}")
+                    label=f"{lev:.4g}" if isinstance(lev, float) else f"{lev}")
             if cats:
                 ax.set_xticks(range(len(cats)), [str(c) for c in cats], fontsize=7)
-        finish(ax, kx, f"{output} (mean)", legend=True, loc="best")
+        finish(ax, kx, f"{output} (mean)", legend=True, outside=True, legend_title=kl)
     for ax in axes[len(pairs):]:
         ax.set_visible(False)
-    fig.suptitle(title, fontsize=10)
+    suptitle(fig, title)
     return fig
 
 
@@ -93,7 +94,7 @@ def _distribution(x, output, title):
         a2.axvline(v, color="0.4", ls=ls, lw=0.8, label=f"{int(q * 100)} %: {v:.4g}")
     finish(a2, output, "cumulative fraction", legend=True, loc="lower right")
     missing = x.size - fin.size
-    fig.suptitle(title + (f" ({missing} point(s) without a value left out)" if missing else ""), fontsize=10)
+    suptitle(fig, title + (f" ({missing} point(s) without a value left out)" if missing else ""))
     return fig
 
 
@@ -110,7 +111,7 @@ def _scatter(results, inputs, output, title):
         finish(ax, key, output, legend=False)
     for ax in axes[n:]:
         ax.set_visible(False)
-    fig.suptitle(title, fontsize=10)
+    suptitle(fig, title)
     return fig
 
 
@@ -131,7 +132,7 @@ def _tornado(torn: dict, title):
         finish(ax, "Spearman rank correlation", "", title=o, legend=False)
     for ax in axes[n:]:
         ax.set_visible(False)
-    fig.suptitle(title, fontsize=10)
+    suptitle(fig, title)
     return fig
 
 
@@ -160,7 +161,7 @@ def _sobol(sob: dict, title):
         finish(ax, "", "Sobol' index", title=o, legend=True, loc="best")
     for ax in axes[n:]:
         ax.set_visible(False)
-    fig.suptitle(title, fontsize=10)
+    suptitle(fig, title)
     return fig
 
 

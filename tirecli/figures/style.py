@@ -28,9 +28,9 @@ def new_figure(ncols: int = 1, nrows: int = 1, width: float = 6.4, height: float
 
 
 def finish(ax, xlabel: str, ylabel: str, title: str | None = None, legend: bool = True, outside: bool = False,
-           **legend_kw):
+           legend_title: str | None = None, **legend_kw):
     """Label axes (with units), add a grid and a legend (``outside``: right of the axes, never over a
-    curve; for panels whose curves fill every corner)."""
+    curve; for panels whose curves fill every corner; ``legend_title`` above its entries)."""
     ax.set_xlabel(xlabel)
     ax.set_ylabel(ylabel)
     if title:
@@ -40,7 +40,22 @@ def finish(ax, xlabel: str, ylabel: str, title: str | None = None, legend: bool 
         if outside:
             legend_kw = {"loc": "upper left", "bbox_to_anchor": (1.02, 1.0), "borderaxespad": 0.0,
                          "frameon": False, **legend_kw}
+        if legend_title:
+            legend_kw = {"title": legend_title, "title_fontsize": 8, **legend_kw}
         ax.legend(fontsize=8, **legend_kw)
+
+
+def suptitle(fig, text: str, fontsize: float = 10):
+    """The figure's title, wrapped to the figure's width: a constrained layout makes room for
+    several lines but never shortens one, and a line wider than the figure runs off both edges.
+
+    The wrap width assumes an average character of 0.6 em (DejaVu Sans, mixed text), in points:
+    ``width [in] * 72 / (0.6 * fontsize)`` characters.
+    """
+    import textwrap
+
+    chars = max(20, int(fig.get_figwidth() * 72.0 / (0.6 * fontsize)))
+    return fig.suptitle("\n".join(textwrap.wrap(text, chars)) or text, fontsize=fontsize)
 
 
 def legend_room(ax, frac: float = 0.3, where: str = "bottom") -> None:

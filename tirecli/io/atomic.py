@@ -480,13 +480,21 @@ def staged_file(out):
 
 @contextlib.contextmanager
 def locked_dir(out):
-    """Hold the lock of the output directory ``out`` (created when missing) for the block; yields
+    """Hold the lock of the output directory ``out`` (created when missing, and removed again when
+    the block fails and nothing was written in it) for the block; yields
     ``(target, real path)``. For outputs written as they come (a campaign's finished points, each
     file through :func:`atomic_write`) rather than staged as one run: an interruption keeps what
     was written. A second run into ``out`` is refused naming the holder."""
     with _claimed(out, is_dir=True) as (target, real, home, prefix):
+        created = not real.exists()
         try:
             real.mkdir(exist_ok=True)
         except OSError as exc:
             raise UsageError(f"--out {target}: cannot create it ({exc.strerror or exc})") from None
-        yield target, real
+        try:
+            yield target, real
+        except BaseException:
+            if created:  # a run that failed before writing anything leaves no empty folder behind
+                with contextlib.suppress(OSError):
+                    real.rmdir()  # only when empty: what was written is kept
+            raise

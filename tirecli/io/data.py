@@ -398,8 +398,12 @@ def frame_columns(frame, columns, path, increasing: str | None = None, min_rows:
     :func:`read_columns` (missing columns, non-numbers, NaN, too few rows, non-increasing time)."""
     missing = [c for c in columns if c not in frame.columns]
     if missing:
+        cols = [str(c) for c in frame.columns]
+        sep = next((t for t in (";", "\t", "|") if len(cols) == 1 and t in cols[0]), None)
+        hint = (f"; its header is one field with {sep!r} in it: tirecli reads comma-separated files "
+                f"(',' between values, '.' in numbers)") if sep else ""
         raise DataError(f"{path}: missing column(s) {names(missing, quoted=True)} "
-                        f"(file has: {names(frame.columns) or 'none'}; map names with --map FILE_COLUMN=NAME)")
+                        f"(file has: {names(frame.columns) or 'none'}; map names with --map FILE_COLUMN=NAME){hint}")
     if len(frame) < min_rows:
         raise DataError(f"{path}: too few data rows ({len(frame)}, need at least {min_rows})")
     rows = data_rows(frame)

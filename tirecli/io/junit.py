@@ -125,9 +125,22 @@ def _clean(text: str) -> str:
     return _ILLEGAL.sub("?", str(text))
 
 
-def target(path, inputs=()) -> Path:
+def _written_by_run(path, outputs) -> str | None:
+    """The entry of ``outputs`` (files the run writes, or folders it writes into) that ``path`` is
+    or lies in, else None."""
+    real = os.path.realpath(path)
+    for o in outputs:
+        ro = os.path.realpath(o)
+        if real == ro or real.startswith(ro.rstrip(os.sep) + os.sep):
+            return str(o)
+    return None
+
+
+def target(path, inputs=(), outputs=()) -> Path:
     """``--junit FILE`` checked before the run: UsageError for an empty path, a directory, a file
-    that is not a regular file (a device, a FIFO) or one of ``inputs`` (e.g. the config)."""
+    that is not a regular file (a device, a FIFO), one of ``inputs`` (e.g. the config) or a file
+    among ``outputs`` (files the run writes, or in folders it writes into: ``OUT/run.json``,
+    ``OUT/data/``, ...), which the JUnit file would replace."""
     if path is None or not str(path).strip():
         raise UsageError("--junit '': empty; give the file to write the JUnit XML to")
     path = Path(path)
@@ -137,19 +150,26 @@ def target(path, inputs=()) -> Path:
         raise UsageError(f"--junit {path}: not a regular file")
     if any(os.path.realpath(path) == os.path.realpath(p) for p in inputs):
         raise UsageError(f"--junit {path}: an input of this run; choose another file")
+    hit = _written_by_run(path, outputs)
+    if hit is not None:
+        raise UsageError(f"--junit {path}: an output of this run ({hit}); choose another file")
     return path
 
 
-def write(path, suites: list[Suite], name: str, done: str = "") -> Path:
+def write(path, suites: list[Suite], name: str, done: str = "", outputs=()) -> Path:
     """Write the JUnit XML of ``suites`` to ``path`` (its missing folders created), atomically.
 
-    A file the run read (its config, a data file) is never overwritten. ``done`` (e.g. ``the run's
-    results are in DIR``) is added to the message of a write error, as the run itself succeeded.
+    A file the run read (its config, a data file) or wrote (``outputs``: its files, or folders it
+    wrote into) is never overwritten. ``done`` (e.g. ``the run's results are in DIR``) is added to
+    the message of a write error, as the run itself succeeded.
     """
     path = target(path)
     note = f"; {done}" if done else ""
     if os.path.realpath(path) in inputs_read():
         raise UsageError(f"--junit {path}: an input of this run; choose another file{note}")
+    hit = _written_by_run(path, outputs)
+    if hit is not None:
+        raise UsageError(f"--junit {path}: an output of this run ({hit}); choose another file{note}")
     try:
         path.parent.mkdir(parents=True, exist_ok=True)
         with atomic_write(path) as fh:

@@ -198,6 +198,9 @@ def _build(node, path: KeyPath, origins: Origins, file: str, problems: list[Prob
                                         "duplicate key (given twice in one mapping)"))
                 continue
             out[key] = _build(vnode, path + (key,), origins, file, problems)
+            # a problem of a key names the key's line: a block mapping or list value starts on the
+            # next line, and 'swep:' reported at the line of what follows it sent readers one line off
+            origins.set(path + (key,), file, knode.start_mark.line + 1)
         return out
     if isinstance(node, yaml.SequenceNode):
         return [_build(n, path + (i,), origins, file, problems) for i, n in enumerate(node.value)]
@@ -369,6 +372,17 @@ def load_yaml(path: str | Path) -> tuple[Any, Origins]:
     path = Path(path)
     text = read_input_text(path, "a YAML file", encoding="utf-8-sig", max_bytes=limits.MAX_YAML_BYTES)
     return parse_yaml(text, str(path))
+
+
+def load_yaml_document(path: str | Path, what: str, use: str) -> tuple[Any, Origins]:
+    """:func:`load_yaml` of a file the command reads as ``what`` (``a study config``): a ``.tir``
+    tyre file there is refused by name with ``use`` (how a tyre is used instead), not as malformed YAML."""
+    if Path(path).suffix.lower() == ".tir":
+        from tirecli.io.files import exists
+
+        if exists(path):
+            raise ConfigError(Problem(str(path), None, "", f"a .tir tyre property file, not {what}: {use}"))
+    return load_yaml(path)
 
 
 def dump_yaml(data: Any) -> str:

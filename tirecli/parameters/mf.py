@@ -319,7 +319,10 @@ def tire_data(doc: tirio.TirDocument) -> TireData:
                                                        f"{doc.last_line}{after} with no line break, and "
                                                        f"{len(missing)} required coefficient(s) are not in it ({shown})"))
         raise ConfigError(problems)
+    named = {q.key for q in problems}
     for key in missing:
+        if key in named:  # there with a value that cannot be read: that problem says so
+            continue
         sect = CATALOGUE[key].section
         present = f"[{sect}] is missing" if sect not in doc.sections else f"not in [{sect}]"
         problems.append(Problem(doc.file, None, key, f"missing required coefficient ({CATALOGUE[key].meaning}; "
@@ -367,8 +370,9 @@ def _value_checks(doc, coef, fam, version, lines, problems, warnings):
         if "LONGVL" not in coef:
             speed_terms = [k for k in ("QSY3", "QSY4") if coef.get(k)]
             if speed_terms:  # My needs V0 (rolling resistance grows with vx / LONGVL)
+                gone = "; [MODEL] is missing" if "MODEL" not in doc.sections else ""
                 problems.append(Problem(doc.file, None, "LONGVL", f"missing, but {'/'.join(speed_terms)} (rolling "
-                                                                  "resistance with speed) need the reference speed"))
+                                                                  f"resistance with speed) need the reference speed{gone}"))
             else:
                 warnings.append(Problem(doc.file, None, "LONGVL", "no reference speed LONGVL: give vx with every evaluation"))
         if version != "5.2" and "NOMPRES" not in coef:

@@ -526,11 +526,17 @@ def _variant(raw):
     return FrictionVariant(model="lumped", kappa0="Z")
 
 
-def overrides_for(data: str | None, maps: list[str] | None) -> list[str]:
-    """``--set`` overrides from ``tirecli fit --data CSV --map FILE_COLUMN=NAME``."""
+def overrides_for(data: str | None, maps: list[str] | None, config: str | Path | None = None) -> list[str]:
+    """``--set`` overrides from ``tirecli fit --data CSV --map FILE_COLUMN=NAME``.
+
+    ``--data`` is relative to the current directory and ``data.csv`` to the config's: a relative
+    ``--data`` is kept as written when the two are the same (messages and run.json name the file as
+    the user typed it), else made absolute."""
     out = []
     if data:
-        out += [f"data.csv={json.dumps(os.path.abspath(data))}", "data.simulate=null"]  # as given, from the cwd
+        same_dir = config is not None and os.path.abspath(os.path.dirname(os.fspath(config)) or ".") == os.getcwd()
+        given = data if (same_dir and not os.path.isabs(data)) else os.path.abspath(data)
+        out += [f"data.csv={json.dumps(given)}", "data.simulate=null"]
     if maps:
         mapping = {}
         for m in maps:

@@ -776,7 +776,10 @@ def run_cases(cases, p, car, t_end, sample_times=(), progress=None) -> dict:
                 vp, wp = c.drive
                 bps = [b for b in tuple(vp.breakpoints(t_end)) + tuple(wp.breakpoints(t_end))]
                 te = min(t_end, max(bps)) if isinstance(vp, Table) and bps else t_end
-            trs[c.label] = runs.open_loop(c.variant, p, car, vp, wp, c.theta or Constant(1.0), te, c.solver)
+            tr = runs.open_loop(c.variant, p, car, vp, wp, c.theta or Constant(1.0), te, c.solver)
+            if te < t_end and tr.events.get("reason") == "t_end":  # no kinematics after the drive's end
+                tr.events["reason"] = "end of the drive"
+            trs[c.label] = tr
         if progress is not None:
             progress.advance(1)
     if progress is not None:
