@@ -5,8 +5,8 @@ matplotlib is imported when the first figure is made, not with this module: chec
 """
 from __future__ import annotations
 
-#: A colour cycle readable in print and for colour-blind readers (Okabe-Ito).
-COLORS = ["#0072B2", "#D55E00", "#009E73", "#CC79A7", "#E69F00", "#56B4E9", "#F0E442", "#000000"]
+#: A colour cycle readable in print and for colour-blind readers (Okabe-Ito; its yellow, faint on white, last).
+COLORS = ["#0072B2", "#D55E00", "#009E73", "#CC79A7", "#E69F00", "#56B4E9", "#000000", "#F0E442"]
 LINESTYLES = ["-", "--", "-.", ":"]
 
 

@@ -102,7 +102,7 @@ def _case_legend(fig, axes, ncol=2, scale=None, all_axes=None):
                   "intervals are shaded on the slip panel, their start (down triangle) and end (up triangle) marked "
                   "at the root-found event times." + MANY + " Then the lock intervals are only marked (not shaded) and "
                   "the right axis shows the band of the brake torques of all coupled cases (their least and greatest "
-                  "value at each time).")
+                  "value at each time; a case counts until its run ends, so the band steps as cases stop).")
 def draw_histories(result):
     require(result, "simulate", "transient-histories")
     cases = result.payload["cases"]
