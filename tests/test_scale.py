@@ -524,3 +524,28 @@ def test_helper_process_ends_when_its_parent_is_killed(tmp_path):
         with contextlib.suppress(NameError, ProcessLookupError):
             if running():
                 os.kill(helper, signal.SIGKILL)
+
+
+def _helper_ok_in_child(queue):
+    from tirecli.numerics import pool
+
+    queue.put(pool.helper_process_ok())
+
+
+def test_no_helper_process_inside_a_worker_process():
+    """Only the command's own process forks a helper: a report's or campaign's worker process (a child,
+    daemonic or not) does not, so ending a worker can leave nothing behind."""
+    import multiprocessing
+    import sys
+
+    from tirecli.numerics import pool
+
+    if sys.platform.startswith("linux") and pool.default_jobs() > 1 and pool.LIMIT != 1:
+        assert pool.helper_process_ok()
+    ctx = multiprocessing.get_context("fork")
+    queue = ctx.Queue()
+    proc = ctx.Process(target=_helper_ok_in_child, args=(queue,))  # not daemonic, like a report worker
+    proc.start()
+    answer = queue.get(timeout=60)
+    proc.join()
+    assert answer is False

@@ -29,14 +29,15 @@ def default_jobs() -> int:
 
 def helper_process_ok() -> bool:
     """Whether this process may hand work to a forked helper process and go on meanwhile: on Linux
-    (``fork``), with more than one core (:func:`default_jobs`), and not in a worker whose cores are
-    shared already (a campaign's pinned worker, :data:`LIMIT` 1; a daemonic pool worker, which may
-    not start processes)."""
+    (``fork``), with more than one core (:func:`default_jobs`), and only in the command's own process:
+    not in a worker process of a report or a campaign (their cores are shared already, a daemonic
+    worker may not start processes, and a worker ended by its parent would leave the helper behind;
+    a campaign's pinned worker also has :data:`LIMIT` 1)."""
     import multiprocessing
     import sys
 
     return (sys.platform.startswith("linux") and default_jobs() > 1 and LIMIT != 1
-            and not multiprocessing.current_process().daemon)
+            and multiprocessing.parent_process() is None and not multiprocessing.current_process().daemon)
 
 
 def _drop_after_fork() -> None:
