@@ -49,6 +49,7 @@ def test_colour_scale_reads_the_number_that_changes():
     assert _numbered(["T_max = 950 N m", "T_max = 1000 N m"]) == ([950.0, 1000.0], "T_max [N m]")
     assert _numbered(["a, T = 1 [s], v = 20 m/s", "a, T = 2 [s], v = 20 m/s"]) == ([1.0, 2.0], "T [s]")
     assert _numbered(["braking #1", "braking #2"]) == ([1.0, 2.0], "braking")
+    assert _numbered(["c000", "c001"]) == ([0.0, 1.0], "c (number in the case labels)")
     assert _numbered(["dry", "wet"]) == (None, None)
     assert _numbered(["v = 1, T = 2", "v = 2, T = 3"]) == (None, None)  # two numbers change: no single scale
     scale = CaseScale(["dry", "wet", "snow"])

@@ -135,4 +135,6 @@ def _numbered(labels: list[str]):
     before = re.split(r"[,;(]", texts[0][j])[-1].strip().rstrip("=:#").strip()
     after = re.split(r"[,;()]", texts[0][j + 1])[0].strip().strip("[]").strip()
     label = (before or "value") + (f" [{after}]" if after else "")
+    if len(before) <= 2 and not after:  # a bare prefix (labels c000, c001...): say where the number is from
+        label += " (number in the case labels)"
     return [float(n[j]) for n in nums], label
