@@ -247,6 +247,65 @@ figures: false
     assert ids["peak_abs_slip-max"]["passed"] == (df["peak_abs_slip"].max() <= 0.3)
 
 
+def test_figure_axes_carry_units(cli, tmp_path, monkeypatch):
+    """Every axis of the campaign figures names its unit: the inputs' from the study's config schema and
+    the parameter sets (tire.mu_s [-], input.theta [-], tire.sigma0 [1/m]), the facts' from their table."""
+    from tirecli.figures import campaign as figures
+
+    labels = {}
+    real = figures.campaign_figures
+
+    def spy(*args, **kw):  # the labels before the figures are saved and cleared
+        figs = real(*args, **kw)
+        for name, fig in figs.items():
+            labels[name] = {t for ax in fig.axes if ax.get_visible() for t in (ax.get_xlabel(), ax.get_ylabel())
+                            if t and t != "points"}
+            labels[name] |= {ax.get_legend().get_title().get_text() for ax in fig.axes if ax.get_legend()} - {""}
+        return figs
+
+    monkeypatch.setattr(figures, "campaign_figures", spy)
+    write(tmp_path, "base.yaml", BRAKING)
+    c = write(tmp_path, "c.yaml", """campaign: u
+base: base.yaml
+vary:
+  tire.mu_s: [1.4, 1.6]
+  input.theta: [0.5, 1.0]
+sample:
+  n: 3
+  seed: 1
+  tire.sigma0: {uniform: [170, 190]}
+outputs: [distance, v_final, wheel_locks]
+""")
+    code, out, err = cli("campaign", c, "--out", tmp_path / "o", "-j", "1")
+    assert code == 0, err
+    assert {"grid-distance", "interaction-distance", "distribution-distance", "scatter-distance", "tornado",
+            "scatter-v_final"} <= set(labels)
+    assert labels["grid-distance"] == {"tire.mu_s [-]", "input.theta [-]", "distance [m]"}
+    assert labels["interaction-distance"] == {"tire.mu_s [-]", "input.theta [-]", "distance (mean) [m]"}
+    assert labels["distribution-distance"] == {"distance [m]", "cumulative fraction [-]"}
+    assert labels["scatter-v_final"] == {"tire.sigma0 [1/m]", "v_final [m/s]"}
+    assert labels["grid-wheel_locks"] >= {"wheel_locks [-]"}
+    assert labels["tornado"] == {"Spearman rank correlation [-]"}
+
+
+def test_unknown_units_leave_the_bare_name():
+    from tirecli.campaign.facts import fact_unit
+    from tirecli.config.schema import unit_at
+    from tirecli.studies.base import SPECS, load_study
+
+    load_study("simulate")
+    assert unit_at(SPECS["simulate"], ("tire", "sigma0")) == "1/m"
+    assert unit_at(SPECS["simulate"], ("tire", "set")) is None  # the set's name: no number
+    assert unit_at(SPECS["simulate"], ("cases", 0, "label")) is None
+    assert fact_unit("simulate", "stopping_distance[braking]") == "m" and fact_unit("simulate", "end") is None
+    assert fact_unit("mcps-standstill", "mz_at_minus_A_Nm") == "N m"
+    assert fact_unit("mcps-standstill", "fast_rate_1_s") == "1/s"
+    assert fact_unit("mcps-stationary", "C_kappa[stiffness, 4000 N]") is None
+    from tirecli.figures.campaign import _label
+
+    assert _label("C_kappa[stiffness, 4000 N]", {}) == "C_kappa[stiffness, 4000 N]"
+
+
 def test_saltelli_sobol_indices_figures_and_report(cli, tmp_path, monkeypatch):
     pytest.importorskip("SALib")
     c = write(tmp_path, "c.yaml", "campaign: sob\n" + MF_BASE + """sample:

@@ -230,7 +230,7 @@ def _finish(campaign, study, ids, records, root, target, executor, collector, re
     if campaign.figures and interrupted:  # stop quickly: the figures of the last complete run stay
         figure_files = sorted(p for p in previous if p.startswith("figures/") and (root / p).is_file())
     elif campaign.figures:
-        figure_files = _write_figures(campaign, results, ana, root)
+        figure_files = _write_figures(campaign, study, results, ana, root)
     outputs = ["results.parquet", "results.csv", *figure_files]
     for rel in previous - set(outputs) - {"summary.json"}:
         if rel.startswith("figures/"):
@@ -278,11 +278,13 @@ def _previous_outputs(root: Path) -> set:
         return set()
 
 
-def _write_figures(campaign, results, ana, root: Path) -> list:
+def _write_figures(campaign, study: str, results, ana, root: Path) -> list:
+    from tirecli.campaign.spec import column_units
     from tirecli.figures.campaign import campaign_figures
     from tirecli.io.output import save_figure
 
-    figs = campaign_figures(campaign.design, results, campaign.outputs, ana, campaign.title or campaign.name)
+    figs = campaign_figures(campaign.design, results, campaign.outputs, ana, campaign.title or campaign.name,
+                            units=column_units(campaign, study))
     (root / "figures").mkdir(exist_ok=True)
     files = []
     for name, fig in figs.items():

@@ -31,6 +31,31 @@ SIMULATE_FACTS = ("peak_abs_slip", "t_peak_abs_slip", "min_slip", "t_min_slip", 
                   "first_lock_time", "steps", "rejected_steps", "end")
 OBSERVE_FACTS = ("convergence_time", "rms_theta_error", "max_theta_error", "max_abs_v_error", "final_v_error",
                  "excitation_share", "theta_hat_final")
+#: The unit of each fact of a study (``-``: dimensionless; :func:`fact_unit`); the facts of other
+#: studies take theirs from a unit suffix of the name (:data:`UNIT_SUFFIXES`), else none is known.
+FACT_UNITS = {
+    "simulate": {"peak_abs_slip": "-", "t_peak_abs_slip": "s", "min_slip": "-", "t_min_slip": "s", "peak_abs_mu": "-",
+                 "t_peak_abs_mu": "s", "stop_time": "s", "stopping_distance": "m", "distance": "m", "v_final": "m/s",
+                 "t_final": "s", "locked_at_end": "-", "wheel_locks": "-", "first_lock_time": "s", "steps": "-",
+                 "rejected_steps": "-"},
+    "observe": {"convergence_time": "s", "rms_theta_error": "-", "max_theta_error": "-", "max_abs_v_error": "m/s",
+                "final_v_error": "m/s", "excitation_share": "-", "theta_hat_final": "-"},
+    "sweep": {"slip_peak": "-", "mu_peak": "-", "mu_slide": "-"},
+    "mf-eval": {"fx": "N", "fy": "N", "mz": "N m", "mx": "N m", "my": "N m"},
+}
+#: Unit suffixes of fact names in ``run.json`` (``last_period_max_force_N``), longest first.
+UNIT_SUFFIXES = (("_Nm_per_rad", "N m/rad"), ("_N_per_m", "N/m"), ("_1_s", "1/s"), ("_Nm", "N m"), ("_N", "N"),
+                 ("_rad", "rad"), ("_J", "J"), ("_m", "m"), ("_s", "s"))
+
+
+def fact_unit(study: str, name: str) -> str | None:
+    """The unit of fact ``name`` (``NAME[LABEL]`` too) of a ``study`` run; None when unknown."""
+    base = name.split("[", 1)[0]
+    if study in FACT_UNITS:
+        return FACT_UNITS[study].get(base)
+    return next((unit for suffix, unit in UNIT_SUFFIXES if base.endswith(suffix)), None)
+
+
 #: The frame kept per point with ``keep: timeseries`` (default: the study's first frame).
 PRIMARY_FRAME = {"simulate": "timeseries", "observe": "observer"}
 
@@ -235,4 +260,5 @@ def run_batch(payload, batch) -> list:
     return out
 
 
-__all__ = ["UnknownFact", "run_point", "run_batch", "study_facts", "flatten", "SIMULATE_FACTS", "OBSERVE_FACTS", "error_text"]
+__all__ = ["UnknownFact", "run_point", "run_batch", "study_facts", "flatten", "SIMULATE_FACTS", "OBSERVE_FACTS", "error_text",
+           "FACT_UNITS", "fact_unit"]

@@ -476,6 +476,21 @@ def check_points(campaign: Campaign, jobs: int = 1) -> tuple[list, str]:
     return [point_id(h, digest) for h in hashes], studies.pop()
 
 
+def column_units(campaign: Campaign, study: str) -> dict:
+    """``{column: unit}`` of the results' varied inputs (from the base study's config schema and
+    parameter sets) and outputs (:func:`tirecli.campaign.facts.fact_unit`) whose unit is known."""
+    from tirecli.campaign.facts import fact_unit
+    from tirecli.config.schema import unit_at
+    from tirecli.studies.base import SPECS, load_study
+
+    load_study(study)
+    units = {}
+    if study in SPECS:
+        units.update({k: unit_at(SPECS[study], campaign.overrides[k][0]) for k in campaign.design.keys})
+    units.update({o: fact_unit(study, o) for o in campaign.outputs})
+    return {k: u for k, u in units.items() if u}
+
+
 def _check_range_global(bounds):
     return _check_range(_CHECKING, int(bounds[0]), int(bounds[1]))
 
@@ -531,4 +546,4 @@ def value_text(v) -> Any:
 
 
 __all__ = ["Campaign", "Design", "Override", "load_campaign", "check_points", "point_config", "point_id",
-           "unit_sample", "ppf", "DISTRIBUTIONS", "METHODS", "value_text", "format_key"]
+           "unit_sample", "ppf", "column_units", "DISTRIBUTIONS", "METHODS", "value_text", "format_key"]

@@ -28,6 +28,12 @@ def safe_name(text: str) -> str:
     return re.sub(r"[^A-Za-z0-9_.=-]+", "-", text).strip("-") or "output"
 
 
+def _label(name: str, units: dict, what: str = "") -> str:
+    """An axis label: ``distance [m]``, ``distance (mean) [m]`` with ``what``; the bare name when the unit is unknown."""
+    unit = units.get(name)
+    return f"{name}{what}" + (f" [{unit}]" if unit else "")
+
+
 def _positions(values: pd.Series):
     """x positions of a key's values: the numbers, or 0..k-1 with the values as tick labels."""
     if pd.api.types.is_numeric_dtype(values):
@@ -36,7 +42,7 @@ def _positions(values: pd.Series):
     return np.array([cats.index(v) for v in values], dtype=float), cats
 
 
-def _grid_effects(results, keys, output, title):
+def _grid_effects(results, keys, output, title, units):
     from tirecli.campaign.analysis import main_effects
 
     n = len(keys)
@@ -51,14 +57,14 @@ def _grid_effects(results, keys, output, title):
         ax.plot(x[order], eff["mean"].to_numpy()[order], "o-", color=COLORS[0], label="mean" if n > 1 else None)
         if cats:
             ax.set_xticks(range(len(cats)), [str(c) for c in cats], fontsize=7)
-        finish(ax, key, output, legend=ax is axes[0])
+        finish(ax, _label(key, units), _label(output, units), legend=ax is axes[0])
     for ax in axes[n:]:
         ax.set_visible(False)
     suptitle(fig, title)
     return fig
 
 
-def _interactions(results, keys, output, title):
+def _interactions(results, keys, output, title, units):
     pairs = list(itertools.permutations(keys, 2))[:6]
     # one line per value of the other key fills the panel: the legend (titled with that key) goes right of it
     fig, axes = new_figure(ncols=min(len(pairs), 3), nrows=(len(pairs) + 2) // 3, width=5.6 * min(len(pairs), 3),
@@ -75,30 +81,31 @@ def _interactions(results, keys, output, title):
                     label=f"{lev:.4g}" if isinstance(lev, float) else f"{lev}")
             if cats:
                 ax.set_xticks(range(len(cats)), [str(c) for c in cats], fontsize=7)
-        finish(ax, kx, f"{output} (mean)", legend=True, outside=True, legend_title=kl)
+        finish(ax, _label(kx, units), _label(output, units, " (mean)"), legend=True, outside=True,
+               legend_title=_label(kl, units))
     for ax in axes[len(pairs):]:
         ax.set_visible(False)
     suptitle(fig, title)
     return fig
 
 
-def _distribution(x, output, title):
+def _distribution(x, output, title, units):
     fig, (a1, a2) = new_figure(ncols=2, width=9.0, height=3.4)
     fin = x[np.isfinite(x)]
     a1.hist(fin, bins=min(50, max(10, int(np.sqrt(fin.size)))), color=COLORS[0], alpha=0.8)
-    finish(a1, output, "points", legend=False)
+    finish(a1, _label(output, units), "points", legend=False)
     xs = np.sort(fin)
     a2.step(xs, np.arange(1, xs.size + 1) / xs.size, where="post", color=COLORS[0])
     for q, ls in ((0.05, ":"), (0.5, "--"), (0.95, ":")):
         v = np.quantile(xs, q)
         a2.axvline(v, color="0.4", ls=ls, lw=0.8, label=f"{int(q * 100)} %: {v:.4g}")
-    finish(a2, output, "cumulative fraction", legend=True, loc="lower right")
+    finish(a2, _label(output, units), "cumulative fraction [-]", legend=True, loc="lower right")
     missing = x.size - fin.size
     suptitle(fig, title + (f" ({missing} point(s) without a value left out)" if missing else ""))
     return fig
 
 
-def _scatter(results, inputs, output, title):
+def _scatter(results, inputs, output, title, units):
     n = len(inputs)
     fig, axes = new_figure(ncols=min(n, 3), nrows=(n + 2) // 3, width=4.0 * min(n, 3), height=3.2 * ((n + 2) // 3))
     axes = np.atleast_1d(axes).ravel()
@@ -108,7 +115,7 @@ def _scatter(results, inputs, output, title):
         ax.plot(x, y, ".", ms=2 if len(y) > 2000 else 4, alpha=0.5, color=COLORS[0])
         if cats:
             ax.set_xticks(range(len(cats)), [str(c) for c in cats], fontsize=7)
-        finish(ax, key, output, legend=False)
+        finish(ax, _label(key, units), _label(output, units), legend=False)
     for ax in axes[n:]:
         ax.set_visible(False)
     suptitle(fig, title)
@@ -129,7 +136,7 @@ def _tornado(torn: dict, title):
         ax.set_yticks(range(len(rows)), [r["input"] for r in rows], fontsize=8)
         ax.axvline(0.0, color="0.3", lw=0.8)
         ax.set_xlim(-1.05, 1.05)
-        finish(ax, "Spearman rank correlation", "", title=o, legend=False)
+        finish(ax, "Spearman rank correlation [-]", "", title=o, legend=False)
     for ax in axes[n:]:
         ax.set_visible(False)
     suptitle(fig, title)
@@ -158,15 +165,17 @@ def _sobol(sob: dict, title):
                        label=(f"{'first order' if ind == 'S1' else 'total'}" + (f", cell {cell}" if len(cells) > 1 else "")))
         ax.set_xticks(range(len(inputs)), inputs, fontsize=8)
         ax.axhline(0.0, color="0.3", lw=0.8)
-        finish(ax, "", "Sobol' index", title=o, legend=True, loc="best")
+        finish(ax, "", "Sobol' index [-]", title=o, legend=True, loc="best")
     for ax in axes[n:]:
         ax.set_visible(False)
     suptitle(fig, title)
     return fig
 
 
-def campaign_figures(design, results: pd.DataFrame, outputs: list, analysis: dict, name: str) -> dict:
-    """The figures of a campaign (module doc) from its results frame (points that ran)."""
+def campaign_figures(design, results: pd.DataFrame, outputs: list, analysis: dict, name: str, units=None) -> dict:
+    """The figures of a campaign (module doc) from its results frame (points that ran); ``units``:
+    ``{column: unit}`` of the inputs and outputs whose unit is known (axis labels ``distance [m]``)."""
+    units = units or {}
     from tirecli.campaign.analysis import numeric_outputs
 
     ok = results[results["status"] == "ok"]
@@ -179,12 +188,14 @@ def campaign_figures(design, results: pd.DataFrame, outputs: list, analysis: dic
             continue
         tag = safe_name(o)
         if design.grid_keys:
-            figs[f"grid-{tag}"] = _grid_effects(ok, design.grid_keys, o, f"{name}: {o} against each grid key")
+            figs[f"grid-{tag}"] = _grid_effects(ok, design.grid_keys, o, f"{name}: {o} against each grid key", units)
             if len(design.grid_keys) > 1:
-                figs[f"interaction-{tag}"] = _interactions(ok, design.grid_keys, o, f"{name}: {o}, interactions of the grid keys")
+                figs[f"interaction-{tag}"] = _interactions(ok, design.grid_keys, o,
+                                                            f"{name}: {o}, interactions of the grid keys", units)
         if design.sample_keys:
-            figs[f"distribution-{tag}"] = _distribution(ok[o].to_numpy(dtype=float), o, f"{name}: distribution of {o} over {len(ok)} points")
-            figs[f"scatter-{tag}"] = _scatter(ok, design.sample_keys, o, f"{name}: {o} against the sampled inputs")
+            figs[f"distribution-{tag}"] = _distribution(ok[o].to_numpy(dtype=float), o,
+                                                        f"{name}: distribution of {o} over {len(ok)} points", units)
+            figs[f"scatter-{tag}"] = _scatter(ok, design.sample_keys, o, f"{name}: {o} against the sampled inputs", units)
     if design.sample_keys and analysis.get("tornado"):
         torn = {o: rows for o, rows in analysis["tornado"].items()
                 if rows and o in outs and any(np.isfinite(r["rho"]) for r in rows)}

@@ -125,6 +125,8 @@ StudyFn = Callable[..., StudyResult]
 
 STUDIES: dict[str, StudyFn] = {}
 CHECKERS: dict[str, Callable] = {}
+#: The schema of each study's config (where it has one), for the units of its keys.
+SPECS: dict[str, Any] = {}
 
 #: The module that registers each study (imported on demand: a command loads only its own).
 STUDY_MODULES: dict[str, str] = {
@@ -174,16 +176,19 @@ def load_all_studies() -> dict[str, StudyFn]:
     return STUDIES
 
 
-def register_study(name: str, check: Callable | None = None):
+def register_study(name: str, check: Callable | None = None, spec=None):
     """Decorator: register ``fn(config, progress=None) -> StudyResult`` under ``name``.
 
-    ``check(config)`` validates a config completely without running it (``params validate``).
+    ``check(config)`` validates a config completely without running it (``params validate``);
+    ``spec`` is the config's schema (:class:`~tirecli.config.schema.Map`), if the study has one.
     """
 
     def deco(fn: StudyFn) -> StudyFn:
         STUDIES[name] = fn
         if check is not None:
             CHECKERS[name] = check
+        if spec is not None:
+            SPECS[name] = spec
         return fn
 
     return deco

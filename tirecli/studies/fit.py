@@ -174,8 +174,8 @@ FIT = Map(fields={
                             "confidence": 0.95, "sigma1": {}, "model": "lumped", "name": "fitted"})
 
 SPEC = Map(fields=common_fields() | {
-    "tire": Raw(doc="LuGre set with the starting values and the fixed parameters"),
-    "vehicle": Raw(default=None, doc=f"quarter-car set (rolling radius for omega; default {DEFAULT_VEHICLE})"),
+    "tire": Raw(kind="lugre", doc="LuGre set with the starting values and the fixed parameters"),
+    "vehicle": Raw(kind="quarter_car", default=None, doc=f"quarter-car set (rolling radius for omega; default {DEFAULT_VEHICLE})"),
     "data": DATA,
     "fit": FIT,
 })
@@ -365,7 +365,7 @@ def _parameter_rows(f: identify.FitResult, stage: str, fit: str, start, initial)
             for k in f.names]
 
 
-@register_study("fit", check=plan)
+@register_study("fit", check=plan, spec=SPEC)
 def run_fit(config: Config, progress=None) -> StudyResult:
     """Run a fit config (see module doc)."""
     import time

@@ -205,7 +205,7 @@ CALIBRATE = AnyOf(options=(
 ), default=False, what="true, false or {points, kappa_max, alpha_max, load, rounds}")
 
 STATIONARY = Map(fields=common_fields() | {
-    "tire": Raw(default=None, doc="MCPS parameter set: a name, a file, or {set: ..., overrides} (default sorine2000-mcps)"),
+    "tire": Raw(kind="mcps", default=None, doc="MCPS parameter set: a name, a file, or {set: ..., overrides} (default sorine2000-mcps)"),
     "mf": Raw(default=None, doc="Magic Formula side: a built-in tyre, a .tir path, simple, none, or {tire, convention}"),
     "carcass": AnyOf(options=(Str(choices=CARCASSES), ListOf(item=Str(choices=CARCASSES), max_len=2)),
                      default="complete", what="complete, rigid, or a list of them"),
@@ -334,7 +334,7 @@ def calibrated_set(ps, p_cal, report: dict, mf: MFSide, fz: float):
     return out, doc
 
 
-@register_study("mcps-stationary", check=plan_stationary)
+@register_study("mcps-stationary", check=plan_stationary, spec=STATIONARY)
 def run_stationary(config: Config, progress=None) -> StudyResult:
     """Stationary MCPS (complete and/or solid carcass) against a Magic Formula tyre (MCPS Figs. 7-11)."""
     from tirecli.io.yamlio import dump_yaml
@@ -457,7 +457,7 @@ def run_stationary(config: Config, progress=None) -> StudyResult:
 # --------------------------------------------------------------------------- mcps-slider (Fig. 3)
 
 SLIDER = Map(fields=common_fields() | {
-    "tire": Raw(default=None, doc="MCPS parameter set (the slider uses U, r, mu, alpha, beta, c_Sz, c_muz)"),
+    "tire": Raw(kind="mcps", default=None, doc="MCPS parameter set (the slider uses U, r, mu, alpha, beta, c_Sz, c_muz)"),
     "fz": Num(unit="N", gt=0, default=4000.0, doc="load whose patch pressure P = fz/(w l) acts on the slider"),
     "amplitude": Num(unit="m", gt=0, default=None, doc="amplitude of u_x (default 8 F_k/K)"),
     "rotation": Num(unit="rad", gt=0, default=None, doc="amplitude of psi (default 8 M_kz/S_z)"),
@@ -497,7 +497,7 @@ def _refine_peak(x, y, i):
     return float(x[i] + d * (x[i + 1] - x[i - 1]) / 2.0), float(y1 - 0.25 * (y0 - y2) * d)
 
 
-@register_study("mcps-slider", check=plan_slider)
+@register_study("mcps-slider", check=plan_slider, spec=SLIDER)
 def run_slider(config: Config, progress=None) -> StudyResult:
     """One rubber slider under sinusoidal translation and rotation (MCPS Fig. 3; docs/models/mcps_tire.md §4)."""
     from tirecli.numerics.mcps_transient import integrate_slider_in_time, simulate_slider
@@ -582,7 +582,7 @@ def _g_max(alpha, beta):
 # --------------------------------------------------------------------------- mcps-standstill (Figs. 4-5)
 
 STANDSTILL = Map(fields=common_fields() | {
-    "tire": Raw(default=None, doc="MCPS parameter set"),
+    "tire": Raw(kind="mcps", default=None, doc="MCPS parameter set"),
     "fz": Num(unit="N", gt=0, default=4000.0, doc="vertical load"),
     "amplitude": Num(unit="rad", gt=0, le=6.3, default=0.45, doc="yaw amplitude A of the cycle 0 -> A -> -A -> A"),
     "yaw_rate": Num(unit="rad/s", gt=0, le=1e4, default=1.0, doc="|yaw rate| (the response does not depend on it)"),
@@ -616,7 +616,7 @@ def plan_standstill(config: Config):
     return checked, ps, ps.model()
 
 
-@register_study("mcps-standstill", check=plan_standstill)
+@register_study("mcps-standstill", check=plan_standstill, spec=STANDSTILL)
 def run_standstill(config: Config, progress=None) -> StudyResult:
     """Blocked wheel yawing back and forth at standstill (MCPS §3.1, Figs. 4-5)."""
     from tirecli.numerics.mcps_transient import (asymptotic_standstill_torque, gauss_patch, simulate_standstill,
@@ -724,7 +724,7 @@ CASE = AnyOf(options=(
 ), what="complete, rigid, or {carcass, locked: [x, y, delta], label}")
 
 RELAXATION = Map(fields=common_fields() | {
-    "tire": Raw(default=None, doc="MCPS parameter set"),
+    "tire": Raw(kind="mcps", default=None, doc="MCPS parameter set"),
     "fz": Num(unit="N", gt=0, default=4000.0, doc="vertical load"),
     "alpha": Num(unit="rad", ge=-1.5, le=1.5, default=1.0 * DEG, doc="slip angle after the step (not 0)"),
     "speed": Num(unit="m/s", gt=0, le=200, default=20.0, doc="forward speed Vx = r omega"),
@@ -805,7 +805,7 @@ def crossings(s, ratio, level):
     return at(idx[0]), at(idx[-1])
 
 
-@register_study("mcps-relaxation", check=plan_relaxation)
+@register_study("mcps-relaxation", check=plan_relaxation, spec=RELAXATION)
 def run_relaxation(config: Config, progress=None) -> StudyResult:
     """Force build-up after a slip-angle step at constant speed (docs/models/mcps_tire.md §7, scenario assumed)."""
     from tirecli.numerics.mcps_stationary import solve

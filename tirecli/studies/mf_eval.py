@@ -50,7 +50,7 @@ POINTS = Map(fields={
 })
 
 SPEC = Map(fields=common_fields() | {
-    "tire": Raw(doc="Magic Formula tyre: a built-in name, a .tir path, or {set: ..., overrides}"),
+    "tire": Raw(kind="magic_formula", doc="Magic Formula tyre: a built-in name, a .tir path, or {set: ..., overrides}"),
     "convention": Str(choices=("mfeval", "teasit"), default="mfeval", doc="variant of docs/models/magic_formula_tyre.md §10"),
     "side": Str(choices=("left", "right"), default=None, doc="mount side (mirroring)"),
     "limits": Bool(default=True, doc="input clipping and low-speed rules"),
@@ -79,7 +79,7 @@ def plan(config: Config):
     return checked, ps, t, cols
 
 
-@register_study("mf-eval", check=plan)
+@register_study("mf-eval", check=plan, spec=SPEC)
 def run_mf_eval(config: Config, progress=None) -> StudyResult:
     """Evaluate the tyre at the config's points (see module doc)."""
     from tirecli.models.magic_formula import evaluate

@@ -98,7 +98,7 @@ def plan(config: Config):
     return checked, tire
 
 
-@register_study("mf-golden", check=plan)
+@register_study("mf-golden", check=plan, spec=SPEC)
 def run_golden(config: Config, progress=None) -> StudyResult:
     """Evaluate every golden row; frame ``golden`` with inputs, golden and computed outputs, residuals."""
     from tirecli.models.magic_formula import evaluate

@@ -72,14 +72,14 @@ MF_SWEEP = Map(fields={
 })
 
 COMPARE = Map(fields={
-    "lugre": Raw(doc="LuGre parameter set drawn beside the Magic Formula curve"),
+    "lugre": Raw(kind="lugre", doc="LuGre parameter set drawn beside the Magic Formula curve"),
     "speed": Num(unit="m/s", gt=0, default=20.0, doc="held speed of the LuGre curve"),
     "slip": Grid(unit="-", ge=-1, le=1, default=_lin(-1.0, 1.0, 401), doc="slip grid of both curves"),
     "load": Num(unit="N", gt=0, default=None, doc="load of the Magic Formula curve (default FNOMIN)"),
 }, default=None)
 
 SPEC = Map(fields=common_fields() | {
-    "tire": Raw(doc="Magic Formula tyre: a built-in name, a .tir path, or {set: ..., overrides}"),
+    "tire": Raw(kind="magic_formula", doc="Magic Formula tyre: a built-in name, a .tir path, or {set: ..., overrides}"),
     "convention": Str(choices=("mfeval", "teasit"), default="mfeval", doc="variant of docs/models/magic_formula_tyre.md §10"),
     "side": Str(choices=("left", "right"), default=None, doc="mount side (mirroring, §2.4)"),
     "limits": Bool(default=True, doc="input clipping and low-speed rules (§11)"),

@@ -147,9 +147,9 @@ GAIN_STUDY = Map(fields={
 }, default=None)
 
 SPEC = Map(fields=common_fields() | {
-    "tire": Raw(doc="LuGre parameter set (lumped, constant kappa0)"),
-    "vehicle": Raw(default=None, doc="quarter-car parameter set"),
-    "observer": Raw(default=None, doc="observer gains (kind observer)"),
+    "tire": Raw(kind="lugre", doc="LuGre parameter set (lumped, constant kappa0)"),
+    "vehicle": Raw(kind="quarter_car", default=None, doc="quarter-car parameter set"),
+    "observer": Raw(kind="observer", default=None, doc="observer gains (kind observer)"),
     "scenario": SCENARIO,
     "estimate": _estimate(required=True),
     "measurement": MEASUREMENT,
@@ -505,7 +505,7 @@ def _warnings(case: Case, design: dict, met: dict, m: dict, tr) -> list[str]:
     return out
 
 
-@register_study("observe", check=plan)
+@register_study("observe", check=plan, spec=SPEC)
 def run_observe(config: Config, progress=None) -> StudyResult:
     """Run an observe config (see module doc)."""
     p = plan(config)

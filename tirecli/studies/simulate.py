@@ -180,8 +180,8 @@ MEASUREMENT = Map(fields={
 })
 
 SPEC = Map(fields=common_fields() | {
-    "tire": Raw(doc="LuGre parameter set: a name, a file, or {set: ..., overrides}"),
-    "vehicle": Raw(default=None, doc=f"quarter-car parameter set (default {DEFAULT_VEHICLE})"),
+    "tire": Raw(kind="lugre", doc="LuGre parameter set: a name, a file, or {set: ..., overrides}"),
+    "vehicle": Raw(kind="quarter_car", default=None, doc=f"quarter-car parameter set (default {DEFAULT_VEHICLE})"),
     "initial": _with_default(INITIAL, {"v": 20.0, "slip": 0.0, "omega": None}),
     "input": _with_default(INPUT, None),
     "t_end": Num(unit="s", gt=0, le=3600, default=5.0, doc="end time"),
@@ -787,7 +787,7 @@ def run_cases(cases, p, car, t_end, sample_times=(), progress=None) -> dict:
     return trs
 
 
-@register_study("simulate", check=plan)
+@register_study("simulate", check=plan, spec=SPEC)
 def run_simulate(config: Config, progress=None) -> StudyResult:
     """Run a simulate config (see module doc)."""
     checked, tire, vehicle, cases = plan(config)

@@ -101,7 +101,7 @@ SWEEP = Map(fields={
     "models": ListOf(item=VARIANT, default=["distributed"], doc="model variants"),
 }, default={})
 
-SPEC = Map(fields=common_fields() | {"tire": Raw(doc="LuGre parameter set: a name, a file, or {set: ..., overrides}"), "sweep": SWEEP})
+SPEC = Map(fields=common_fields() | {"tire": Raw(kind="lugre", doc="LuGre parameter set: a name, a file, or {set: ..., overrides}"), "sweep": SWEEP})
 
 
 def make_variant(raw) -> FrictionVariant:
@@ -324,7 +324,7 @@ def _require_finite(config: Config, df: pd.DataFrame, peaks: pd.DataFrame) -> No
                                                      "evaluate); nothing was written"))
 
 
-@register_study("sweep", check=check_sweep)
+@register_study("sweep", check=check_sweep, spec=SPEC)
 def run_sweep(config: Config, progress=None) -> StudyResult:
     """Run a steady-state sweep config (see module doc)."""
     from tirecli.studies import mf_sweep
