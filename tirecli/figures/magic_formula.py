@@ -76,9 +76,8 @@ def draw_camber(axes, result):
         # one narrow legend (the values under a title) for both panels, in the lower left of Fy (ISO-W: Fy > 0
         # for alpha < 0; the Mz curves fill every corner)
         finish(ax, "slip angle alpha [rad]", lab + ISO,
-               f"camber family at Fz = {fz:g} N" + (" (legend at left)" if k else ""), legend=not k, loc="lower left")
-        if ax.get_legend() is not None:
-            ax.get_legend().set_title("camber gamma [rad]", prop={"size": 8})
+               f"camber family at Fz = {fz:g} N" + (" (legend at left)" if k else ""), legend=not k, loc="lower left",
+               legend_title="camber gamma [rad]")
 
 
 def draw_combined(axes, result):
