@@ -226,3 +226,19 @@ def test_contact_patch_held_at_rim_bottoming():
     fz_btm = (v["UNLOADED_RADIUS"] - v["RIM_RADIUS"] - v["BOTTOM_OFFST"]) * ncz
     a, b = contact.contact_patch(t, [fz_btm, 2 * fz_btm, 10 * fz_btm], v["NOMPRES"])
     assert a[1] == a[0] == a[2] and b[1] == b[0]
+
+
+def test_pac89_has_no_extras(cli, tmp_path):
+    from conftest import ROOT
+
+    from tirecli.parameters.mf import read_tire_data
+
+    t = read_tire_data(ROOT / "tests" / "data" / "tir" / "pac89-hmmwv.tir").tire()
+    assert not any(available(t).values()) and evaluate_extras(t, 0.0, 0.0, 0.0, 4000.0, 10.0) == {}
+    pts = tmp_path / "p.csv"
+    pts.write_text("kappa,alpha,gamma,fz\n0.05,0.02,0,4000\n")
+    code, out, err = cli("mf", "eval", ROOT / "tests" / "data" / "tir" / "pac89-hmmwv.tir", "--points", pts,
+                         "--out", tmp_path / "o.csv")
+    assert code == 0, err
+    assert "sigmax, sigmay, Kxk, Kya, Cx, Cy, Cz, re, a, b (a PAC89 tyre has none of these)" in out
+    assert pd.read_csv(tmp_path / "o.csv").columns[-1] == "my"

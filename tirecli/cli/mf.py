@@ -71,8 +71,11 @@ def eval_(
          f"{', mirrored' if s['mirrored'] else ''}), convention {s['convention']}"
          + (f"; {', '.join(extra)}" if extra else ""))
     if s["omitted"]:
+        by_reason: dict = {}
+        for k, why in s["omitted"].items():
+            by_reason.setdefault(why, []).append(k)
         echo("not written (the tyre lacks the coefficients): "
-             + "; ".join(f"{k} ({why})" for k, why in s["omitted"].items()))
+             + "; ".join(f"{', '.join(ks)} ({why})" for why, ks in by_reason.items()))
     if s["warnings"]:
         echo(f"{len(s['warnings'])} reader warning(s) for {tire} (tirecli tir show {tire} lists them)")
     touched = describe_counts(s["counts"])
