@@ -139,7 +139,8 @@ def test_mf_eval_golden_rows_end_to_end(cli, tmp_path):
     code, stdout, err = cli("mf", "eval", "pacejka2006-205-60r15", "--points", pts, "--out", out, "--convention", "teasit")
     assert code == 0, err
     r = pd.read_csv(out)
-    assert list(r.columns) == ["kappa", "alpha", "gamma", "fz", "p", "vx", "fx", "fy", "mz", "mx", "my"]
+    # the forces first, then the extra outputs this tyre gives (slip stiffnesses only: §17)
+    assert list(r.columns) == ["kappa", "alpha", "gamma", "fz", "p", "vx", "fx", "fy", "mz", "mx", "my", "Kxk", "Kya"]
     for i, c in enumerate(["fx", "fy", "mz", "mx", "my"]):
         assert np.abs(r[c].to_numpy() - g[:, 6 + i]).max() <= 1e-6
 

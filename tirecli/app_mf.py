@@ -18,6 +18,8 @@ from tirecli.parameters import mf as mfp
 #: Columns of ``tirecli mf eval``: inputs (``p``, ``vx`` optional) and outputs, ISO-W, SI.
 INPUT_COLUMNS = ("kappa", "alpha", "gamma", "fz", "p", "vx")
 OUTPUT_COLUMNS = ("fx", "fy", "mz", "mx", "my")
+#: mfeval's further outputs, written after the forces where the tyre gives them (docs/models/magic_formula_tyre.md §17).
+EXTRA_COLUMNS = ("sigmax", "sigmay", "Kxk", "Kya", "Cx", "Cy", "Cz", "re", "a", "b")
 
 
 def read_document(ref: str) -> tuple[tirio.TirDocument, str]:
@@ -215,7 +217,9 @@ def mf_eval(tire_ref: str, points: str | Path, out: str | Path, convention: str 
     ``points`` has the columns ``kappa, alpha, gamma, fz`` (rad, N) and optionally ``p`` [Pa] and
     ``vx`` [m/s] (defaults: the tyre's INFLPRES/NOMPRES and LONGVL). The result has the six input
     columns (inputs copied verbatim when the file is a plain CSV in that column order, else written
-    exactly) followed by ``fx, fy, mz, mx, my`` (ISO-W, N and N m, 17 significant digits). Bad
+    exactly) followed by ``fx, fy, mz, mx, my`` (ISO-W, N and N m, 17 significant digits) and the
+    :data:`EXTRA_COLUMNS` the tyre's coefficients give (the others are left out and listed under
+    ``"omitted"`` with what they need). Bad
     input (missing column, non-numeric or NaN cell, p <= 0) is a DataError naming the column and
     row, and nothing is written. A points file of more rows than the sample budget (``max_samples``,
     default :data:`tirecli.limits.DEFAULT_MAX_SAMPLES`) is refused before it is parsed.
@@ -269,13 +273,15 @@ def _evaluate_points(tire_ref, points, out: Path, convention, side, limits, mapp
         i, text, at_fault = found
         cls = DataError if at_fault else RunError
         raise cls(f"{points}: row {i + 1}: {text}; nothing was written")
-    outputs = [getattr(res, k) for k in OUTPUT_COLUMNS]
+    extras, omitted = _extra_columns(tire, cols, vx if vx is not None else vx_def, p if p is not None else p_def,
+                                     res, convention, side, limits, points)
+    outputs = [getattr(res, k) for k in OUTPUT_COLUMNS] + list(extras.values())
     text, facts = text_facts(data)
     del data
     head = text.split(b"\n", 1)[0]
     header = [h.strip() for h in head.decode("utf-8", "replace").split(",")]
     const = {k: (b"" if d is None else repr(float(d)).encode()) for k, d in (("p", p_def), ("vx", vx_def))}
-    names = ",".join(INPUT_COLUMNS + OUTPUT_COLUMNS)
+    names = ",".join(INPUT_COLUMNS + OUTPUT_COLUMNS + tuple(extras))
     if _echo_ok(facts, header, n, bool(mapping)) and b"\x01" not in text:  # (the filler byte of the formatter)
         nl = facts["newlines"]  # the newline before each data row
         lead = b"".join(b"," + const[k] for k in ("p", "vx") if k not in header)
@@ -290,7 +296,28 @@ def _evaluate_points(tire_ref, points, out: Path, convention, side, limits, mapp
     return {"points": n, "tire": ps.name, "warnings": list((ps.extra or {}).get("warnings", [])), "version": tire.version, "side": tire.side, "mirrored": res.mirrored,
             "convention": res.convention, "limits": limits, "counts": res.counts, "inputs": how, "out": str(out),
             "pressure_default": p_def if p is None else None, "speed_default": vx_def if vx is None else None,
-            "outside": res.outside}
+            "outside": res.outside, "extras": list(extras), "omitted": omitted}
+
+
+def _extra_columns(tire, cols, vx, p, res, convention, side, limits, points) -> tuple[dict, dict]:
+    """The :data:`EXTRA_COLUMNS` the tyre gives at the points (``{name: array}``), and the omitted ones
+    with what they need (``{name: reason}``); a non-finite value is an error naming its row."""
+    from tirecli.models.magic_formula.axes import needs_mirror
+    from tirecli.models.magic_formula.extras import available, evaluate_extras, missing_reason
+
+    have = available(tire)
+    omitted = {k: missing_reason(tire, k) for k in EXTRA_COLUMNS if not have[k]}
+    gamma = cols["gamma"]
+    if needs_mirror(tire.side, side):  # the file's side: every extra is even in gamma, Cz in (Fy, gamma)
+        gamma = -gamma
+    ext = evaluate_extras(tire, cols["kappa"], cols["alpha"], gamma, cols["fz"], vx, p, fx=res.fx,
+                          fy=-res.fy if res.mirrored else res.fy, convention=convention, limits=limits)
+    for k, v in ext.items():
+        bad = np.flatnonzero(~np.isfinite(v))
+        if bad.size:
+            raise RunError(f"{points}: row {bad[0] + 1}: the tyre's coefficients give no finite {k} there "
+                           f"({bad.size} row(s)); nothing was written")
+    return ext, omitted
 
 
 def nonfinite_point(tire, res, inputs: dict, limits: bool):

@@ -29,7 +29,10 @@ def eval_(
                                show_default=False),
     points: Path = typer.Option(..., "--points", metavar="CSV", help="CSV with columns kappa, alpha, gamma, fz [, p, vx] "
                                                       "(SI: -, rad, rad, N, Pa, m/s).", show_default=False),
-    out: str = typer.Option(..., "--out", "-o", metavar="FILE", help="Result CSV: the input columns, then fx, fy, mz, mx, my.",
+    out: str = typer.Option(..., "--out", "-o", metavar="FILE", help="Result CSV: the input columns, then fx, fy, mz, mx, my [N, N m], then "
+                             "those of sigmax, sigmay [m], Kxk [N], Kya [N/rad], Cx, Cy, Cz [N/m], re, a, b [m] "
+                             "the tyre gives (relaxation lengths, slip and carcass stiffnesses, vertical stiffness, "
+                             "effective rolling radius, contact-patch half-length and half-width).",
                              show_default=False),
     convention: str = typer.Option("mfeval", "--convention", metavar="mfeval|teasit", help="Where public implementations differ "
                                    "(docs/models/magic_formula_tyre.md §10): mfeval (default) or teasit (reproduces the "
@@ -47,6 +50,8 @@ def eval_(
 
     p and vx default to the tyre's INFLPRES (else NOMPRES) and LONGVL. Bad input (missing column,
     non-numeric or NaN cell) is an error naming the column and row (exit 2), and nothing is written.
+    After the forces come mfeval's further outputs where the tyre's coefficients give them
+    (docs/models/magic_formula_tyre.md §17); the command names the ones left out and what they need.
     """
     from tirecli.app_mf import describe_counts, describe_outside, mf_eval
     from tirecli.errors import UsageError
@@ -65,6 +70,12 @@ def eval_(
     echo(f"mf eval: {s['points']} point(s), tyre {s['tire']} (MF {s['version']}, measured {s['side']}"
          f"{', mirrored' if s['mirrored'] else ''}), convention {s['convention']}"
          + (f"; {', '.join(extra)}" if extra else ""))
+    if s["omitted"]:
+        by_reason: dict = {}
+        for k, why in s["omitted"].items():
+            by_reason.setdefault(why, []).append(k)
+        echo("not written (the tyre lacks the coefficients): "
+             + "; ".join(f"{', '.join(ks)} ({why})" for why, ks in by_reason.items()))
     if s["warnings"]:
         echo(f"{len(s['warnings'])} reader warning(s) for {tire} (tirecli tir show {tire} lists them)")
     touched = describe_counts(s["counts"])

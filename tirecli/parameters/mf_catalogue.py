@@ -77,6 +77,8 @@ Q_CAM3 - camber x load effect on loaded radius (MF 6.2)
 Q_FYS1 - combined camber and lateral force effect on vertical force (MF 6.2)
 Q_FYS2 - combined camber and lateral force effect on vertical force (MF 6.2)
 Q_FYS3 - combined camber and lateral force effect on vertical force (MF 6.2)
+Q_A1 - square-root load term of the contact length (MF 5.2)
+Q_A2 - linear load term of the contact length (MF 5.2)
 PFZ1 - pressure effect on vertical stiffness
 BOTTOM_OFFST L distance to rim when bottoming starts
 BOTTOM_STIFF F/L vertical stiffness of the bottomed tyre

@@ -18,6 +18,32 @@ def has_radius(t) -> bool:
     return bool(c.get("Q_RE0")) and bool(c.get("VERTICAL_STIFFNESS"))
 
 
+def nominal_vertical_stiffness(t, p=None):
+    """``C_z = VERTICAL_STIFFNESS (1 + PFZ1 dpi)`` [N/m] (paper eq. 5; ``dpi`` 0 without pressure effect).
+
+    Parameters
+    ----------
+    t : MFTire
+    p : array_like or None
+        Inflation pressure [Pa] (None: no pressure effect).
+    """
+    c = t.coef
+    cz = c["VERTICAL_STIFFNESS"]
+    pi0 = t.nominal_pressure
+    if p is not None and pi0:
+        cz = cz * (1.0 + c.get("PFZ1", 0.0) * (np.asarray(p, dtype=float) - pi0) / pi0)
+    return cz
+
+
+def free_spinning_radius(t, omega):
+    """``R_Omega = R0 (Q_RE0 + Q_V1 (Omega R0 / V0)^2)`` [m] (paper eq. 1): the free radius grown by the
+    wheel speed ``omega`` [rad/s] (``V0`` = ``LONGVL``)."""
+    c = t.coef
+    r0 = c["UNLOADED_RADIUS"]
+    v0 = t.reference_speed or 1.0
+    return r0 * (c["Q_RE0"] + c.get("Q_V1", 0.0) * np.square(np.asarray(omega, dtype=float) * r0 / v0))
+
+
 def effective_rolling_radius(t, fz, kappa, vx, p=None, iterations: int = 30, tol: float = 1e-12):
     """Effective rolling radius ``R_e`` [m] and wheel speed ``Omega`` [rad/s] (§7.3).
 
@@ -43,19 +69,13 @@ def effective_rolling_radius(t, fz, kappa, vx, p=None, iterations: int = 30, tol
     c = t.coef
     r0, fz0 = c["UNLOADED_RADIUS"], c["FNOMIN"]
     fz, kappa, vx = (np.asarray(a, dtype=float) for a in (fz, kappa, vx))
-    pi0 = t.nominal_pressure
-    cz = c["VERTICAL_STIFFNESS"]
-    if p is not None and pi0:
-        cz = cz * (1.0 + c.get("PFZ1", 0.0) * (np.asarray(p, dtype=float) - pi0) / pi0)
+    cz = nominal_vertical_stiffness(t, p)
     fzn = fz / fz0
     defl = (fz0 / cz) * (c.get("DREFF", 0.0) * np.arctan(c.get("BREFF", 0.0) * fzn) + c.get("FREFF", 0.0) * fzn)
-    v0 = t.reference_speed or 1.0
-    qv1 = c.get("Q_V1", 0.0)
     re = r0 * c["Q_RE0"] - defl
     omega = (1.0 + kappa) * vx / re
     for _ in range(iterations):
-        r_omega = r0 * (c["Q_RE0"] + qv1 * np.square(omega * r0 / v0))
-        re_new = r_omega - defl
+        re_new = free_spinning_radius(t, omega) - defl
         omega = (1.0 + kappa) * vx / re_new
         if np.all(np.abs(re_new - re) <= tol):
             re = re_new
