@@ -1,36 +1,75 @@
-"""Calibration of the MCPS rubber parameters to Magic Formula curves (docs/models/mcps_tire.md §8, procedure assumed).
+"""Calibration of the MCPS parameters to a Magic Formula tyre (docs/models/mcps_tire.md §8, procedure assumed).
 
-Three bounded least-squares fits (``scipy.optimize.least_squares``, trust-region reflective,
-residuals in N or N m, equal weights), each on an even grid that excludes zero slip:
+:func:`calibrate_to_mf` is *the* calibration to the tyre that is drawn: it fits MCPS to the Magic
+Formula curves on the drawn grids and returns the calibrated set together with its own curves, gaps
+(:func:`tirecli.numerics.gaps.curve_gap`), aligning-torque peaks and the parameters that ended on a
+bound, so that what a figure draws and what a card quotes are the same numbers. Two bounded
+least-squares fits (``scipy.optimize.least_squares``, trust-region reflective), each model's own
+output (ISO-W, road on tire; never a mirrored curve), residuals over the reference peak magnitude:
 
-1. ``(r_x, mu_x, alpha_x, beta_x)`` on the Magic Formula ``Fx(kappa)`` at ``alpha = 0``
-   (``kappa`` in ``(0, kappa_max]``; closed form of the pure longitudinal slip);
-2. ``(r_y, mu_y, alpha_y, beta_y)`` on ``Fy(alpha)`` at ``kappa = 0`` (``alpha`` in ``(0, alpha_max]``;
-   the chosen carcass: the complete model solves its fixed point at every evaluation);
-3. ``c_Mz`` on ``Mz(alpha)`` at ``kappa = 0`` with the fitted lateral parameters. In the complete model
-   ``c_Mz`` sets the aligning stiffness and with it the belt twist, which changes ``Fy`` again: with
-   ``rounds > 1`` steps 2 and 3 alternate (up to ``rounds`` times, until no parameter changes by more
-   than ``ROUND_TOL``, relative).
+1. ``(r_x, mu_x, alpha_x, beta_x)`` on the Magic Formula ``Fx(kappa)`` at ``alpha = 0`` (closed form of
+   the pure longitudinal slip; the same with and without the carcass);
+2. one joint lateral fit of ``(r_y, mu_y, alpha_y, beta_y, c_Mz, k_delta)`` (``k_delta`` with the
+   complete carcass only) on ``Fy(alpha)`` and ``Mz(alpha)`` at ``kappa = 0``: ``Fy`` on every drawn
+   point, ``Mz`` with weight :data:`MZ_WEIGHT` on the points up to the Magic Formula's sign change of
+   ``Mz`` (the run of points around its peak with the peak's sign), a feature MCPS cannot follow
+   (docs/models/mcps_tire.md §8). ``c_Mz`` scales the pneumatic trail ``c_Mz l/6``; the patch length
+   ``l`` is not fitted, because the stationary curves depend on it only through ``c_Mz l`` and
+   ``w r l^2`` (:meth:`~tirecli.models.mcps.params.MCPSParams.with_patch_length`); ``k_delta`` is the
+   twist that turns the patch against the slip angle.
 
-The report gives each group's gap before calibration (the start set), right after its own fit
-(``max_gap_stage``) and for the final set (``max_gap``: the set drawn and written).
+:func:`calibrate` is the earlier three-fit sequence (Fx, then Fy, then ``c_Mz`` alone) that the
+``mcps-stationary`` study still calls; it is superseded by :func:`calibrate_to_mf`.
 
-Bounds (docs/models/mcps_tire.md §8): ``r`` in ``[1e6, 1e9]`` N/m^3 (fitted in log10), ``mu`` in ``[0.7, 1.2]``,
-``alpha``, ``beta`` in ``[1.001, 5]``, ``c_Mz`` in ``[0, 5]`` [assumed]. A value within 1e-6
-(relative to the bound range) of a bound is reported *at its bound*.
+Bounds (:data:`FIT_BOUNDS`, docs/models/mcps_tire.md §8) carry the source of each end. A value
+within 1e-6 (relative to the bound range, in log10 for the stiffnesses) of a bound is reported *at its bound*.
 """
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass
 
 import numpy as np
 
-#: Bounds of the fitted parameters (docs/models/mcps_tire.md §8; c_Mz's are tirecli's).
-BOUNDS = {
-    "r_x": (1e6, 1e9), "mu_x": (0.7, 1.2), "alpha_x": (1.001, 5.0), "beta_x": (1.001, 5.0),
-    "r_y": (1e6, 1e9), "mu_y": (0.7, 1.2), "alpha_y": (1.001, 5.0), "beta_y": (1.001, 5.0),
-    "c_Mz": (0.0, 5.0),
+
+@dataclass(frozen=True)
+class Bound:
+    """Bounds of one fitted parameter and where each end comes from.
+
+    ``lo_source``/``hi_source`` start with the kind of source: ``paper`` (the MCPS paper's
+    equations), ``physics`` (what the quantity can be) or ``tirecli`` (tirecli's assumption).
+    ``log``: fitted in log10.
+    """
+
+    lo: float
+    hi: float
+    lo_source: str
+    hi_source: str
+    log: bool = False
+
+
+_R = "tirecli: assumed range of the rubber stiffness per unit area (three decades)"
+_MU = "tirecli: assumed dry-road range of the sliding friction"
+_OVER_LO = "paper: the second-order law needs alpha, beta > 1 (eq. 6)"
+_OVER_HI = "tirecli: assumed largest overshoot factor"
+#: Bounds of every fitted parameter, with their sources (docs/models/mcps_tire.md §8).
+FIT_BOUNDS = {
+    "r_x": Bound(1e6, 1e9, _R, _R, log=True),
+    "mu_x": Bound(0.7, 1.2, _MU, _MU),
+    "alpha_x": Bound(1.001, 5.0, _OVER_LO, _OVER_HI),
+    "beta_x": Bound(1.001, 5.0, _OVER_LO, _OVER_HI),
+    "r_y": Bound(1e6, 1e9, _R, _R, log=True),
+    "mu_y": Bound(0.7, 1.2, _MU, _MU),
+    "alpha_y": Bound(1.001, 5.0, _OVER_LO, _OVER_HI),
+    "beta_y": Bound(1.001, 5.0, _OVER_LO, _OVER_HI),
+    "c_Mz": Bound(0.0, 5.0, "physics: a negative weight would reverse the lever-arm torque of eq. (10)",
+                  "tirecli: assumed largest trail factor"),
+    "k_delta": Bound(1e2, 1e6, "tirecli: assumed softest belt twist (0.5 rad at 50 N m, beyond the "
+                               "first-order rotation of eq. 16)", "tirecli: assumed stiffest belt twist (nearly rigid)",
+                     log=True),
 }
+#: Bounds of the earlier three-fit sequence (:func:`calibrate`).
+BOUNDS = {n: (b.lo, b.hi) for n, b in FIT_BOUNDS.items() if n != "k_delta"}
 #: Stopping rule of repeated lateral rounds (relative change of every lateral parameter).
 ROUND_TOL = 1e-4
 GROUPS = {
@@ -38,19 +77,27 @@ GROUPS = {
     "fy": ("r_y", "mu_y", "alpha_y", "beta_y"),
     "mz": ("c_Mz",),
 }
+#: Parameters of the two fits of :func:`calibrate_to_mf` (``k_delta`` only with the complete carcass).
+LONGITUDINAL = ("r_x", "mu_x", "alpha_x", "beta_x")
+LATERAL = ("r_y", "mu_y", "alpha_y", "beta_y", "c_Mz", "k_delta")
+#: Weight of the aligning-torque residuals (over the Magic Formula's |Mz| peak) against the side-force
+#: residuals (over its |Fy| peak) in the joint lateral fit [assumed; docs/models/mcps_tire.md §8].
+MZ_WEIGHT = 0.1
+#: A fitted value this close to a bound (relative to the bound range) is *at* it.
+AT_BOUND = 1e-6
 
 
 def _to_x(names, values):
-    return np.array([math.log10(values[n]) if n.startswith("r_") else values[n] for n in names])
+    return np.array([math.log10(values[n]) if FIT_BOUNDS[n].log else values[n] for n in names])
 
 
 def _from_x(names, x):
-    return {n: float(10.0 ** v if n.startswith("r_") else v) for n, v in zip(names, x)}
+    return {n: float(10.0 ** v if FIT_BOUNDS[n].log else v) for n, v in zip(names, x)}
 
 
 def _bounds(names):
-    lo = [math.log10(BOUNDS[n][0]) if n.startswith("r_") else BOUNDS[n][0] for n in names]
-    hi = [math.log10(BOUNDS[n][1]) if n.startswith("r_") else BOUNDS[n][1] for n in names]
+    lo = [math.log10(FIT_BOUNDS[n].lo) if FIT_BOUNDS[n].log else FIT_BOUNDS[n].lo for n in names]
+    hi = [math.log10(FIT_BOUNDS[n].hi) if FIT_BOUNDS[n].log else FIT_BOUNDS[n].hi for n in names]
     return np.array(lo), np.array(hi)
 
 
@@ -182,4 +229,300 @@ def _failure(group, names, target, after, info) -> str | None:
     return None
 
 
-__all__ = ["calibrate", "BOUNDS", "GROUPS"]
+# --------------------------------------------------------------------------- the calibration to the drawn tyre
+
+
+@dataclass(frozen=True)
+class Fitted:
+    """One fitted parameter: its value, start value, bounds with their sources, and whether it ended
+    on a bound (``at_bound``: ``"lower"``, ``"upper"`` or None)."""
+
+    name: str
+    value: float
+    start: float
+    bound: Bound
+    at_bound: str | None
+
+    @property
+    def source(self) -> str | None:
+        """Source of the bound the value ended on (None when inside)."""
+        if self.at_bound is None:
+            return None
+        return self.bound.lo_source if self.at_bound == "lower" else self.bound.hi_source
+
+    def as_dict(self) -> dict:
+        return {"value": self.value, "start": self.start, "lower": self.bound.lo, "upper": self.bound.hi,
+                "at_bound": self.at_bound, "bound_source": self.source}
+
+
+@dataclass
+class MFCalibration:
+    """The calibration of MCPS to a Magic Formula tyre on the drawn grids (:func:`calibrate_to_mf`).
+
+    Every number is of the returned set ``params`` (or of ``start``), on the drawn grids, as
+    :func:`tirecli.numerics.mcps_stationary.solve` gives it at its default tolerance.
+
+    Attributes
+    ----------
+    params, start : MCPSParams
+        The calibrated set (to draw and to write) and the set it started from.
+    fz : float
+        Load [N].
+    carcass : str
+        ``complete`` or ``rigid``.
+    kappa, alpha : ndarray
+        The drawn grids: ``Fx`` against ``kappa`` [-] at ``alpha = 0``; ``Fy``, ``Mz`` against
+        ``alpha`` [rad] at ``kappa = 0``.
+    curves : dict
+        ``{"mf" | "calibrated" | "start": {"fx", "fy", "mz": ndarray}}`` [N, N m], each model's own
+        ISO-W output (road on tire).
+    gaps : dict
+        ``{"calibrated" | "start": {"fx" | "fy" | "mz": CurveGap}}`` against the Magic Formula
+        (``at`` in [-] for fx, [rad] for fy and mz).
+    fitted : dict
+        Parameter name -> :class:`Fitted`.
+    peaks : dict
+        ``{"mf" | "calibrated" | "start": {"alpha": rad, "mz": N m, "interior": bool}}``: the
+        aligning-torque peak, refined on the model function (``interior`` False: at a grid end).
+    sign_change : dict
+        Where ``Mz`` changes sign after its peak inside the drawn range [rad] (None: it does not):
+        ``mf``, ``calibrated``, ``start``; ``beyond``: the calibrated ``Mz`` gap over the points past
+        the Magic Formula's sign change (CurveGap, None without one); ``fitted_up_to``: the largest
+        slip angle of the ``Mz`` fit [rad]; ``within``: the calibrated ``Mz`` gap over the fitted points.
+    offsets : dict
+        The Magic Formula's ``fx, fy, mz`` at zero slip [N, N m] (its shifts; MCPS gives 0).
+    fit : dict
+        How it was fitted: weights, points, per fit the optimiser's status, success and
+        evaluations.
+    failure : str or None
+        Why the set is not a calibrated result (None when it is).
+    """
+
+    params: object
+    start: object
+    fz: float
+    carcass: str
+    kappa: np.ndarray
+    alpha: np.ndarray
+    curves: dict
+    gaps: dict
+    fitted: dict
+    peaks: dict
+    sign_change: dict
+    offsets: dict
+    fit: dict
+    failure: str | None = None
+
+    def at_bound(self) -> list:
+        """The fitted parameters that ended on a bound (:class:`Fitted`), in fit order."""
+        return [f for f in self.fitted.values() if f.at_bound is not None]
+
+    def as_dict(self) -> dict:
+        """Plain numbers by name (run.json), without the curves."""
+        return {
+            "fz": self.fz, "carcass": self.carcass, "failure": self.failure,
+            "fitted": {n: f.as_dict() for n, f in self.fitted.items()},
+            "at_bound": [f.name for f in self.at_bound()],
+            "gaps": {s: {g: v.as_dict() for g, v in d.items()} for s, d in self.gaps.items()},
+            "peaks": self.peaks,
+            "sign_change": {k: (v.as_dict() if hasattr(v, "as_dict") else v) for k, v in self.sign_change.items()},
+            "offsets": self.offsets, "fit": self.fit,
+        }
+
+
+def _peak_run(y):
+    """Mask of the contiguous run of points around the peak of ``|y|`` that share the peak's sign."""
+    y = np.asarray(y, dtype=float)
+    i = int(np.argmax(np.abs(y)))
+    s = np.sign(y[i])
+    keep = np.zeros(y.size, dtype=bool)
+    if s == 0:
+        return keep | True
+    lo = i
+    while lo > 0 and np.sign(y[lo - 1]) == s:
+        lo -= 1
+    hi = i
+    while hi < y.size - 1 and np.sign(y[hi + 1]) == s:
+        hi += 1
+    keep[lo:hi + 1] = True
+    return keep
+
+
+def _refined_peak(fun, x, y):
+    """Peak of ``|y|`` refined on the function ``fun`` (bounded scalar search between the neighbours
+    of the sampled peak): ``{"alpha", "mz", "interior"}``."""
+    from scipy.optimize import minimize_scalar
+
+    x, y = np.asarray(x, dtype=float), np.asarray(y, dtype=float)
+    i = int(np.argmax(np.abs(y)))
+    if i == 0 or i == y.size - 1:
+        return {"alpha": float(x[i]), "mz": float(y[i]), "interior": False}
+    s = 1.0 if y[i] >= 0 else -1.0
+    r = minimize_scalar(lambda a: -s * fun(a), bounds=(float(x[i - 1]), float(x[i + 1])), method="bounded",
+                        options={"xatol": 1e-9})
+    a, v = (float(r.x), float(fun(r.x))) if -r.fun >= s * y[i] else (float(x[i]), float(y[i]))
+    return {"alpha": a, "mz": v, "interior": True}
+
+
+def _sign_change(fun, x, y):
+    """First slip angle [rad] after the peak of ``|y|`` where ``y`` changes sign (root of ``fun`` between
+    the bracketing grid points), None when it keeps its sign to the end of the range."""
+    from scipy.optimize import brentq
+
+    run = _peak_run(y)
+    last = int(np.flatnonzero(run)[-1])
+    if last == len(y) - 1:
+        return None
+    a, b = float(x[last]), float(x[last + 1])
+    if y[last + 1] == 0:
+        return b
+    return float(brentq(lambda v: fun(v), a, b, xtol=1e-12))
+
+
+def calibrate_to_mf(p, fz: float, reference, kappa, alpha, *, carcass: str = "complete",
+                    mz_weight: float = MZ_WEIGHT) -> MFCalibration:
+    """Calibrate MCPS to a Magic Formula tyre over the drawn range (docs/models/mcps_tire.md §8).
+
+    Parameters
+    ----------
+    p : MCPSParams
+        Start set; every parameter not fitted keeps its value.
+    fz : float
+        Load of the curves [N].
+    reference : callable
+        ``reference(kappa, alpha) -> (fx, fy, mz)`` [N, N, N m]: the Magic Formula tyre at ``fz``
+        (ISO-W, road on tire, steady state), broadcast over its arguments.
+    kappa : array_like
+        Drawn slips of ``Fx(kappa)`` at ``alpha = 0`` [-], > -1.
+    alpha : array_like
+        Drawn slip angles of ``Fy(alpha)``, ``Mz(alpha)`` at ``kappa = 0`` [rad].
+    carcass : {"complete", "rigid"}
+        The MCPS model drawn (``k_delta`` is fitted with the complete carcass only).
+    mz_weight : float
+        Weight of the ``Mz`` residuals in the lateral fit (:data:`MZ_WEIGHT`).
+
+    Returns
+    -------
+    MFCalibration
+        Deterministic: the same inputs give the same numbers bit for bit.
+
+    Raises
+    ------
+    ValueError
+        A Magic Formula curve that is not finite on the drawn grids (nothing is fitted), or an
+        unknown carcass.
+    """
+    from scipy.optimize import least_squares
+
+    from tirecli.models.mcps.tire import pure_longitudinal_fx
+    from tirecli.numerics.gaps import curve_gap
+    from tirecli.numerics.mcps_stationary import solve, solve_sideslip
+
+    if carcass not in ("complete", "rigid"):
+        raise ValueError(f"carcass must be complete or rigid, got {carcass!r}")
+    fz = float(fz)
+    kap = np.asarray(kappa, dtype=float).ravel()
+    alp = np.asarray(alpha, dtype=float).ravel()
+    zk, za = np.zeros_like(kap), np.zeros_like(alp)
+    with np.errstate(all="ignore"):
+        mf = {"fx": np.asarray(reference(kap, 0.0)[0], dtype=float) * np.ones_like(kap)}
+        _, fy, mz = reference(0.0, alp)
+        mf["fy"] = np.asarray(fy, dtype=float) * np.ones_like(alp)
+        mf["mz"] = np.asarray(mz, dtype=float) * np.ones_like(alp)
+    for g, v in mf.items():
+        if not np.all(np.isfinite(v)):
+            raise ValueError(f"the Magic Formula {g} curve is not finite on the drawn grid: nothing was fitted")
+    peak = {g: float(np.max(np.abs(v))) or 1.0 for g, v in mf.items()}
+    mz_run = _peak_run(mf["mz"])
+    fit_info = {"mz_weight": float(mz_weight), "residuals": "each curve over its Magic Formula peak magnitude",
+                "points": {"fx": int(kap.size), "fy": int(alp.size), "mz": int(np.count_nonzero(mz_run))}}
+    warm = {}
+
+    def lateral(q, tol=1e-12):  # the fit's evaluations: the twist-only fixed point (same model as solve)
+        st = (solve_sideslip(q, fz, alp, tol=tol, start=warm.get("Q")) if carcass == "complete"
+              else solve(q, fz, za, alp, za, carcass=carcass))
+        if not st.converged.all():
+            warm.pop("Q", None)
+            return None
+        warm["Q"] = st.Q
+        return st.fy, st.mz
+
+    def fit(names, cur, resid_of):
+        lo, hi = _bounds(names)
+        x0 = np.clip(_to_x(names, cur.__dict__), lo + 1e-9 * (hi - lo), hi - 1e-9 * (hi - lo))
+
+        def resid(x):
+            return resid_of(cur.with_values(**_from_x(names, x)))
+
+        with np.errstate(all="ignore"):
+            sol = least_squares(resid, x0, bounds=(lo, hi), method="trf", x_scale="jac", xtol=1e-10, ftol=1e-10,
+                                gtol=1e-10, max_nfev=300)
+        return cur.with_values(**_from_x(names, sol.x)), sol, lo, hi
+
+    def fx_resid(q):
+        r = (pure_longitudinal_fx(kap, q, fz) - mf["fx"]) / peak["fx"]
+        return np.where(np.isfinite(r), r, 1e3)
+
+    def lat_resid(q):
+        out = lateral(q)
+        if out is None:
+            return np.full(alp.size + int(np.count_nonzero(mz_run)), 1e3)
+        r = np.concatenate([(out[0] - mf["fy"]) / peak["fy"], mz_weight * (out[1] - mf["mz"])[mz_run] / peak["mz"]])
+        return np.where(np.isfinite(r), r, 1e3)
+
+    lat_names = LATERAL if carcass == "complete" else LATERAL[:-1]
+    cur, fitted = p, {}
+    for tag, names, resid_of in (("fx", LONGITUDINAL, fx_resid), ("lateral", lat_names, lat_resid)):
+        cur, sol, lo, hi = fit(names, cur, resid_of)
+        fit_info[tag] = {"parameters": list(names), "success": bool(sol.success), "status": str(sol.message),
+                         "evaluations": int(sol.nfev), "jacobians": int(sol.njev or 0)}
+        span = hi - lo
+        for n, v, a, b, sp in zip(names, sol.x, lo, hi, span):
+            side = "lower" if v - a <= AT_BOUND * sp else "upper" if b - v <= AT_BOUND * sp else None
+            fitted[n] = Fitted(n, float(getattr(cur, n)), float(getattr(p, n)), FIT_BOUNDS[n], side)
+
+    curves, gaps, peaks, changes, failure = {"mf": mf}, {}, {}, {}, None
+    for tag, q in (("start", p), ("calibrated", cur)):
+        sx = solve(q, fz, kap, zk, zk, carcass=carcass)
+        sa = solve(q, fz, za, alp, za, carcass=carcass)
+        ok = sx.converged.all() and sa.converged.all()
+        c = {"fx": sx.fx, "fy": sa.fy, "mz": sa.mz}
+        if not ok or not all(np.all(np.isfinite(v)) for v in c.values()):
+            failure = failure or f"the {tag} set's belt fixed point (MCPS eq. 18) does not converge on the drawn grid"
+            continue
+        curves[tag] = c
+        gaps[tag] = {g: curve_gap(kap if g == "fx" else alp, c[g], mf[g]) for g in ("fx", "fy", "mz")}
+
+        def mz_of(a, q=q):  # the same model as solve(), at a tighter tolerance
+            st = (solve_sideslip(q, fz, [a], tol=1e-13) if carcass == "complete"
+                  else solve(q, fz, [0.0], [a], [0.0], carcass=carcass))
+            return float(st.mz[0])
+
+        peaks[tag] = _refined_peak(mz_of, alp, c["mz"])
+        changes[tag] = _sign_change(mz_of, alp, c["mz"])
+
+    def mf_mz(a):
+        return float(np.asarray(reference(0.0, a)[2], dtype=float))
+
+    peaks["mf"] = _refined_peak(mf_mz, alp, mf["mz"])
+    changes["mf"] = _sign_change(mf_mz, alp, mf["mz"])
+    past = ~mz_run & (np.arange(alp.size) > int(np.argmax(np.abs(mf["mz"]))))
+    changes["beyond"] = (curve_gap(alp[past], curves["calibrated"]["mz"][past], mf["mz"][past], peak=peak["mz"])
+                         if past.any() and "calibrated" in curves else None)
+    changes["within"] = (curve_gap(alp[mz_run], curves["calibrated"]["mz"][mz_run], mf["mz"][mz_run], peak=peak["mz"])
+                         if "calibrated" in curves else None)
+    changes["fitted_up_to"] = float(alp[mz_run].max())
+    with np.errstate(all="ignore"):
+        off = reference(0.0, 0.0)
+    offsets = {g: float(np.asarray(v, dtype=float)) for g, v in zip(("fx", "fy", "mz"), off)}
+    if failure is None:
+        bad = [t for t in ("fx", "lateral") if not fit_info[t]["success"]]
+        if bad:
+            failure = f"the optimiser stopped without converging ({fit_info[bad[0]]['status'].rstrip('.')})"
+    return MFCalibration(params=cur, start=p, fz=fz, carcass=carcass, kappa=kap, alpha=alp, curves=curves, gaps=gaps,
+                         fitted=fitted, peaks=peaks, sign_change=changes, offsets=offsets, fit=fit_info,
+                         failure=failure)
+
+
+__all__ = ["calibrate", "calibrate_to_mf", "MFCalibration", "Fitted", "Bound", "FIT_BOUNDS", "BOUNDS", "GROUPS",
+           "LONGITUDINAL", "LATERAL", "MZ_WEIGHT"]

@@ -201,4 +201,93 @@ def solve(p, fz: float, kappa, alpha, phi, carcass: str = "complete", frame_term
     return Stationary(FW[:, 0], FW[:, 1], FW[:, 2], q[:, 0], q[:, 1], q[:, 2], err, it, err < tol, Q)
 
 
-__all__ = ["Stationary", "solve", "patch_forces", "TOL"]
+def solve_sideslip(p, fz: float, alpha, tol: float = TOL, max_iter: int = 50, start=None) -> Stationary:
+    """The complete model in pure side slip (``kappa = 0``, no yaw): the fixed point (18) reduced to the twist.
+
+    Without yaw the belt translations ``x, y`` do not enter the slider velocities (docs/models/mcps_tire.md
+    §7): for a trial twist ``delta`` the patch forces ``FA``, ``MA`` are fixed, ``x = FWx/k_x`` and
+    ``y = FWy/k_y`` follow explicitly from (16), and (18) reduces to one equation per point,
+    ``g(delta) = (k_delta delta - MA - x FA_y + y FA_x)/Fz = 0``, solved by Newton's method with a
+    forward-difference slope (step as :func:`solve`), vectorized, halving a step until ``|g|`` decreases.
+    Same model and tolerance as :func:`solve` (``carcass="complete"``, no frame term; parity in the
+    tests), about twice as fast: the calibration's evaluations use it.
+
+    Parameters
+    ----------
+    p : MCPSParams
+    fz : float
+        Load [N].
+    alpha : array_like
+        Slip angles [rad], ``|alpha| < pi/2``.
+    tol : float
+        Tolerance on ``|g|`` (the ``max |G|`` of :func:`solve`).
+    start : array_like or None
+        Initial ``Q = (k_x x, k_y y, k_delta delta)`` (only the twist is used; default: the
+        solid-carcass torque, as :func:`solve`).
+
+    Returns
+    -------
+    Stationary
+        Points that do not converge within ``max_iter`` are flagged (``converged`` False), never
+        returned as numbers silently.
+    """
+    alpha = np.ascontiguousarray(np.atleast_1d(np.asarray(alpha, dtype=float))).ravel()
+    if np.any(np.abs(alpha) >= np.pi / 2):
+        raise ValueError("|alpha| must be < pi/2")
+    P = alpha.size
+    pa = p.patch(fz)
+    law = p.patch_law(fz)
+    ta = np.tan(alpha)
+    kd = p.k_delta
+
+    def state(de):
+        c, s = np.cos(de), np.sin(de)
+        sl = np.stack([c + ta * s - 1.0, -s + ta * c], axis=-1)
+        fx, fy, ma = T.resultants(*T.stationary_uniform(sl, np.zeros(P), law, pa.l), p.c_Mz)
+        fwx, fwy = fx - de * fy, fy + de * fx
+        x, y = fwx / p.k_x, fwy / p.k_y
+        mw = ma + x * fy - y * fx
+        return (kd * de - mw) / fz, fwx, fwy, mw, x, y
+
+    if start is None:
+        de = state(np.zeros(P))[3] / kd
+    else:
+        de = np.array(np.broadcast_to(np.asarray(start, dtype=float), (P, 3))[:, 2]) / kd
+    G, fwx, fwy, mw, x, y = state(de)
+    err = np.abs(G)
+    it = 0
+    active = err >= tol
+    while active.any() and it < max_iter:
+        it += 1
+        idx = np.flatnonzero(active)
+        d0 = de[idx]
+        h = 1e-7 * np.maximum(np.abs(kd * d0), 1e-3 * fz) / kd
+        full = de.copy()
+        full[idx] = d0 + h
+        Gh = state(full)[0][idx]
+        slope = (Gh - G[idx]) / h
+        step = np.where(slope != 0, -G[idx] / np.where(slope != 0, slope, 1.0), 0.0)
+        lam = np.ones(idx.size)
+        for _ in range(12):
+            trial = de.copy()
+            trial[idx] = d0 + lam * step
+            out = state(trial)
+            en = np.abs(out[0][idx])
+            ok = (en < err[idx]) | ~np.isfinite(err[idx])
+            if ok.all():
+                break
+            lam = np.where(ok, lam, 0.5 * lam)
+        good = np.isfinite(en) & ok
+        sel = idx[good]
+        de[sel] = trial[sel]
+        for arr, new in zip((G, fwx, fwy, mw, x, y), out):
+            arr[sel] = new[sel]
+        err[sel] = en[good]
+        stalled = np.zeros(P, dtype=bool)
+        stalled[idx[~good]] = True
+        active = (err >= tol) & ~stalled
+    Q = np.stack([p.k_x * x, p.k_y * y, kd * de], axis=-1)
+    return Stationary(fwx, fwy, mw, x, y, de, err, it, err < tol, Q)
+
+
+__all__ = ["Stationary", "solve", "solve_sideslip", "patch_forces", "TOL"]

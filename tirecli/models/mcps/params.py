@@ -105,6 +105,19 @@ class MCPSParams:
         """A copy with some values changed (e.g. calibrated rubber parameters)."""
         return replace(self, **values)
 
+    def with_patch_length(self, l_ref: float) -> "MCPSParams":
+        """The set with patch length ``l_ref`` [m] at ``fz_ref`` and the same stationary curves without yaw.
+
+        With ``lam = l_ref/self.l_ref``: ``r_x, r_y -> r/lam^2`` and ``c_Mz -> c_Mz/lam``. The stationary
+        ``Fx, Fy, Mz`` under pure and combined slip (MCPS eqs. 10, 14, 16-18, no yaw) depend on the patch
+        length only through ``w r l^2`` and ``c_Mz l`` (the per-length constants give ``z`` of
+        docs/models/mcps_tire.md §6 unchanged), so these curves cannot determine ``l``: a calibration to
+        them fits the trail factor ``c_Mz`` at a given ``l``. The curvature, standstill and relaxation
+        responses do change with ``l``.
+        """
+        lam = float(l_ref) / self.l_ref
+        return replace(self, l_ref=float(l_ref), r_x=self.r_x / lam**2, r_y=self.r_y / lam**2, c_Mz=self.c_Mz / lam)
+
     def patch(self, fz: float) -> Patch:
         """Patch geometry at load ``fz`` [N] (docs/models/mcps_tire.md §9: ``l = l_ref (fz/fz_ref)^l_exponent``, ``P = fz/(w l)``)."""
         fz = float(fz)
