@@ -11,8 +11,6 @@ import numpy as np
 from tirecli.figures.registry import register
 from tirecli.figures.transient import require
 from tirecli.figures.style import COLORS, finish, legend_room, new_figure, synthetic_mark
-from tirecli.observers import lugre_observer as lo
-from tirecli.observers import metrics as om
 
 def _runs(result):
     require(result, "observe", "obs-*")
@@ -89,15 +87,13 @@ def draw_obs_fig2(result):
 
 
 def _slow_mode_note(result) -> str:
-    for case, tr, run in _runs(result):
+    """The slow mode of the first 'theta known' case (computed by the study, :func:`tirecli.studies.observe.slow_mode`)."""
+    for case, _, _ in _runs(result):
         if case.label.startswith("theta known"):
-            plant = result.payload["plant"]
-            i = len(tr.t) // 2
-            M = lo.linearized_error_matrix(plant, case.gains, float(tr.theta[i]), float(tr.omega[i]), float(tr.v[i]),
-                                           float(tr.z[i]))
-            slow = float(np.max(np.linalg.eigvals(M).real))
-            fit = om.decay_rate(tr.t, tr.v_hat - tr.v, 2.0, tr.t[-1])
-            return f"fitted {fit:.4f} 1/s; linearised along the run {slow:.4f} 1/s"
+            sm = result.payload.get("slow_mode", {}).get(case.label)
+            if sm is None:  # adaptation on: the theta-known linearisation does not apply
+                return ""
+            return f"fitted {sm['fitted_1_s']:.4f} 1/s; linearised along the run {sm['linearised_1_s']:.4f} 1/s"
     return ""
 
 
