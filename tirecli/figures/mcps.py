@@ -621,21 +621,22 @@ def draw_geometry(result):
 )
 def draw_belt(result):
     from tirecli.errors import UsageError
-    from tirecli.numerics.mcps_transient import coupling_rate
 
     if result.study not in ("mcps-relaxation", "mcps-stationary") or "params" not in (result.payload or {}):
         raise UsageError("figure 'mcps-fig6' draws an 'mcps-relaxation' or 'mcps-stationary' run")
     p = result.payload["params"]
     fz = result.meta.get("scenario", {}).get("fz_N") or result.meta.get("loads", [4000.0])[0]
     pa, law, cz = p.patch(fz), p.patch_law(fz), p.stiffnesses(fz)["C_z"]
-    rows = []
+    rows, coupled = [], []
     for dof, m, k, c, kp, unit_k, unit_c in (
             ("x", p.m_b, p.k_x, p.c_x, law.K[0] * pa.l, "N/m", "N s/m"),
             ("y", p.m_b, p.k_y, p.c_y, law.K[1] * pa.l, "N/m", "N s/m"),
             ("delta", p.J_b, p.k_delta, p.c_delta, cz, "N m/rad", "N m s/rad")):
+        coupled.append(math.sqrt((k + kp) / m))
         rows.append([dof, f"{m:g}", f"{k:.4g} {unit_k}", f"{c:.4g} {unit_c}", f"{c / (2 * math.sqrt(k * m)):.3f}",
-                     f"{math.sqrt(k / m):.1f}", f"{math.sqrt((k + kp) / m):.1f}"])
+                     f"{math.sqrt(k / m):.1f}", f"{coupled[-1]:.1f}"])
+    # the fastest rate with the patch as a spring is tirecli.numerics.mcps_transient.coupling_rate (no DOF locked)
     return Table(columns=["DOF", "mass / inertia", "stiffness", "damping", "damping ratio",
                           "natural rate on the rim [rad/s]", "with the patch as a spring [rad/s]"], rows=rows,
-                 notes=[f"Tire {_tire_name(result)} at {fz:g} N; the fastest rate ({coupling_rate(p, fz):.0f} rad/s) sets the "
+                 notes=[f"Tire {_tire_name(result)} at {fz:g} N; the fastest rate ({max(coupled):.0f} rad/s) sets the "
                         "transport step of the relaxation runs (docs/models/mcps_tire.md §7)."])
