@@ -126,7 +126,7 @@ def test_every_run_command_takes_strict_and_junit(command):
 def test_observe_strict_junit_with_a_drifted_reference(cli, tmp_path, monkeypatch, no_render):
     """A drifted OBS Fig. 2 reference: --strict exits 1 and the JUnit file has the check as a failure
     beside the passing run case."""
-    from tirecli.figures import observer
+    from tirecli.studies.checks import observer
 
     monkeypatch.setitem(observer.FIG2_THETA_HAT, 8.0, (1.70, 3e-4))
     junit = tmp_path / "obs.xml"
@@ -250,7 +250,7 @@ def test_report_junit_and_summary_schema(cli, tmp_path):
 
 
 def test_report_strict_and_junit_with_a_drifted_check(cli, tmp_path, monkeypatch):
-    from tirecli.figures import steady
+    from tirecli.studies.checks import steady
 
     monkeypatch.setitem(steady._REF_SPEEDS, 20, (1.20, 0.212, 0.6451, 0.8717))  # a drifted reference
     junit = tmp_path / "report.xml"

@@ -1,4 +1,5 @@
 """The CLI: help everywhere, sweep outputs (output contract), params and figures listings."""
+import ast
 import json
 import subprocess
 import sys
@@ -131,7 +132,7 @@ def test_lugre_sweep_loads_only_what_it_needs(tmp_path):
             "print(sorted(m for m in sys.modules if m.startswith('tirecli'))); sys.exit(rc)")
     res = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True)
     assert res.returncode == 0, res.stderr
-    loaded = res.stdout.strip().splitlines()[-1]
+    loaded = ast.literal_eval(res.stdout.strip().splitlines()[-1])
     assert "tirecli.figures.steady" in loaded and "tirecli.studies.sweep" in loaded
     for unwanted in ("tirecli.studies.simulate", "tirecli.studies.observe", "tirecli.figures.transient",
                      "tirecli.figures.magic_formula", "tirecli.models.magic_formula"):

@@ -108,9 +108,9 @@ def test_fig2_reference_values_within_2_percent(fig2):
 
 
 def test_fig2_checks_pass_and_features(fig2):
-    from tirecli.figures.observer import _fig2_checks
+    from tirecli.studies.checks.observer import fig2_checks
 
-    checks = _fig2_checks(fig2)
+    checks = fig2_checks(fig2)
     assert len(checks) > 30 and all(c.passed for c in checks), [c.id for c in checks if not c.passed]
     m = fig2.meta["runs"][0]["metrics"]
     assert len(m["crossings_s"]) == 2
@@ -132,11 +132,11 @@ def test_fig2_frame_and_conventions(fig2):
 
 
 def test_speed_error_study_reproduces_section_8():
-    from tirecli.figures.observer import _speed_error_checks
+    from tirecli.studies.checks.observer import speed_error_checks
     from tirecli.studies.base import builtin_config, run_study
 
     res = run_study(builtin_config("obs-speed-error"))
-    checks = {c.id: c for c in _speed_error_checks(res)}
+    checks = {c.id: c for c in speed_error_checks(res)}
     assert {"v-error-20s", "theta-hat-4.9s", "theta-hat-20s", "theta-hat-20s-2ms", "slow-mode-rate"} <= set(checks)
     assert all(c.passed for c in checks.values()), [(c.id, c.value) for c in checks.values() if not c.passed]
 
@@ -241,7 +241,7 @@ def test_deprecated_numerics_block_still_runs():
 
 
 def test_report_strict_fails_when_fig2_drifts(cli, tmp_path, monkeypatch):
-    from tirecli.figures import observer
+    from tirecli.studies.checks import observer
 
     monkeypatch.setitem(observer.FIG2_THETA_HAT, 8.0, (1.70, 3e-4))  # a drifted reference
     code, out, err = cli("report", "--out", tmp_path, "--only", "obs-fig2", "--strict")

@@ -38,7 +38,7 @@ def test_report_flags_assumed_values(report_dir):
 
 
 def test_strict_fails_when_a_check_drifts(cli, tmp_path, monkeypatch):
-    from tirecli.figures import steady
+    from tirecli.studies.checks import steady
 
     monkeypatch.setitem(steady._REF_SPEEDS, 20, (1.20, 0.212, 0.6451, 0.8717))  # a drifted reference
     code, out, err = cli("report", "--out", tmp_path, "--only", "fm-fig1-left", "--strict")

@@ -42,7 +42,7 @@ def _build(out: Path, only=(), drift: bool = False) -> Path:
     for name in only:
         args += ["--only", name]
     if drift:  # one drifted reference: the summary then lists a failing check with its link
-        from tirecli.figures import steady
+        from tirecli.studies.checks import steady
 
         with pytest.MonkeyPatch.context() as mp:
             mp.setitem(steady._REF_SPEEDS, 20, (1.20, 0.212, 0.6451, 0.8717))

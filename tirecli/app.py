@@ -18,6 +18,7 @@ from tirecli.errors import UsageError
 from tirecli.figures import registry
 from tirecli.io import output
 from tirecli.studies.base import Check, StudyResult, run_study
+from tirecli.studies.checks import checks_for
 
 DEFAULT_OUT = Path("tirecli-out")
 
@@ -62,8 +63,9 @@ def draw(result: StudyResult, ids=None, progress=None) -> tuple[dict, list]:
                 figs[fid] = fdef.draw(result)
             except UsageError as exc:  # a figure of another kind of run: name the config line
                 raise _figure_problem(result, fid, exc) from None
-            if fdef.checks is not None and fid in asked:
-                for c in fdef.checks(result):
+            fchecks = checks_for(fid) if fid in asked else None
+            if fchecks is not None:
+                for c in fchecks(result):
                     c.id = f"{fid}/{c.id}"
                     checks.append(c)
             if progress is not None:

@@ -283,8 +283,8 @@ def _write_figures(campaign, study: str, results, ana, root: Path) -> list:
     from tirecli.figures.campaign import campaign_figures
     from tirecli.io.output import save_figure
 
-    figs = campaign_figures(campaign.design, results, campaign.outputs, ana, campaign.title or campaign.name,
-                            units=column_units(campaign, study))
+    figs = campaign_figures(campaign.design, results, analysis.numeric_outputs(results, campaign.outputs), ana,
+                            campaign.title or campaign.name, units=column_units(campaign, study))
     (root / "figures").mkdir(exist_ok=True)
     files = []
     for name, fig in figs.items():

@@ -41,13 +41,6 @@ def statistics(results: pd.DataFrame, outputs: list) -> dict:
     return out
 
 
-def main_effects(results: pd.DataFrame, key: str, output: str) -> pd.DataFrame:
-    """The output's mean, min and max over the other keys at each value of grid key ``key``."""
-    g = results.groupby(key, sort=False)[output]
-    return pd.DataFrame({key: list(g.groups), "mean": g.mean().to_numpy(), "min": g.min().to_numpy(),
-                         "max": g.max().to_numpy()})
-
-
 def spearman(x: np.ndarray, y: np.ndarray) -> float:
     """Spearman's rank correlation of the finite pairs (NaN with fewer than 3 or a constant)."""
     from scipy.stats import spearmanr
@@ -139,4 +132,4 @@ def campaign_checks(results: pd.DataFrame, checks: list, n_failed: int) -> list:
     return out
 
 
-__all__ = ["statistics", "main_effects", "tornado", "sobol_indices", "campaign_checks", "numeric_outputs", "spearman"]
+__all__ = ["statistics", "tornado", "sobol_indices", "campaign_checks", "numeric_outputs", "spearman"]

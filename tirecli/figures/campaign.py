@@ -42,9 +42,14 @@ def _positions(values: pd.Series):
     return np.array([cats.index(v) for v in values], dtype=float), cats
 
 
-def _grid_effects(results, keys, output, title, units):
-    from tirecli.campaign.analysis import main_effects
+def main_effects(results: pd.DataFrame, key: str, output: str) -> pd.DataFrame:
+    """The output's mean, min and max over the other keys at each value of grid key ``key``."""
+    g = results.groupby(key, sort=False)[output]
+    return pd.DataFrame({key: list(g.groups), "mean": g.mean().to_numpy(), "min": g.min().to_numpy(),
+                         "max": g.max().to_numpy()})
 
+
+def _grid_effects(results, keys, output, title, units):
     n = len(keys)
     fig, axes = new_figure(ncols=min(n, 3), nrows=(n + 2) // 3, width=4.0 * min(n, 3), height=3.2 * ((n + 2) // 3))
     axes = np.atleast_1d(axes).ravel()
@@ -173,16 +178,16 @@ def _sobol(sob: dict, title):
 
 
 def campaign_figures(design, results: pd.DataFrame, outputs: list, analysis: dict, name: str, units=None) -> dict:
-    """The figures of a campaign (module doc) from its results frame (points that ran); ``units``:
-    ``{column: unit}`` of the inputs and outputs whose unit is known (axis labels ``distance [m]``)."""
+    """The figures of a campaign (module doc) from its results frame (points that ran); ``outputs``: the
+    numeric output columns (:func:`tirecli.campaign.analysis.numeric_outputs`), the first
+    :data:`MAX_OUTPUTS` drawn; ``units``: ``{column: unit}`` of the inputs and outputs whose unit is
+    known (axis labels ``distance [m]``)."""
     units = units or {}
-    from tirecli.campaign.analysis import numeric_outputs
-
     ok = results[results["status"] == "ok"]
     figs = {}
     if not len(ok):
         return figs
-    outs = numeric_outputs(ok, outputs)[:MAX_OUTPUTS]
+    outs = list(outputs)[:MAX_OUTPUTS]
     for o in outs:
         if ok[o].notna().sum() == 0:
             continue

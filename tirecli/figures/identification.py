@@ -6,10 +6,6 @@ import numpy as np
 from tirecli.figures.registry import Table, register
 from tirecli.figures.style import COLORS, figure, finish, new_figure, synthetic_mark
 from tirecli.figures.transient import SYN, require
-from tirecli.studies.base import Check
-
-#: FM Table 2 (docs/models/lugre_friction.md §6): the paper's identified values.
-TABLE2 = {"sigma0": 178.0, "sigma1": 1.0, "sigma2": 0.0, "mu_c": 0.8, "mu_s": 1.5, "v_s": 5.5, "L": 0.2, "alpha": 2.0}
 
 
 def _label(result, fig):
@@ -99,44 +95,6 @@ def draw_fit_transient(result):
 
 # --------------------------------------------------------------------------- FM Fig. 6
 
-#: Measured deviations of the distributed-model fit from Table 2 on the noise-free synthetic braking #2
-#: (fm-fig6 study, data solved at tol 1e-6: 0.03, 3.5e-3, 2.2e-4; the residual there is the data's own
-#: numerical error, see the Table 2 caption), with margin.
-DIST_TOLERANCE = {"sigma0": 0.15, "sigma1": 0.01, "mu_s": 0.001}
-
-
-def _fig6_checks(result):
-    st = result.payload["steady"]
-    src = "docs/models/lugre_friction.md §10, FM Fig. 6 (fit on the noise-free synthetic braking #2, t <= 2.6 s, |s| > 0.005)"
-    out = []
-    if "sigma0" in st.names:
-        out.append(Check("sigma0", "fitted sigma0 [1/m] (well determined)", float(st.estimate["sigma0"]), 178.8, 1.0,
-                         "1/m", src))
-    if "mu_s" in st.names:
-        out.append(Check("mu_s", "fitted mu_s (well determined)", float(st.estimate["mu_s"]), 1.498, 0.01, "-", src))
-    out.append(Check("rms", "residual RMS of the steady-state fit: transient bias ~1e-3", st.residual_rms, 0.001, 0.0015,
-                     "-", src))
-    f = _dist(result)
-    if f is not None:
-        src3 = "Table 2 (the generating values of the synthetic data); distributed model in the loop"
-        units = {"sigma0": "1/m", "sigma1": "s/m"}
-        for k, tol in DIST_TOLERANCE.items():
-            if k in f.names:
-                out.append(Check(f"dist-{k}", f"{k} of the distributed-model fit against the generating value",
-                                 float(f.estimate[k]), TABLE2[k], tol, units.get(k, "-"), src3))
-        outside = [k for k in f.names if k in TABLE2 and not f.ci_low[k] <= TABLE2[k] <= f.ci_high[k]]
-        lvl = int(round(100 * f.confidence))
-        out.append(Check("dist-ci", f"generating values outside the distributed-model fit's {lvl}% intervals"
-                                    + (f" ({', '.join(outside)})" if outside else ""), float(len(outside)), 0.0, 0.0,
-                         "-", src3, bound="max"))
-        s1 = result.payload.get("sigma1")
-        if s1 is not None:
-            out.append(Check("dist-rms", "residual RMS of mu(t): distributed-model fit at most the FM procedure's "
-                                         "(stage 2, lumped model)", f.residual_rms, s1.residual_rms, 0.0, "-",
-                             "no model bias: the data's model in the loop", bound="max"))
-    return out
-
-
 def _caption_fig6(result):
     f = _dist(result) if result is not None else None
     base = ("SYNTHETIC data: the noise-free 100 Hz samples of braking #2 of Fig. 4 (distributed model, Table 2) with "
@@ -148,6 +106,8 @@ def _caption_fig6(result):
             "extrapolation.")
     if f is None:
         return base + " See Table 2 for the estimates with 95% intervals (which cover the residual scatter, not the bias)."
+    from tirecli.studies.fit import TABLE2
+
     e = f.estimate
     outside = [k for k in f.names if k in TABLE2 and not f.ci_low[k] <= TABLE2[k] <= f.ci_high[k]]
     lvl = int(round(100 * f.confidence))
@@ -162,7 +122,7 @@ def _caption_fig6(result):
 
 
 @register(
-    "fm-fig6", paper="FM", label="Fig. 6", study="fm-fig6", order=61, checks=_fig6_checks,
+    "fm-fig6", paper="FM", label="Fig. 6", study="fm-fig6", order=61,
     title="(mu, s, v) samples of braking #2 and the identified steady-state surfaces (synthetic data)",
     caption=_caption_fig6,
     paper_shows="3-D plot of the measured (mu, s, v) samples of braking #2 (points) and the identified steady-state "
@@ -215,32 +175,10 @@ def draw_fm_fig6(result):
     return fig
 
 
-def _table2_checks(result):
-    """A fit on exact steady-state samples of Table 2 returns Table 2 (docs/models/lugre_friction.md §10, FM Table 2, Fig. 6)."""
-    from dataclasses import replace
-
-    from tirecli.models.lugre import mu_ss_uniform
-    from tirecli.numerics.identify import fit_steady_state
-
-    t2 = result.payload["table2"]
-    S, V = np.meshgrid(np.linspace(-1.0, -0.005, 40), np.linspace(5.0, 25.0, 9))
-    s, v = S.ravel(), V.ravel()
-    mu = mu_ss_uniform(v * s, v * (1.0 + s), t2)
-    res, _ = fit_steady_state(s, v, mu, replace(result.payload["start"], alpha=t2.alpha))
-    out = []
-    for k in res.names:
-        ref = TABLE2[k]
-        if ref == 0.0:
-            out.append(Check(f"exact-{k}", f"{k} fitted to exact Table 2 steady-state samples (absolute)",
-                             float(res.estimate[k]), 0.0, 1e-6, "s/m", "docs/models/lugre_friction.md §10 (FM Fig. 6)"))
-        else:
-            out.append(Check(f"exact-{k}", f"{k} fitted to exact Table 2 steady-state samples, relative to Table 2",
-                             float(res.estimate[k]) / ref, 1.0, 1e-4, "-", "docs/models/lugre_friction.md §10 (FM Fig. 6)"))
-    return out
-
-
 def _deviations(f) -> tuple[str, list]:
     """``"sigma0 -0.11 %, ..."`` (relative to Table 2; sigma2 absolute) and the parameters whose interval holds Table 2."""
+    from tirecli.studies.fit import TABLE2
+
     parts, inside = [], []
     for k in f.names:
         if k not in TABLE2:
@@ -273,13 +211,15 @@ def _caption_table2(result):
 
 
 @register(
-    "fm-table2", paper="FM", label="Table 2", study="fm-fig6", order=60, checks=_table2_checks,
+    "fm-table2", paper="FM", label="Table 2", study="fm-fig6", order=60,
     title="Identified parameters: FM Table 2 beside tirecli's fits (synthetic braking #2)",
     caption=_caption_table2,
     paper_shows="Table 2: sigma0 = 178 1/m, sigma1 = 1 (printed '1/m', a unit typo: s/m), sigma2 = 0, mu_c = 0.8, "
                 "mu_s = 1.5, v_s = 5.5 m/s.",
 )
 def draw_fm_table2(result):
+    from tirecli.studies.fit import TABLE2
+
     require(result, "fit", "fm-table2")
     par = result.data["parameters"]
     if "fit" not in par.columns:

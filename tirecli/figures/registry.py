@@ -1,8 +1,9 @@
 """The figure registry: every paper figure (and generic plot) as a registered function.
 
 A figure function draws from a :class:`~tirecli.studies.base.StudyResult` and returns a
-matplotlib ``Figure`` (or a :class:`Table`); it never saves. Commands draw the figures a
-result asks for; ``tirecli report`` runs each entry's built-in study and draws them all.
+matplotlib ``Figure`` (or a :class:`Table`); it never saves and checks nothing (a figure's
+reference checks are registered under its id in :mod:`tirecli.studies.checks`). Commands draw the
+figures a result asks for; ``tirecli report`` runs each entry's built-in study and draws them all.
 """
 from __future__ import annotations
 
@@ -43,8 +44,6 @@ class FigureDef:
         Built-in study config (``tirecli/studies/configs/NAME.yaml``) the report runs.
     draw : callable
         ``draw(result) -> Figure | Table``.
-    checks : callable or None
-        ``checks(result) -> list[Check]`` reference checks (their sources cite docs/models/).
     order : int
         Position within its paper's section of the report.
     """
@@ -57,7 +56,6 @@ class FigureDef:
     paper_shows: str
     study: str | None
     draw: Callable
-    checks: Callable | None = None
     order: int = 0
 
     def caption_for(self, result=None) -> str:
@@ -80,14 +78,14 @@ PAPERS = {
 
 
 def register(id: str, *, paper: str, label: str, title: str, caption, paper_shows: str = "",
-             study: str | None = None, checks: Callable | None = None, order: int = 0):
+             study: str | None = None, order: int = 0):
     """Decorator registering a draw function as figure ``id``."""
 
     def deco(fn: Callable) -> Callable:
         if id in REGISTRY:
             raise ValueError(f"figure {id!r} registered twice")
         REGISTRY[id] = FigureDef(id=id, paper=paper, label=label, title=title, caption=caption,
-                                 paper_shows=paper_shows, study=study, draw=fn, checks=checks, order=order)
+                                 paper_shows=paper_shows, study=study, draw=fn, order=order)
         return fn
 
     return deco

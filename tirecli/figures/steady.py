@@ -5,34 +5,11 @@ import numpy as np
 
 from tirecli.figures.registry import Table, register
 from tirecli.figures.style import COLORS, LINESTYLES, figure, finish, legend_room, new_figure
-from tirecli.studies.base import Check
+from tirecli.studies.sweep_curves import curve, curve_peak, first_model
 
 #: Caption sentence of the peak markers.
 PEAK_CAPTION = (" Circles: each curve's peak, root-found on the model (not the grid), value in the legend "
                 "(data/peaks.csv).")
-
-MU_TOL = 5e-4   # reference values are printed to 4 decimals
-S_TOL = 2e-3    # peak slip, printed to 3 decimals
-
-
-#: Rows compared at a time by :func:`curve` (a large sweep's frame is not copied per curve).
-_SELECT_BLOCK = 65536
-
-
-def curve(df, model=None, speed=None, theta=None, direction="braking"):
-    """``(|s|, |mu|)`` of one curve of a sweep frame, sorted by ``|s|``."""
-    sel = (df["direction"] == direction).to_numpy(dtype=bool, copy=True)
-    if model is not None:
-        sel &= (df["model"] == model).to_numpy()
-    for col, value in (("speed", speed), ("theta", theta)):
-        if value is not None:  # np.isclose(column, value), a block at a time (no temporaries as long as the frame)
-            x, tol = df[col].to_numpy(), 1e-8 + 1e-5 * abs(value)
-            for lo in range(0, x.size, _SELECT_BLOCK):
-                sel[lo:lo + _SELECT_BLOCK] &= np.abs(x[lo:lo + _SELECT_BLOCK] - value) <= tol
-    s = np.abs(df["slip"].to_numpy()[sel])  # only the two columns drawn are selected (large sweeps)
-    mu = np.abs(df["mu"].to_numpy()[sel])
-    order = np.argsort(s, kind="stable")
-    return s[order], mu[order]
 
 
 def curve_groups(df, keys) -> list:
@@ -63,35 +40,6 @@ def drawn(s, mu):
     keep[::-(-n // _MAX_DRAWN)] = True
     keep[[n - 1, int(np.argmax(mu))]] = True
     return s[keep], mu[keep]
-
-
-def curve_peak(result, model, speed, theta=1.0, direction="braking"):
-    """``(|s|, |mu|, |mu(1)|)`` of one curve's root-found peak (``data/peaks.csv``), or None.
-
-    The peak is found on the model function (:mod:`tirecli.models.steady_peaks`), not on the
-    sweep's grid; ``|mu(1)|`` is the sliding level at ``|s| = 1``.
-    """
-    pk = result.data.get("peaks")
-    if pk is None or pk.empty:
-        return None
-    sel = ((pk["model"] == model) & np.isclose(pk["speed"], speed) & np.isclose(pk["theta"], theta)
-           & (pk["direction"] == direction))
-    if not sel.any():
-        return None
-    r = pk[sel].iloc[0]
-    return abs(float(r["slip_peak"])), abs(float(r["mu_peak"])), abs(float(r["mu_slide"]))
-
-
-def value_at(s, mu, s0):
-    """``|mu|`` at ``|s| = s0`` by linear interpolation."""
-    return float(np.interp(s0, s, mu))
-
-
-def peak_checks(pk, ref_peak, ref_slip, tag, what, source):
-    """Two checks of a curve's root-found peak ``pk = (|s|, |mu|, ...)``: its height ``|mu|`` and its slip ``|s|``."""
-    ps, pm = pk[0], pk[1]
-    return [Check(f"peak-{tag}", f"peak |mu| {what}", float(pm), ref_peak, MU_TOL, "-", source),
-            Check(f"speak-{tag}", f"|s| of the peak {what}", float(ps), ref_slip, S_TOL, "-", source)]
 
 
 def peak_text(pk) -> str:
@@ -131,10 +79,6 @@ def _with_peak_legend(ax, below: bool = False, **kw):
 def _tire_label(result) -> str:
     """The tire set a figure draws, with its changed parameters (``canudas2003-table1 (sigma0 changed)``)."""
     return result.parameter_sets["tire"].label
-
-
-def _first_model(df):
-    return df["model"].iloc[0]
 
 
 # --------------------------------------------------------------------------- generic
@@ -256,7 +200,7 @@ def keys_index(key: str) -> int:
 
 def _surface(result, title):
     df = result.data["sweep"]
-    model = _first_model(df)
+    model = first_model(df)
     theta = df["theta"].iloc[0]
     d = df[(df["model"] == model) & np.isclose(df["theta"], theta) & (df["direction"] == "braking")]
     piv = d.assign(s=np.abs(d["slip"]), m=np.abs(d["mu"])).pivot_table(index="speed", columns="s", values="m")
@@ -297,50 +241,6 @@ def draw_sweep_surface(result):
 
 
 # --------------------------------------------------------------------------- FM Fig. 1
-
-_REF_SPEEDS = {  # docs/models/lugre_friction.md §9: v -> (peak |mu|, at |s|, |mu(0.05)|, |mu(1)|)
-    5: (1.2818, 0.374, 0.6556, 1.1594),
-    10: (1.1770, 0.279, 0.6520, 0.9817),
-    15: (1.1074, 0.237, 0.6486, 0.9035),
-    20: (1.0552, 0.212, 0.6451, 0.8717),
-    25: (1.0137, 0.196, 0.6417, 0.8617),
-    30: (0.9795, 0.184, 0.6384, 0.8618),
-}
-_REF_THETA = {  # docs/models/lugre_friction.md §5: theta_fm -> (peak, at |s|, |mu(1)|) at v = 20 m/s
-    1.0: (1.0552, 0.212, 0.8717),
-    0.8: (0.8714, 0.187, 0.7046),
-    0.6: (0.6795, 0.159, 0.5374),
-    0.4: (0.4764, 0.128, 0.3703),
-}
-
-
-def _speed_checks(result, model, theta=1.0, source="docs/models/lugre_friction.md §9"):
-    df = result.data["sweep"]
-    out = []
-    for v, (pk, sp, m05, m1) in _REF_SPEEDS.items():
-        s, mu = curve(df, model, v, theta)
-        peak_ = curve_peak(result, model, v, theta)
-        if len(s) == 0 or peak_ is None:
-            continue
-        out += peak_checks(peak_, pk, sp, f"v{v}", f"at v = {v} m/s", source) + [
-            Check(f"mu005-v{v}", f"|mu(0.05)| at v = {v} m/s", value_at(s, mu, 0.05), m05, MU_TOL, "-", source),
-            Check(f"mu1-v{v}", f"|mu(1)| (locked wheel) at v = {v} m/s", peak_[2], m1, MU_TOL, "-", source),
-        ]
-    return out
-
-
-def _slope_check(result, v=20.0):
-    p = result.payload["params"]
-    var = result.payload["variants"][0]
-    ds = 1e-7
-    slope = abs(float(var.mu_ss(-v * ds, v * (1 - ds), p))) / ds
-    return Check("slope-v20", "initial slope d|mu|/d|s| at v = 20 m/s (sigma0 L/2 + sigma2 v)", slope, 18.19, 0.005,
-                 "-", "docs/models/lugre_friction.md §9")
-
-
-def _fig1_left_checks(result):
-    df = result.data["sweep"]
-    return _speed_checks(result, _first_model(df)) + [_slope_check(result)]
 
 
 def _theta_label(theta_fm, convention):
@@ -392,30 +292,15 @@ def _draw_theta_family(ax, result, model, speed, convention):
             "the initial slope sigma0 L/2 + sigma2 v; peak height and peak slip fall as v grows." + PEAK_CAPTION,
     paper_shows="|mu| against |s| in [0, 1] for several vehicle speeds (braking, uniform load, Table 1): a common "
                 "linear rise, a peak that is lower and earlier at higher speed, then a decay towards the sliding level.",
-    checks=_fig1_left_checks,
 )
 def draw_fm_fig1_left(result):
     df = result.data["sweep"]
     fig, ax = new_figure()
-    _draw_speed_family(ax, result, _first_model(df))
+    _draw_speed_family(ax, result, first_model(df))
     finish(ax, "slip |s| [-]", "friction |mu| = |F|/F_n [-]",
            f"FM Fig. 1 (left): braking, uniform load, {_tire_label(result)}", legend=False)
     _with_peak_legend(ax)
     return fig
-
-
-def _fig1_right_checks(result):
-    df = result.data["sweep"]
-    model = _first_model(df)
-    out = []
-    for th, (pk, sp, m1) in _REF_THETA.items():
-        peak_ = curve_peak(result, model, 20.0, th)
-        if peak_ is None:
-            continue
-        out += peak_checks(peak_, pk, sp, f"th{th:g}", f"for theta_fm = {th:g}, v = 20 m/s", "docs/models/lugre_friction.md §5") + [
-            Check(f"mu1-th{th:g}", f"|mu(1)| for theta_fm = {th:g}", peak_[2], m1, MU_TOL, "-", "docs/models/lugre_friction.md §5"),
-        ]
-    return out + [_slope_check(result)]
 
 
 @register(
@@ -427,12 +312,11 @@ def _fig1_right_checks(result):
             + PEAK_CAPTION,
     paper_shows="|mu| against |s| at v = 20 m/s = 72 km/h for several road conditions theta: same initial slope, "
                 "lower peaks and plateaus for lower adhesion.",
-    checks=_fig1_right_checks,
 )
 def draw_fm_fig1_right(result):
     df = result.data["sweep"]
     fig, ax = new_figure()
-    _draw_theta_family(ax, result, _first_model(df), 20.0, "fm")
+    _draw_theta_family(ax, result, first_model(df), 20.0, "fm")
     finish(ax, "slip |s| [-]", "friction |mu| = |F|/F_n [-]",
            f"FM Fig. 1 (right): v = 20 m/s, adhesion theta (FM convention), {_tire_label(result)}", legend=False)
     _with_peak_legend(ax, below=True)  # the low-adhesion plateaus leave no free corner
@@ -440,22 +324,6 @@ def draw_fm_fig1_right(result):
 
 
 # --------------------------------------------------------------------------- OBS Fig. 1
-
-
-def _obs_fig1_checks(result):
-    df = result.data["sweep"]
-    models = list(dict.fromkeys(df["model"]))
-    dist = models[0]
-    out = _speed_checks(result, dist, 1.0)
-    pk = curve_peak(result, dist, 20.0, 0.4)
-    if pk is not None:
-        out += peak_checks(pk, 0.4764, 0.128, "thobs2.5", "for theta_obs = 2.5 at v = 20 m/s",
-                           "docs/models/lugre_friction.md §10 (OBS Fig. 1)")
-    pk = curve_peak(result, models[1], 20.0, 1.0) if len(models) > 1 else None
-    if pk is not None:
-        out += peak_checks(pk, 0.9767, 0.272, "lumped-k2", "of the lumped model, kappa0 = 2 (kappa = 10 1/m), "
-                           "v = 20 m/s", "docs/models/lugre_friction.md §4.2")
-    return out
 
 
 @register(
@@ -467,7 +335,6 @@ def _obs_fig1_checks(result):
             "1 dry, larger = less grip) at v = 20 m/s [assumed values]." + PEAK_CAPTION,
     paper_shows="Fig. 1(a): mu against slip for several vehicle speeds; Fig. 1(b): for several road conditions theta "
                 "(OBS convention, theta > 1 less grip). Same figure as FM Fig. 1.",
-    checks=_obs_fig1_checks,
 )
 def draw_obs_fig1(result):
     df = result.data["sweep"]
@@ -487,20 +354,6 @@ def draw_obs_fig1(result):
 
 # --------------------------------------------------------------------------- FM Fig. 6 surface
 
-_REF_T2 = {15: (1.1247, 0.206), 20: (1.0549, 0.175), 25: (0.9970, 0.155)}
-
-
-def _fig6_surface_checks(result):
-    df = result.data["sweep"]
-    model = _first_model(df)
-    out = []
-    for v, (pk, sp) in _REF_T2.items():
-        peak_ = curve_peak(result, model, v, 1.0)
-        if peak_ is None:
-            continue
-        out += peak_checks(peak_, pk, sp, f"v{v}", f"of the Table 2 surface at v = {v} m/s", "docs/models/lugre_friction.md §10 (FM Fig. 6)")
-    return out
-
 
 @register(
     "fm-fig6-surface", paper="FM", label="Fig. 6 (model surface)", study="fm-fig6-surface", order=60,
@@ -510,7 +363,6 @@ def _fig6_surface_checks(result):
             "higher speed; the line marks the root-found peak at each speed (data/peaks.csv). The measured samples of "
             "the paper are replaced by synthetic ones in the identification study.",
     paper_shows="3-D plot of the measured (mu, s, v) samples of braking #2 and the identified steady-state surface (alpha = 2).",
-    checks=_fig6_surface_checks,
 )
 def draw_fm_fig6_surface(result):
     tire = result.parameter_sets["tire"]

@@ -187,6 +187,7 @@ def _draw_card(f, res, root: Path, formats) -> dict:
     """Draw figure ``f`` of result ``res`` into ``root/figures``: the card's facts."""
     from tirecli.figures.registry import Table
     from tirecli.studies.base import Check
+    from tirecli.studies.checks import checks_for
 
     card = {"id": f.id, "caption": f.caption_for(res), "synthetic": res.synthetic,
             "assumed": output.scenario_assumptions(res),
@@ -195,7 +196,8 @@ def _draw_card(f, res, root: Path, formats) -> dict:
             "checks": [], "files": [], "table": None, "error": None}
     try:
         fig = f.draw(res)
-        checks = f.checks(res) if f.checks else []
+        fchecks = checks_for(f.id)
+        checks = fchecks(res) if fchecks else []
     except Exception as exc:  # noqa: BLE001 - an error card and a failed check
         card["error"] = f"{type(exc).__name__}: {exc}\n" + traceback.format_exc(limit=4)
         checks, fig = [Check("figure-drawn", f"figure {f.id} drawn", float("nan"), 0.0, 0.0, "-", "report")], None

@@ -511,6 +511,11 @@ def _require(result: identify.FitResult, stage: str, data: dict, mu) -> None:
                    f"{top:.4g}); no fitted.yaml was written")
 
 
+#: FM Table 2 (docs/models/lugre_friction.md §6): the paper's identified values (also the generating values of
+#: the synthetic braking #2), drawn beside tirecli's fits (figure fm-table2) and checked against them.
+TABLE2 = {"sigma0": 178.0, "sigma1": 1.0, "sigma2": 0.0, "mu_c": 0.8, "mu_s": 1.5, "v_s": 5.5, "L": 0.2, "alpha": 2.0}
+
+
 def _table2():
     from tirecli.parameters.sets import load_builtin
 

@@ -441,6 +441,17 @@ def design_record(plant: lo.ObserverPlant, gains: lo.ObserverGains, tr=None) -> 
     return rec
 
 
+def slow_mode(plant: lo.ObserverPlant, case: Case, tr) -> dict:
+    """The slow speed-error mode of a run with theta known (adaptation off, docs/models/observer_model.md §6, §8):
+    the decay rate [1/s] of ``v_hat - v`` fitted from 2 s to the end, and the largest real part [1/s] of the
+    eigenvalues of the error dynamics linearised at the run's middle sample."""
+    i = len(tr.t) // 2
+    M = lo.linearized_error_matrix(plant, case.gains, float(tr.theta[i]), float(tr.omega[i]), float(tr.v[i]),
+                                   float(tr.z[i]))
+    return {"fitted_1_s": om.decay_rate(tr.t, tr.v_hat - tr.v, 2.0, tr.t[-1]),
+            "linearised_1_s": float(np.max(np.linalg.eigvals(M).real))}
+
+
 def _frame(plant, tr, label, dt_out) -> pd.DataFrame:
     import pandas as pd
 
@@ -514,7 +525,7 @@ def run_observe(config: Config, progress=None) -> StudyResult:
     checked = p.checked
     sc = checked["scenario"]
     dt_out = (checked["output"] or {}).get("dt", 0.01)
-    frames, rows, runs, trajs = [], [], [], []
+    frames, rows, runs, trajs, slow = [], [], [], [], {}
     warnings = list(p.deprecated)
     designs = {}
     if progress is not None:
@@ -526,6 +537,8 @@ def run_observe(config: Config, progress=None) -> StudyResult:
         if key not in designs:
             designs[key] = design_record(p.plant, case.gains, tr if k == 0 else None)
         met = case_metrics(p.plant, tr, case, p.metrics)
+        if case.gains.gamma == 0:
+            slow[case.label] = slow_mode(p.plant, case, tr)
         warnings += _warnings(case, designs[key], met, p.metrics, tr)
         frames.append(_frame(p.plant, tr, case.label, dt_out))
         for ph in met["phases"]:
@@ -573,7 +586,7 @@ def run_observe(config: Config, progress=None) -> StudyResult:
         },
         figures=checked["figures"] or [default_fig],
         payload={"plant": p.plant, "cases": p.cases, "trajectories": trajs, "runs": runs, "designs": designs,
-                 "metrics": p.metrics},
+                 "metrics": p.metrics, "slow_mode": slow},
         synthetic=synthetic,
     )
 
