@@ -400,9 +400,9 @@ def test_campaign_workers_use_one_thread():
 def _worker_threads():
     import os
 
-    from tirecli.numerics import pool
+    from tirecli import parallel
 
-    return pool.LIMIT, pool.default_threads(), os.environ.get("OPENBLAS_NUM_THREADS")
+    return parallel.LIMIT, parallel.default_threads(), os.environ.get("OPENBLAS_NUM_THREADS")
 
 
 

@@ -102,7 +102,7 @@ def test_runs_of_equal_values_formatted_once_keep_their_text(tmp_path, monkeypat
 
 
 def test_ordered_map_keeps_the_order_and_raises():
-    from tirecli.numerics.pool import ordered_map
+    from tirecli.parallel import ordered_map
 
     def slow_square(k):
         import time
@@ -383,12 +383,12 @@ def test_drawn_rows_are_rows_of_the_timeseries(dt):
 
 
 def test_many_cases_same_files_with_or_without_the_helper_process(cli, tmp_path, monkeypatch):
-    from tirecli.numerics import pool
+    from tirecli import parallel
 
     cfg = tmp_path / "many.yaml"
     cfg.write_text(_many_cases(14))
     for helper in (True, False):
-        monkeypatch.setattr(pool, "helper_process_ok", lambda helper=helper: helper)
+        monkeypatch.setattr(parallel, "helper_process_ok", lambda helper=helper: helper)
         code, _, err = cli("--quiet", "simulate", cfg, "--out", tmp_path / str(helper))
         assert code == 0, err
     for name in ("data/timeseries.csv", "data/events.csv", "figures/transient-histories.png"):
@@ -527,9 +527,9 @@ def test_helper_process_ends_when_its_parent_is_killed(tmp_path):
 
 
 def _helper_ok_in_child(queue):
-    from tirecli.numerics import pool
+    from tirecli import parallel
 
-    queue.put(pool.helper_process_ok())
+    queue.put(parallel.helper_process_ok())
 
 
 def test_no_helper_process_inside_a_worker_process():
@@ -538,10 +538,10 @@ def test_no_helper_process_inside_a_worker_process():
     import multiprocessing
     import sys
 
-    from tirecli.numerics import pool
+    from tirecli import parallel
 
-    if sys.platform.startswith("linux") and pool.default_jobs() > 1 and pool.LIMIT != 1:
-        assert pool.helper_process_ok()
+    if sys.platform.startswith("linux") and parallel.default_jobs() > 1 and parallel.LIMIT != 1:
+        assert parallel.helper_process_ok()
     ctx = multiprocessing.get_context("fork")
     queue = ctx.Queue()
     proc = ctx.Process(target=_helper_ok_in_child, args=(queue,))  # not daemonic, like a report worker

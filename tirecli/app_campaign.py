@@ -144,7 +144,7 @@ def run_campaign(path: str | Path, out=None, jobs: int | None = None, scheduler:
     """Run the campaign file ``path`` into ``out`` (module doc). ``note(text)`` reports what happens
     (points to run, resumed)."""
     from tirecli.campaign.execute import batch_size, run_batches
-    from tirecli.numerics.pool import default_jobs
+    from tirecli.parallel import default_jobs
     from tirecli.io.atomic import locked_dir, out_path
     from tirecli.io.campaign import PointStore
 

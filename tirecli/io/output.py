@@ -246,9 +246,9 @@ def _spool_in_helper(spool: SpooledFrame, parts, first, conn, parent_end) -> Non
     parent_end.close()
     signal.signal(signal.SIGINT, signal.SIG_IGN)  # Ctrl-C is the parent's to handle
     signal.signal(signal.SIGTERM, signal.SIG_DFL)
-    from tirecli.numerics import pool
+    from tirecli import parallel
 
-    pool.LIMIT = 1  # the other cores are busy with the parent's work
+    parallel.LIMIT = 1  # the other cores are busy with the parent's work
     try:
         if first is not None:
             conn.send(("first", first()))

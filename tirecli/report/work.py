@@ -223,7 +223,7 @@ _QUEUE = None
 def _init_worker(q) -> None:
     """A pool worker: Ctrl-C is the parent's to handle (it ends the pool), SIGTERM ends the worker.
 
-    A forked worker has none of the parent's threads: :mod:`tirecli.numerics.pool` drops the parent's
+    A forked worker has none of the parent's threads: :mod:`tirecli.parallel` drops the parent's
     thread pool in every forked child (``os.register_at_fork``)."""
     global _QUEUE
     _QUEUE = q

@@ -675,7 +675,7 @@ def _timeseries(trs: dict, cases: list, dt: float, r: float, gain: float):
         frame = pd.concat([_frame(trs[c.label], c, dt, r, gain) for c in cases], ignore_index=True)
         return frame, None, events()
     from tirecli.io.output import SpooledFrame
-    from tirecli.numerics.pool import helper_process_ok
+    from tirecli.parallel import helper_process_ok
 
     drawn = {}
     helper = helper_process_ok()

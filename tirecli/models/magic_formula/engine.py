@@ -20,7 +20,7 @@ from tirecli.models.magic_formula.axes import mirror_outputs, needs_mirror
 from tirecli.models.magic_formula.mf61 import evaluate_kernel
 from tirecli.models.magic_formula.pac89 import evaluate_pac89
 from tirecli.models.magic_formula.tire import Convention, MFTire, get_convention
-from tirecli.numerics.pool import default_threads, thread_pool
+from tirecli.parallel import default_threads, thread_pool
 
 #: Outputs of :func:`evaluate`, in the order of ``tirecli mf eval``'s CSV.
 OUTPUTS = ("fx", "fy", "mz", "mx", "my")
