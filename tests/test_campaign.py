@@ -290,7 +290,7 @@ outputs: [distance, v_final, wheel_locks]
 
 def test_unknown_units_leave_the_bare_name():
     from tirecli.campaign.facts import fact_unit
-    from tirecli.config.schema import unit_at
+    from tirecli.parameters.kinds import unit_at
     from tirecli.studies.base import SPECS, load_study
 
     load_study("simulate")

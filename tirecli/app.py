@@ -13,6 +13,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from tirecli import limits
+from tirecli.config.budget import resolve_budget
 from tirecli.config.loader import Config, load_config
 from tirecli.errors import UsageError
 from tirecli.figures import registry
@@ -135,7 +136,7 @@ def run_config(command: str, config_path: str | Path, overrides=(), out: str | P
     out = out or default_out(config, command)
     # before the run: a bad location fails in a second, not after it
     check_output_dir(out, files=("run.json",), dirs=("data", "figures"))
-    budget = limits.resolve(config, max_samples)
+    budget = resolve_budget(config, max_samples)
     with staged_dir(out) as stage:
         with limits.budget(budget):
             result = run_study(config, expected=command, progress=progress)
@@ -201,6 +202,6 @@ def validate_file(path: str | Path, max_samples: int | None = None) -> str:
         ps = parse_set(data, origins, label=str(path))
         return f"{path}: valid {ps.kind} parameter set {ps.name!r} ({len(ps.values)} values)"
     config = load_config(path)
-    with limits.budget(limits.resolve(config, max_samples)):
+    with limits.budget(resolve_budget(config, max_samples)):
         name = check_study(config)
     return f"{path}: valid {name} config"

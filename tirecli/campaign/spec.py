@@ -480,7 +480,7 @@ def column_units(campaign: Campaign, study: str) -> dict:
     """``{column: unit}`` of the results' varied inputs (from the base study's config schema and
     parameter sets) and outputs (:func:`tirecli.campaign.facts.fact_unit`) whose unit is known."""
     from tirecli.campaign.facts import fact_unit
-    from tirecli.config.schema import unit_at
+    from tirecli.parameters.kinds import unit_at
     from tirecli.studies.base import SPECS, load_study
 
     load_study(study)

@@ -12,10 +12,11 @@ from dataclasses import dataclass, field
 from importlib import resources
 from typing import Any, Callable
 
+from tirecli.config.budget import run_spec
 from tirecli.config.loader import Config, config_from_text
 from tirecli.config.schema import Context, Str
 from tirecli.errors import ConfigError, token
-from tirecli.limits import MAX_TITLE_CHARS, run_spec
+from tirecli.limits import MAX_TITLE_CHARS
 
 from tirecli.parameters.sets import ParameterSet
 
