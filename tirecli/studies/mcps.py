@@ -155,8 +155,7 @@ _MF_MAP = Map(fields={
 def mf_side(config: Config) -> MFSide:
     """Resolve the config's ``mf:`` (default :data:`DEFAULT_MF`)."""
     from tirecli.config.schema import check_document
-    from tirecli.parameters.mf import resolve_tire
-    from tirecli.parameters.sets import resolve_group
+    from tirecli.parameters.sets import resolve_group, resolve_tire
 
     raw = config.data.get("mf", DEFAULT_MF)
     path = ("mf",)

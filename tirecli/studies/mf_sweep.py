@@ -111,8 +111,7 @@ def uses_mf_tire(config: Config) -> bool:
 
 def plan(config: Config):
     """Check an MF sweep config completely: ``(checked, tire set, MFTire, LuGre set or None)``."""
-    from tirecli.parameters.mf import resolve_tire
-    from tirecli.parameters.sets import resolve_group
+    from tirecli.parameters.sets import resolve_group, resolve_tire
 
     checked, tire = collect(lambda: config.checked(SPEC),
                             lambda: resolve_tire(config.data.get("tire"), config.origins, ("tire",), config.base_dir))
