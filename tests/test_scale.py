@@ -145,7 +145,7 @@ def _sweep_inputs(text=SWEEP):
 
 
 def test_blockwise_sweep_equals_one_block():
-    from tirecli.studies.sweep import sweep_frame
+    from tirecli.studies.sweep_frames import sweep_frame
 
     variants, p, slips, speeds, thetas = _sweep_inputs()
     with np.errstate(all="ignore"):
@@ -166,7 +166,7 @@ def test_blockwise_sweep_equals_one_block():
 def test_sweep_frame_compact_columns_same_csv(tmp_path):
     """The sweep frame's text columns are categoricals and its columns constant over the sweep are
     stored once; its CSV is the previous writer's text of the same values (categories as texts)."""
-    from tirecli.studies.sweep import sweep_frame
+    from tirecli.studies.sweep_frames import sweep_frame
 
     one_theta = SWEEP.replace("theta: [0.5, 1.0]", "theta: [0.8]").replace(
         "    - {model: lumped, kappa0: Z}\n    - {model: lumped, kappa0: 1.5, label: k15}\n", "")

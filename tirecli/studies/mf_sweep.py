@@ -228,7 +228,7 @@ def mf_sweep_frame(t, sw: dict, convention="mfeval", side=None, limits=True, com
 def lugre_frame(lugre_set, cmp: dict) -> pd.DataFrame:
     """The LuGre steady state (distributed, uniform load) at the held speed, for the comparison."""
     from tirecli.models.variants import FrictionVariant
-    from tirecli.studies.sweep import sweep_frame
+    from tirecli.studies.sweep_frames import sweep_frame
 
     p = lugre_set.model()
     df = sweep_frame([FrictionVariant(model="distributed")], p, cmp["slip"], [cmp["speed"]], [1.0])
