@@ -193,7 +193,8 @@ def validate_file(path: str | Path, max_samples: int | None = None) -> str:
                 f"'tirecli tir check {path}'")
     data, origins = load_yaml(path)
     if isinstance(data, dict) and "campaign" in data and "study" not in data:
-        from tirecli.campaign.spec import check_points, load_campaign
+        from tirecli.campaign.check import check_points
+        from tirecli.campaign.spec import load_campaign
 
         campaign = load_campaign(path)
         ids, study = check_points(campaign)
