@@ -222,7 +222,7 @@ def test_fittyp_and_inert_overrides():
 
 
 def test_non_finite_outputs_are_named_and_extrapolation_counted():
-    from tirecli.app_mf import nonfinite_point
+    from tirecli.models.magic_formula.engine import nonfinite_point
     from tirecli.models.magic_formula import evaluate
     from tirecli.parameters.mf import load_builtin_tire_data
 
