@@ -18,9 +18,13 @@ from tirecli.config.loader import Config, load_config
 from tirecli.errors import UsageError
 from tirecli.figures import registry
 from tirecli.io import output
+from tirecli.studies import base as studies_base
 from tirecli.studies.base import Check, StudyResult, run_study
 
 DEFAULT_OUT = Path("tirecli-out")
+
+# the figure ids a config names are looked up in the figure registry, a layer above the studies
+studies_base.FIGURE_LOOKUP = registry.get
 
 
 @dataclass
