@@ -420,7 +420,7 @@ def test_mf_eval_field_check_messages(cli, tmp_path):
 
 def test_mf_eval_results_unchanged(cli, tmp_path):
     """The output of ``mf eval`` against the model evaluated directly (17-digit text, exact)."""
-    from tirecli.app_mf import load_tire
+    from tirecli.app.mf import load_tire
     from tirecli.models.magic_formula import evaluate
 
     rng = np.random.default_rng(5)

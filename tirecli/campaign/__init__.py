@@ -13,5 +13,5 @@ keys that ``--set`` accepts, and tabulates chosen facts of every run.
   campaign-level checks.
 
 Files are written by :mod:`tirecli.io.campaign`; figures are :mod:`tirecli.figures.campaign`; the
-command is orchestrated by :mod:`tirecli.app_campaign`.
+command is orchestrated by :mod:`tirecli.app.campaign`.
 """

@@ -48,7 +48,7 @@ def eval_(
     p and vx default to the tyre's INFLPRES (else NOMPRES) and LONGVL. Bad input (missing column,
     non-numeric or NaN cell) is an error naming the column and row (exit 2), and nothing is written.
     """
-    from tirecli.app_mf import mf_eval
+    from tirecli.app.mf import mf_eval
     from tirecli.models.magic_formula.inputs import describe_counts, describe_outside
     from tirecli.errors import UsageError
 

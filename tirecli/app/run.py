@@ -1,7 +1,7 @@
 """Application layer: what one command does, independent of the CLI framework.
 
 ``run_config`` loads a config, runs its study, draws the figures the result asks for,
-evaluates their reference checks and writes the output contract (:mod:`tirecli.io.output`).
+evaluates their reference checks and writes the output contract (:mod:`tirecli.app.results`).
 The Typer commands in :mod:`tirecli.cli` only parse arguments and call these functions.
 """
 from __future__ import annotations
@@ -13,6 +13,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from tirecli import limits
+from tirecli.app.results import write_result
 from tirecli.config.budget import resolve_budget
 from tirecli.config.loader import Config, load_config
 from tirecli.errors import UsageError
@@ -146,7 +147,7 @@ def run_config(command: str, config_path: str | Path, overrides=(), out: str | P
             result = run_study(config, expected=command, progress=progress)
         figs, checks = draw(result, progress=progress)
         wall = time.perf_counter() - t0
-        paths = output.write_result(stage, result, figs, checks, command_line(), wall, progress=progress,
+        paths = write_result(stage, result, figs, checks, command_line(), wall, progress=progress,
                                     data_format=data_format)
         close_figures(figs)
     paths.update(removed=stage.removed, kept=stage.kept)
@@ -190,7 +191,7 @@ def validate_file(path: str | Path, max_samples: int | None = None) -> str:
     from tirecli.studies.base import check_study
 
     if str(path).lower().endswith(".tir"):  # a Magic Formula property file
-        from tirecli.app_mf import load_tire
+        from tirecli.app.mf import load_tire
 
         ps, tire = load_tire(str(path))
         return (f"{path}: reads as a Magic Formula tyre ({tire.version}); for the coefficients' sanity run "

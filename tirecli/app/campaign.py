@@ -21,7 +21,7 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from tirecli.app import DEFAULT_OUT, command_line
+from tirecli.app.run import DEFAULT_OUT, command_line
 from tirecli.campaign import analysis
 from tirecli.campaign.check import check_points
 from tirecli.campaign.spec import Campaign, load_campaign, value_text
