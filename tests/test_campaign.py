@@ -290,7 +290,7 @@ outputs: [distance, v_final, wheel_locks]
 
 def test_unknown_units_leave_the_bare_name():
     from tirecli.campaign.facts import fact_unit
-    from tirecli.config.schema import unit_at
+    from tirecli.parameters.kinds import unit_at
     from tirecli.studies.base import SPECS, load_study
 
     load_study("simulate")
@@ -400,9 +400,9 @@ def test_campaign_workers_use_one_thread():
 def _worker_threads():
     import os
 
-    from tirecli.numerics import pool
+    from tirecli import parallel
 
-    return pool.LIMIT, pool.default_threads(), os.environ.get("OPENBLAS_NUM_THREADS")
+    return parallel.LIMIT, parallel.default_threads(), os.environ.get("OPENBLAS_NUM_THREADS")
 
 
 

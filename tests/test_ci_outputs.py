@@ -142,13 +142,13 @@ def test_observe_strict_junit_with_a_drifted_reference(cli, tmp_path, monkeypatc
 
 @pytest.mark.parametrize("exc, code", [("run", 1), ("internal", 1)])
 def test_a_failed_run_is_a_junit_error(cli, tmp_path, monkeypatch, exc, code):
-    from tirecli import app
+    from tirecli.app import run
     from tirecli.errors import RunError
 
     def broken(config, **kw):
         raise RunError("the solver did not converge") if exc == "run" else ZeroDivisionError("boom")
 
-    monkeypatch.setattr(app, "run_study", broken)
+    monkeypatch.setattr(run, "run_study", broken)
     junit = tmp_path / "junit.xml"
     rc, stdout, err = cli("simulate", EXAMPLES / "fm-fig4.yaml", "--out", tmp_path / "out", "--junit", junit)
     assert rc == code

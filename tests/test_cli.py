@@ -177,7 +177,7 @@ sweep:
 
 
 def test_progress_covers_evaluation_drawing_and_writing(tmp_path):
-    from tirecli.app import run_config
+    from tirecli.app.run import run_config
 
     class Recorder:
         def __init__(self):

@@ -133,12 +133,12 @@ def git_ignored(rel: str) -> bool:
 
 
 def test_gitignore_covers_the_default_outputs_and_run_leftovers():
-    from tirecli.app import DEFAULT_OUT
+    from tirecli.app.run import DEFAULT_OUT
 
     for rel in (f"{DEFAULT_OUT}/report/index.html", "out/fig2/run.json", ".mine.tirecli-lock",
                 "tirecli-out/.report.tirecli-tmp-abcd1234/x", ".mine.tirecli-tmp-abcd1234"):
         assert git_ignored(rel), rel
-    for rel in ("tirecli/app.py", "examples/fm-fig4.yaml", "docs/ci.md", "README.md"):
+    for rel in ("tirecli/app/run.py", "examples/fm-fig4.yaml", "docs/ci.md", "README.md"):
         assert not git_ignored(rel), rel
 
 

@@ -108,7 +108,7 @@ def test_plain_csv_reads_as_the_general_reader(tmp_path):
 
 def test_mf_eval_same_file_with_and_without_pyarrow(tmp_path, monkeypatch):
     """Without pyarrow (a plain install) the general reader reads the points: the same result file."""
-    from tirecli.app_mf import mf_eval
+    from tirecli.app.mf import mf_eval
 
     rng = np.random.default_rng(2)
     cols = [rng.uniform(-0.3, 0.3, 500).round(6), rng.uniform(-0.2, 0.2, 500), rng.uniform(-0.05, 0.05, 500).round(4),

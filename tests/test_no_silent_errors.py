@@ -203,7 +203,8 @@ def test_switches_and_ranges_of_a_tir_file():
 
 def test_fittyp_and_inert_overrides():
     from tirecli.io.yamlio import parse_yaml
-    from tirecli.parameters.mf import resolve_tire, tire_from_values
+    from tirecli.parameters.mf import tire_from_values
+    from tirecli.parameters.sets import resolve_tire
 
     def resolve(text):
         data, o = parse_yaml(text, "c.yaml")
@@ -221,7 +222,7 @@ def test_fittyp_and_inert_overrides():
 
 
 def test_non_finite_outputs_are_named_and_extrapolation_counted():
-    from tirecli.app_mf import nonfinite_point
+    from tirecli.models.magic_formula.engine import nonfinite_point
     from tirecli.models.magic_formula import evaluate
     from tirecli.parameters.mf import load_builtin_tire_data
 
@@ -316,7 +317,8 @@ def test_text_with_an_apostrophe_is_read_whole_and_overrides_obey_the_files_rule
     e = doc.entry("MODEL", "NAME")
     assert (e.value, e.comment) == ("it's", "a note")
     from tirecli.io.yamlio import parse_yaml
-    from tirecli.parameters.mf import coefficient_problems, resolve_tire
+    from tirecli.parameters.mf import coefficient_problems
+    from tirecli.parameters.sets import resolve_tire
 
     assert coefficient_problems({"FZMIN": 100.0, "FZMAX": -5.0}, "mf") == [(("FZMAX",), "must be > 0, got -5")]
     assert coefficient_problems({"FZMIN": 100.0, "FZMAX": 50.0}, "mf")[0][0] == ("FZMIN", "FZMAX")

@@ -283,7 +283,7 @@ def test_png_bytes_keeps_every_pixel():
 
 
 def _sum_on_threads() -> int:
-    from tirecli.numerics.pool import thread_pool
+    from tirecli.parallel import thread_pool
 
     return thread_pool(2).submit(sum, [1, 2]).result(timeout=20)
 

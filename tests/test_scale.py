@@ -102,7 +102,7 @@ def test_runs_of_equal_values_formatted_once_keep_their_text(tmp_path, monkeypat
 
 
 def test_ordered_map_keeps_the_order_and_raises():
-    from tirecli.numerics.pool import ordered_map
+    from tirecli.parallel import ordered_map
 
     def slow_square(k):
         import time
@@ -145,7 +145,7 @@ def _sweep_inputs(text=SWEEP):
 
 
 def test_blockwise_sweep_equals_one_block():
-    from tirecli.studies.sweep import sweep_frame
+    from tirecli.studies.sweep_frames import sweep_frame
 
     variants, p, slips, speeds, thetas = _sweep_inputs()
     with np.errstate(all="ignore"):
@@ -166,7 +166,7 @@ def test_blockwise_sweep_equals_one_block():
 def test_sweep_frame_compact_columns_same_csv(tmp_path):
     """The sweep frame's text columns are categoricals and its columns constant over the sweep are
     stored once; its CSV is the previous writer's text of the same values (categories as texts)."""
-    from tirecli.studies.sweep import sweep_frame
+    from tirecli.studies.sweep_frames import sweep_frame
 
     one_theta = SWEEP.replace("theta: [0.5, 1.0]", "theta: [0.8]").replace(
         "    - {model: lumped, kappa0: Z}\n    - {model: lumped, kappa0: 1.5, label: k15}\n", "")
@@ -383,12 +383,12 @@ def test_drawn_rows_are_rows_of_the_timeseries(dt):
 
 
 def test_many_cases_same_files_with_or_without_the_helper_process(cli, tmp_path, monkeypatch):
-    from tirecli.numerics import pool
+    from tirecli import parallel
 
     cfg = tmp_path / "many.yaml"
     cfg.write_text(_many_cases(14))
     for helper in (True, False):
-        monkeypatch.setattr(pool, "helper_process_ok", lambda helper=helper: helper)
+        monkeypatch.setattr(parallel, "helper_process_ok", lambda helper=helper: helper)
         code, _, err = cli("--quiet", "simulate", cfg, "--out", tmp_path / str(helper))
         assert code == 0, err
     for name in ("data/timeseries.csv", "data/events.csv", "figures/transient-histories.png"):
@@ -420,7 +420,7 @@ def test_mf_eval_field_check_messages(cli, tmp_path):
 
 def test_mf_eval_results_unchanged(cli, tmp_path):
     """The output of ``mf eval`` against the model evaluated directly (17-digit text, exact)."""
-    from tirecli.app_mf import load_tire
+    from tirecli.app.mf import load_tire
     from tirecli.models.magic_formula import evaluate
 
     rng = np.random.default_rng(5)
@@ -527,9 +527,9 @@ def test_helper_process_ends_when_its_parent_is_killed(tmp_path):
 
 
 def _helper_ok_in_child(queue):
-    from tirecli.numerics import pool
+    from tirecli import parallel
 
-    queue.put(pool.helper_process_ok())
+    queue.put(parallel.helper_process_ok())
 
 
 def test_no_helper_process_inside_a_worker_process():
@@ -538,10 +538,10 @@ def test_no_helper_process_inside_a_worker_process():
     import multiprocessing
     import sys
 
-    from tirecli.numerics import pool
+    from tirecli import parallel
 
-    if sys.platform.startswith("linux") and pool.default_jobs() > 1 and pool.LIMIT != 1:
-        assert pool.helper_process_ok()
+    if sys.platform.startswith("linux") and parallel.default_jobs() > 1 and parallel.LIMIT != 1:
+        assert parallel.helper_process_ok()
     ctx = multiprocessing.get_context("fork")
     queue = ctx.Queue()
     proc = ctx.Process(target=_helper_ok_in_child, args=(queue,))  # not daemonic, like a report worker

@@ -25,6 +25,9 @@ stores or must take. Each study estimates its samples from the config before all
 above the budget (:data:`DEFAULT_MAX_SAMPLES`, raised with ``--max-samples N`` or the config key
 ``run.max_samples: N``) it refuses with the estimate, and whatever the budget it refuses a run whose
 estimated memory exceeds the memory available.
+
+A leaf module: it imports nothing from tirecli but :mod:`tirecli.errors`; the config's ``run:`` block
+(its schema, the budget a config asks for) is read by :mod:`tirecli.config.budget`.
 """
 from __future__ import annotations
 
@@ -131,28 +134,6 @@ def parse_max_samples(text: str | None, what: str = OPTION) -> int | None:
             or not 1 <= value <= MAX_MAX_SAMPLES:
         raise UsageError(f"{what} {str(text)[:40]!r}: expected a whole number of samples from 1 to {MAX_MAX_SAMPLES:.0e}")
     return int(value)
-
-
-def resolve(config, cli_value: int | None) -> int | None:
-    """The budget of a run: ``--max-samples`` if given, else the config's ``run.max_samples``, else None (default)."""
-    if cli_value is not None:
-        return cli_value
-    run = config.data.get(CONFIG_KEY[0]) if isinstance(config.data, dict) else None
-    if not isinstance(run, dict) or run.get(CONFIG_KEY[1]) is None:
-        return None
-    from tirecli.config.schema import check_document
-
-    checked = check_document(run, run_spec(), config.origins, (CONFIG_KEY[0],))
-    return checked[CONFIG_KEY[1]]
-
-
-def run_spec():
-    """Schema of a config's ``run:`` block (every study accepts it)."""
-    from tirecli.config.schema import Map, Num
-
-    return Map(fields={CONFIG_KEY[1]: Num(unit="samples", integer=True, ge=1, le=MAX_MAX_SAMPLES, default=None,
-                                          doc=f"sample budget of the run (default {DEFAULT_MAX_SAMPLES:,}; "
-                                              f"also {OPTION})")}, default=None)
 
 
 def count_text(n: float) -> str:
@@ -318,5 +299,5 @@ def text_problem(text: str, limit: int) -> str | None:
     return None
 
 
-__all__ = ["DEFAULT_MAX_SAMPLES", "Estimate", "budget", "max_samples", "parse_max_samples", "resolve",
+__all__ = ["DEFAULT_MAX_SAMPLES", "Estimate", "budget", "max_samples", "parse_max_samples",
            "refuse_over_budget", "over_budget_message", "steps", "available_memory", "csv_max_bytes", "text_problem"]

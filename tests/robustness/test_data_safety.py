@@ -116,7 +116,7 @@ def _points(path: Path, fz: float, n: int = 50_000) -> Path:
 def test_two_mf_evals_into_one_file_never_mix(tmp_path):
     """Both succeed, or one is refused naming the other: the result is one run's complete output,
     and a file of the user's named like a temporary file is not touched."""
-    from tirecli.app_mf import mf_eval
+    from tirecli.app.mf import mf_eval
 
     a, b = _points(tmp_path / "a.csv", 4000.0), _points(tmp_path / "b.csv", 3000.0)
     for pts, ref in ((a, "ra.csv"), (b, "rb.csv")):
@@ -222,7 +222,7 @@ def test_mf_eval_stopped_while_writing_keeps_the_previous_file(cli, monkeypatch,
 
 
 def test_a_failed_mf_eval_keeps_the_previous_file(tmp_path):
-    from tirecli.app_mf import mf_eval
+    from tirecli.app.mf import mf_eval
 
     mf_eval(TYRE, _points(tmp_path / "p.csv", 4000.0, n=10), tmp_path / "r.csv")
     before = (tmp_path / "r.csv").read_bytes()

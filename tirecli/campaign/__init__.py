@@ -4,7 +4,8 @@ A campaign runs a base study (any study config) at many points, each the base wi
 keys that ``--set`` accepts, and tabulates chosen facts of every run.
 
 * :mod:`tirecli.campaign.spec`: the campaign file, the design (grid and samples) and the points,
-  each checked before anything runs and identified by a hash of its resolved config.
+  each identified by a hash of its resolved config.
+* :mod:`tirecli.campaign.check`: every point checked before anything runs.
 * :mod:`tirecli.campaign.facts`: one point: run the study's pure functions (no figures, no files)
   and pick its facts by name.
 * :mod:`tirecli.campaign.execute`: batches of points on a local process pool or a Dask cluster.
@@ -12,5 +13,5 @@ keys that ``--set`` accepts, and tabulates chosen facts of every run.
   campaign-level checks.
 
 Files are written by :mod:`tirecli.io.campaign`; figures are :mod:`tirecli.figures.campaign`; the
-command is orchestrated by :mod:`tirecli.app_campaign`.
+command is orchestrated by :mod:`tirecli.app.campaign`.
 """

@@ -50,7 +50,7 @@ _PINNED = False
 
 def pin_threads() -> None:
     """Make this worker process use one thread per evaluation: tirecli's own thread pool
-    (:data:`tirecli.numerics.pool.LIMIT`), the BLAS already loaded (OpenBLAS, through its
+    (:data:`tirecli.parallel.LIMIT`), the BLAS already loaded (OpenBLAS, through its
     ``*_set_num_threads``; the environment variables of :data:`ONE_THREAD` for libraries loaded
     later). N workers on N cores then run N threads, not N times the core count."""
     global _PINNED
@@ -58,9 +58,9 @@ def pin_threads() -> None:
         return
     _PINNED = True
     os.environ.update(ONE_THREAD)
-    from tirecli.numerics import pool
+    from tirecli import parallel
 
-    pool.LIMIT = 1
+    parallel.LIMIT = 1
     try:
         import ctypes
 

@@ -260,5 +260,20 @@ def run_batch(payload, batch) -> list:
     return out
 
 
-__all__ = ["UnknownFact", "run_point", "run_batch", "study_facts", "flatten", "SIMULATE_FACTS", "OBSERVE_FACTS", "error_text",
+def column_units(campaign, study: str) -> dict:
+    """``{column: unit}`` of the results' varied inputs of ``campaign`` (a
+    :class:`~tirecli.campaign.spec.Campaign`; units from the base study's config schema and parameter
+    sets) and outputs (:func:`fact_unit`) whose unit is known."""
+    from tirecli.parameters.kinds import unit_at
+    from tirecli.studies.base import SPECS, load_study
+
+    load_study(study)
+    units = {}
+    if study in SPECS:
+        units.update({k: unit_at(SPECS[study], campaign.overrides[k][0]) for k in campaign.design.keys})
+    units.update({o: fact_unit(study, o) for o in campaign.outputs})
+    return {k: u for k, u in units.items() if u}
+
+
+__all__ = ["UnknownFact", "run_point", "run_batch", "column_units", "study_facts", "flatten", "SIMULATE_FACTS", "OBSERVE_FACTS", "error_text",
            "FACT_UNITS", "fact_unit"]

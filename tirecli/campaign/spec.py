@@ -20,8 +20,8 @@
     checks: [{output: stopping_distance, max: 40}]
 
 Every point is the base config with the fixed and varied overrides applied exactly as ``--set``
-would (:func:`tirecli.config.loader.set_value`); :func:`check_points` checks all of them before
-anything runs, and a problem names the campaign file's line of the key. A point is identified by
+would (:func:`tirecli.config.loader.set_value`); :func:`tirecli.campaign.check.check_points` checks all of them
+before anything runs, and a problem names the campaign file's line of the key. A point is identified by
 :func:`point_id`, a hash of its resolved config document and of the contents of the files the base
 reads (parameter sets, data files).
 """
@@ -425,103 +425,6 @@ def load_campaign(path: str | Path) -> Campaign:
                     timeout=doc["timeout"], document=data, origins=origins)
 
 
-#: A campaign with at least this many points is checked on ``jobs`` processes.
-PARALLEL_CHECK = 2000
-_CHECKING = None
-
-
-def check_points(campaign: Campaign, jobs: int = 1) -> tuple[list, str]:
-    """Check every point's config as its command would (:func:`tirecli.studies.base.check_study`)
-    without running it; returns ``(point ids, study name)``. All problems of all points are raised
-    together as one ConfigError (each distinct problem once, with how many points have it). Large
-    campaigns are checked on ``jobs`` processes (Linux)."""
-    global _CHECKING
-    import sys
-
-    design = campaign.design
-    n = len(design.points)
-    if jobs > 1 and n >= PARALLEL_CHECK and sys.platform.startswith("linux"):
-        import multiprocessing
-        from concurrent.futures import ProcessPoolExecutor
-
-        from tirecli.campaign.execute import _init_worker
-
-        bounds = np.linspace(0, n, 4 * jobs + 1).astype(int)
-        _CHECKING = campaign  # inherited by the forked workers
-        try:
-            with ProcessPoolExecutor(jobs, mp_context=multiprocessing.get_context("fork"), initializer=_init_worker,
-                                     initargs=(None,)) as pool:
-                parts = list(pool.map(_check_range_global, zip(bounds[:-1], bounds[1:])))
-        finally:
-            _CHECKING = None
-    else:
-        parts = [_check_range(campaign, 0, n)]
-    hashes, studies, seen, read = [], set(), {}, set()
-    for h, st, problems, files in parts:
-        hashes += h
-        studies |= st
-        read |= files
-        for k, pts in problems.items():
-            seen.setdefault(k, []).extend(pts)
-    if seen:
-        problems = []
-        for (file, line, key, msg), pts in list(seen.items())[:20]:
-            where = "" if len(pts) == n else f" (in {len(pts)} of {n} points, e.g. point {pts[0]}: " \
-                + ", ".join(f"{k} = {_short(v)}" for k, v in zip(design.keys, design.points[pts[0]])) + ")"
-            problems.append(Problem(file, line, key, msg + where))
-        raise ConfigError(problems)
-    if len(studies) > 1:
-        raise ConfigError(campaign.origins.problem(("base",), f"the points run different studies: {', '.join(sorted(studies))}"))
-    digest = inputs_digest(read, exclude={campaign.label})
-    return [point_id(h, digest) for h in hashes], studies.pop()
-
-
-def column_units(campaign: Campaign, study: str) -> dict:
-    """``{column: unit}`` of the results' varied inputs (from the base study's config schema and
-    parameter sets) and outputs (:func:`tirecli.campaign.facts.fact_unit`) whose unit is known."""
-    from tirecli.campaign.facts import fact_unit
-    from tirecli.config.schema import unit_at
-    from tirecli.studies.base import SPECS, load_study
-
-    load_study(study)
-    units = {}
-    if study in SPECS:
-        units.update({k: unit_at(SPECS[study], campaign.overrides[k][0]) for k in campaign.design.keys})
-    units.update({o: fact_unit(study, o) for o in campaign.outputs})
-    return {k: u for k, u in units.items() if u}
-
-
-def _check_range_global(bounds):
-    return _check_range(_CHECKING, int(bounds[0]), int(bounds[1]))
-
-
-def _check_range(campaign: Campaign, lo: int, hi: int):
-    """Check points ``lo`` to ``hi - 1``: ``(document hashes, studies, {problem: [points]}, files read)``."""
-    from tirecli.io.files import tracked_inputs
-    from tirecli.studies.base import check_study
-
-    hashes, studies, seen = [], set(), {}
-    with tracked_inputs() as read:
-        for i in range(lo, hi):
-            h = None
-            try:
-                cfg = point_config(campaign.base, campaign.fixed + campaign.point_overrides(campaign.design.points[i]))
-                studies.add(check_study(cfg))
-                h = document_hash(cfg)
-            except ConfigError as err:
-                for p in err.problems:
-                    seen.setdefault((p.file, p.line, p.key, p.message), []).append(i)
-            except UsageError as err:
-                seen.setdefault((campaign.label, None, "", str(err)), []).append(i)
-            hashes.append(h)
-    return hashes, studies, seen, set(read)
-
-
-def _short(v) -> str:
-    text = json.dumps(v) if not isinstance(v, float) else f"{v:.6g}"
-    return text if len(text) <= 40 else text[:37] + "..."
-
-
 def inputs_digest(paths, exclude=()) -> str:
     """SHA-256 over the contents of the files ``paths`` (sorted), except ``exclude``."""
     import os
@@ -545,5 +448,5 @@ def value_text(v) -> Any:
     return str(v)
 
 
-__all__ = ["Campaign", "Design", "Override", "load_campaign", "check_points", "point_config", "point_id",
-           "unit_sample", "ppf", "column_units", "DISTRIBUTIONS", "METHODS", "value_text", "format_key"]
+__all__ = ["Campaign", "Design", "Override", "load_campaign", "point_config", "point_id",
+           "unit_sample", "ppf", "DISTRIBUTIONS", "METHODS", "value_text", "format_key"]

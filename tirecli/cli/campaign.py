@@ -28,12 +28,12 @@ def campaign(
     the chosen outputs, status, error), summary.json (statistics, sensitivity, checks) and the
     analysis figures. A rerun skips the points already done (Ctrl-C keeps them).
     """
-    from tirecli.app_campaign import run_campaign
+    from tirecli.app.campaign import run_campaign
 
     if junit is not None:
         from tirecli.io import junit as jx
 
-        from tirecli.app_campaign import default_out
+        from tirecli.app.campaign import default_out
 
         # a bad --junit fails before the campaign runs
         jx.target(junit, inputs=[config], outputs=_campaign_outputs(out or default_out(config)))

@@ -133,14 +133,14 @@ def max_samples(text: Optional[str]) -> Optional[int]:
 
 def run(command: str, config: Path, set_: Optional[List[str]], out: Optional[str], junit: Optional[str],
         extra: list[str] | tuple = (), max_samples_: Optional[str] = None, data_format: str = "csv"):
-    """Run ``config`` as ``tirecli COMMAND`` (:func:`tirecli.app.run_config`; ``extra``: more overrides;
+    """Run ``config`` as ``tirecli COMMAND`` (:func:`tirecli.app.run.run_config`; ``extra``: more overrides;
     ``max_samples_``: the text of ``--max-samples``, checked before the run; ``data_format``: ``csv`` or
     ``parquet``, of the data files).
 
     ``--junit FILE`` is checked before the run (exit 2 for a directory, an empty name); a run that
     fails (exit 1) is recorded in FILE as an error, so a CI test report shows it.
     """
-    from tirecli.app import run_config
+    from tirecli.app.run import run_config
     from tirecli.errors import Interrupted, TirecliError, UsageError
     from tirecli.io import junit as jx
 

@@ -53,7 +53,8 @@ def eval_(
     After the forces come mfeval's further outputs where the tyre's coefficients give them
     (docs/models/magic_formula_tyre.md §17); the command names the ones left out and what they need.
     """
-    from tirecli.app_mf import describe_counts, describe_outside, mf_eval
+    from tirecli.app.mf import mf_eval
+    from tirecli.models.magic_formula.inputs import describe_counts, describe_outside
     from tirecli.errors import UsageError
 
     if convention not in ("mfeval", "teasit"):

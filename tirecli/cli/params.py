@@ -25,7 +25,7 @@ def list_() -> None:
 def show(name: str = typer.Argument(..., metavar="NAME", help="A built-in set name (tirecli params list) or a "
                                                              "parameter-set YAML file.", show_default=False)) -> None:
     """Show a parameter set: values, units, meaning, equation, source; assumed values flagged."""
-    from tirecli.app import show_parameter_set
+    from tirecli.app.run import show_parameter_set
 
     result_line(show_parameter_set(name))
 
@@ -36,6 +36,6 @@ def validate(file: Path = typer.Argument(..., metavar="FILE", help="A parameter-
              max_samples_: Optional[str] = MaxSamplesOpt) -> None:
     """Check a parameter-set file, a study config or a campaign (every point; its sample budget included); one
     line per problem, exit 2 if any."""
-    from tirecli.app import validate_file
+    from tirecli.app.run import validate_file
 
     result_line(validate_file(file, max_samples(max_samples_)))

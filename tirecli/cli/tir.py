@@ -17,7 +17,7 @@ FileArg = typer.Argument(..., metavar="TIRE", help="A .tir file, its YAML form, 
 @app.command("show")
 def show(file: str = FileArg) -> None:
     """Summary: tyre size, model version, nominal load and pressure, ranges, sections, reader warnings."""
-    from tirecli.app_mf import tir_show
+    from tirecli.app.mf import tir_show
 
     result_line(tir_show(file))
 
@@ -28,7 +28,7 @@ def check(file: str = FileArg) -> None:
 
     Exit code 1 when an error is found, 0 with warnings only.
     """
-    from tirecli.app_mf import tir_check
+    from tirecli.app.mf import tir_check
     from tirecli.errors import RunError
 
     text, n_err = tir_check(file)
@@ -44,6 +44,6 @@ def convert(
     out: Optional[str] = typer.Option(None, "--out", "-o", metavar="FILE", help="Output file [default: print to stdout]."),
 ) -> None:
     """Convert a .tir file to YAML (--to yaml) or back (--to tir), keeping coefficients, units and tables."""
-    from tirecli.app_mf import tir_convert
+    from tirecli.app.mf import tir_convert
 
     result_line(tir_convert(file, to, out))

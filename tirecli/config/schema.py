@@ -377,30 +377,6 @@ class Raw(Spec):
         return value
 
 
-def unit_at(spec: Spec, path: KeyPath) -> str | None:
-    """The unit of the number at key ``path`` under ``spec`` (``("tire", "sigma0")`` -> ``"1/m"``):
-    a :class:`Num`'s or :class:`Grid`'s, or a parameter's of a :class:`Raw` group with a ``kind``;
-    None when the key is no number or its unit is not one (forms with different units)."""
-    if isinstance(spec, (Num, Grid)):
-        return spec.unit if all(isinstance(p, int) for p in path) and len(path) <= isinstance(spec, Grid) else None
-    if isinstance(spec, Nullable):
-        return unit_at(spec.spec, path)
-    if isinstance(spec, ListOf):
-        return unit_at(spec.item, path[1:] if path and isinstance(path[0], int) else path)
-    if isinstance(spec, AnyOf):
-        units = {unit_at(o, path) for o in spec.options} - {None}
-        return units.pop() if len(units) == 1 else None
-    if isinstance(spec, Map) and path:
-        sub = spec.fields.get(path[0], spec.open_keys)
-        return None if sub is None else unit_at(sub, path[1:])
-    if isinstance(spec, Raw) and spec.kind and len(path) == 1:
-        from tirecli.parameters.kinds import KINDS
-
-        field_spec = KINDS[spec.kind].fields.get(path[0]) if spec.kind in KINDS else None
-        return None if field_spec is None else field_spec.unit
-    return None
-
-
 @dataclass
 class Grid(Spec):
     """A list of numbers, or ``{start, stop, num}`` (inclusive linear grid), with bounds and unit.

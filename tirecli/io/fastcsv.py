@@ -235,8 +235,8 @@ def _exact(v: float) -> bytes:
 
 def _blocks(cols, threads, prefix=None):
     """The texts of the rows of ``cols`` (see :func:`_rows_block`), block by block in order, formatted
-    on the shared thread pool (:func:`tirecli.numerics.pool.ordered_map`)."""
-    from tirecli.numerics.pool import ordered_map
+    on the shared thread pool (:func:`tirecli.parallel.ordered_map`)."""
+    from tirecli.parallel import ordered_map
 
     n = cols[0].size if cols else 0
 
@@ -554,10 +554,10 @@ def _csv_block(columns, lo: int, hi: int, cells) -> np.ndarray:
 def csv_chunks(columns, n: int, rows: int, cells):
     """The CSV text of ``n`` rows of ``columns`` (arrays), ``rows`` rows at a time (in order, each a
     ``bytes`` or a uint8 array), formatted on the shared thread pool
-    (:func:`tirecli.numerics.pool.ordered_map`); ``cells(values)`` gives the exact texts of an array
+    (:func:`tirecli.parallel.ordered_map`); ``cells(values)`` gives the exact texts of an array
     of integers or objects (quoting them as needed). A text holding a zero byte cannot be laid out in
     a byte matrix and is formatted by ``cells`` alone."""
-    from tirecli.numerics.pool import ordered_map
+    from tirecli.parallel import ordered_map
 
     def block(lo):
         hi = min(lo + rows, n)

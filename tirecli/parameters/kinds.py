@@ -9,7 +9,8 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Callable
 
-from tirecli.config.schema import MISSING, Context, Map, Num
+from tirecli.config.schema import MISSING, AnyOf, Context, Grid, ListOf, Map, Nullable, Num, Raw, Spec
+from tirecli.io.yamlio import KeyPath
 
 
 @dataclass(frozen=True)
@@ -204,3 +205,26 @@ MF_SIMPLE = register_kind(Kind(
     fields=_mf_simple_fields(),
     model="tirecli.models.magic_formula.simple:SimpleMF",
 ))
+
+
+def unit_at(spec: Spec, path: KeyPath) -> str | None:
+    """The unit of the number at key ``path`` under ``spec`` (``("tire", "sigma0")`` -> ``"1/m"``):
+    a :class:`~tirecli.config.schema.Num`'s or ``Grid``'s, or a parameter's of a ``Raw`` group with a
+    ``kind`` (its unit in :data:`KINDS`);
+    None when the key is no number or its unit is not one (forms with different units)."""
+    if isinstance(spec, (Num, Grid)):
+        return spec.unit if all(isinstance(p, int) for p in path) and len(path) <= isinstance(spec, Grid) else None
+    if isinstance(spec, Nullable):
+        return unit_at(spec.spec, path)
+    if isinstance(spec, ListOf):
+        return unit_at(spec.item, path[1:] if path and isinstance(path[0], int) else path)
+    if isinstance(spec, AnyOf):
+        units = {unit_at(o, path) for o in spec.options} - {None}
+        return units.pop() if len(units) == 1 else None
+    if isinstance(spec, Map) and path:
+        sub = spec.fields.get(path[0], spec.open_keys)
+        return None if sub is None else unit_at(sub, path[1:])
+    if isinstance(spec, Raw) and spec.kind and len(path) == 1:
+        field_spec = KINDS[spec.kind].fields.get(path[0]) if spec.kind in KINDS else None
+        return None if field_spec is None else field_spec.unit
+    return None

@@ -1,4 +1,4 @@
-"""Magic Formula parameter sets: from ``.tir`` files (or their YAML form) to checked, SI tyres.
+"""Magic Formula tyre data: from ``.tir`` files (or their YAML form) to checked, SI tyres.
 
 :func:`tire_data` turns a :class:`~tirecli.io.tir.TirDocument` into the evaluator's flat view
 (docs/models/magic_formula_tyre.md §12.5 item 3) and checks it:
@@ -18,6 +18,9 @@
 
 Every problem names the file and line. Built-in tyres are ``.tir`` package data listed in
 :data:`BUILTIN_TIRES` with their origin and licence.
+
+Their parameter sets, and a config's tyre group (:func:`~tirecli.parameters.sets.resolve_tire`), are made
+by :mod:`tirecli.parameters.sets`.
 """
 from __future__ import annotations
 
@@ -95,6 +98,11 @@ TYRESIDES = ("LEFT", "RIGHT", "L", "R")
 
 def _fmt(v) -> str:
     return f"{v:g}" if isinstance(v, (int, float)) and not isinstance(v, bool) else repr(v)[:40]
+
+
+def unknown_fittyp(value) -> str:
+    """The problem text for a ``FITTYP`` value that names no version (:data:`FITTYP_VERSIONS`)."""
+    return f"unknown Magic Formula version {_fmt(value)} (expected {FITTYP_ALLOWED})"
 
 
 def fittyp_version(value) -> str | None:
@@ -226,8 +234,7 @@ def version_from_keys(flat: dict, problems: list, file: str) -> tuple[str | None
         version = fittyp_version(flat["FITTYP"])
         if version is not None:
             return version, f"FITTYP = {int(flat['FITTYP'])}", problems
-        problems.append(Problem(file, None, "FITTYP", f"unknown Magic Formula version {_fmt(flat['FITTYP'])} "
-                                                      f"(expected {FITTYP_ALLOWED})"))
+        problems.append(Problem(file, None, "FITTYP", unknown_fittyp(flat["FITTYP"])))
         return None, "", problems
     has = set(flat)
     if {"A0", "B0", "C0"} <= has and "PCX1" not in has:
@@ -451,39 +458,7 @@ def load_builtin_tire_data(name: str) -> TireData:
     return tire_data(tirio.parse_tir(res.read_bytes(), f"<built-in {name}>"))
 
 
-# --------------------------------------------------------------------------- parameter sets
-
-
-def tire_set(td: TireData, name: str, title: str = "", citation: str = ""):
-    """A :class:`~tirecli.parameters.sets.ParameterSet` of kind ``magic_formula`` for checked data.
-
-    Values are the complete SI coefficients; defaulted model coefficients are flagged as
-    *assumed*; ``extra`` records the version, side, units, file and the reader's warnings.
-    """
-    from tirecli.parameters.sets import ParameterSet
-
-    assumed = {k: f"not in the file; tirecli's default {td.values[k]:g} (docs/models/magic_formula_tyre.md §12.5 item 9)"
-               for k in td.defaulted}
-    extra = {
-        "version": td.version, "version_source": td.version_source, "side": td.side,
-        "file": td.doc.file, "units": dict(td.units),
-        "property_file_format": td.text.get("PROPERTY_FILE_FORMAT", ""),
-        "warnings": [str(w) for w in td.warnings],
-    }
-    return ParameterSet(name=name, kind="magic_formula", values=dict(td.values), source=dict(td.source),
-                        assumed=assumed, title=title or f"Magic Formula tyre {name} ({td.version})",
-                        citation=citation or f"read from {td.doc.file}", extra=extra)
-
-
-def builtin_tire_set(name: str):
-    """The parameter set of a built-in tyre, with its title and citation (:data:`BUILTIN_TIRES`)."""
-    meta = BUILTIN_TIRES.get(name, {})
-    return tire_set(load_builtin_tire_data(name), name, meta.get("title", ""), meta.get("citation", ""))
-
-
-def tire_set_from_file(path: str | Path):
-    """The parameter set of a ``.tir`` file (or its YAML form)."""
-    return tire_set(read_tire_data(path), Path(path).stem)
+# --------------------------------------------------------------------------- tyres from coefficients
 
 
 def tire_from_values(**values) -> MFTire:
@@ -505,61 +480,3 @@ def tire_from_set(ps) -> MFTire:
         return tire_from_values(**ps.values)
     coef, _, _ = complete_coefficients(ps.values, version, turn_slip=False)
     return MFTire(coef, version, ex.get("side", "unknown"), ps.name)
-
-
-def resolve_tire(raw, origins, path: tuple, base_dir: Path | None):
-    """Resolve a config's tyre group: a built-in tyre, a ``.tir`` path (relative to the config),
-    its YAML form, or inline coefficients, with overrides -- exactly like the LuGre parameter
-    groups (:func:`tirecli.parameters.sets.resolve_group`).
-
-    Returns ``(ParameterSet, MFTire)``; ConfigError names the config's file, key and line.
-    """
-    from tirecli.parameters.sets import resolve_group
-
-    ps = resolve_group(raw, origins, path, "magic_formula", base_dir)
-    version = (ps.extra or {}).get("version")
-    problems = []
-    if version is None:  # inline coefficients
-        version, how, vp = version_from_keys(ps.values, [], origins.of(path)[0])
-        if version is None:
-            raise ConfigError([origins.problem(path, p.message) for p in vp])
-        coef, missing, defaulted = complete_coefficients(ps.values, version, turn_slip=False)
-        problems += [origins.problem(path, f"missing required coefficient {k!r} ({CATALOGUE[k].meaning})")
-                     for k in missing]
-        ps.assumed = {k: f"not given; tirecli's default {coef[k]:g} (docs/models/magic_formula_tyre.md §12.5 item 9)"
-                      for k in defaulted}
-        ps.values = coef
-        ps.extra = {"version": version, "version_source": how, "side": "unknown", "file": "inline"}
-    over = [k for k in raw if k != "set"] if isinstance(raw, dict) and "set" in raw else []
-    if "FITTYP" in over:  # a changed FITTYP changes the equations (or is refused), never ignored
-        new = fittyp_version(ps.values.get("FITTYP"))
-        if new is None:
-            raise ConfigError(origins.problem(path + ("FITTYP",), f"unknown Magic Formula version "
-                                                                  f"{_fmt(ps.values.get('FITTYP'))} (expected {FITTYP_ALLOWED})"))
-        if new != version:
-            if family(version) != family(new):
-                raise ConfigError(origins.problem(path + ("FITTYP",), f"the tyre {ps.name} is a {version} tyre: "
-                                                                      "its coefficients cannot be read as MF "
-                                                                      f"{new} (FITTYP {int(ps.values['FITTYP'])})"))
-            coef, missing, defaulted = complete_coefficients(ps.values, new, turn_slip=False)
-            if missing:
-                raise ConfigError(origins.problem(path + ("FITTYP",), f"MF {new} needs {', '.join(missing)}, "
-                                                                      f"which the tyre {ps.name} does not give"))
-            ps.values = coef
-            ps.extra = {**(ps.extra or {}), "version": new,
-                        "version_source": f"FITTYP = {int(ps.values['FITTYP'])} (override; the file says {version})"}
-            version = new
-    inert = [k for k in over if k in CATALOGUE and k not in used_keys(version)]
-    for k in inert:
-        problems.append(origins.problem(path + (k,), f"not read by tirecli's {version} Magic Formula evaluator "
-                                                     "(a tyre file key tirecli keeps but does not use): overriding "
-                                                     "it would change nothing"))
-    # the rules of a .tir file hold for inline coefficients and overrides too (never accepted silently)
-    given = {str(k).upper(): k for k in raw} if isinstance(raw, dict) else {}
-    for keys, msg in coefficient_problems(ps.values, family(version)):
-        key = next((k for k in keys if k in given), None)
-        problems.append(origins.problem(path + (given[key],), msg) if key is not None else
-                        origins.problem(path, f"{keys[0]}: {msg}"))
-    if problems:
-        raise ConfigError(problems)
-    return ps, tire_from_set(ps)

@@ -18,6 +18,10 @@ a set and may override values::
 
 ``set`` is a built-in name or a path to a set file (relative to the config). An override
 replaces the value and clears its *assumed* flag.
+
+Magic Formula tyres (built-in ``.tir`` files, ``.tir`` paths, their YAML form) are sets of kind
+``magic_formula`` made from the tyre data of :mod:`tirecli.parameters.mf` (:func:`tire_set`); a
+config's tyre group is resolved by :func:`resolve_tire`.
 """
 from __future__ import annotations
 
@@ -235,8 +239,6 @@ def _parsed_builtin(name: str) -> ParameterSet:
     change while it runs; a campaign resolves them for every point)."""
     res = builtin_path(name)
     if res.name.endswith(".tir"):
-        from tirecli.parameters.mf import builtin_tire_set
-
         return builtin_tire_set(name)
     data, origins = parse_yaml(res.read_text(encoding="utf-8"), file=f"<built-in {name}>")
     return parse_set(data, origins, label=name)
@@ -247,12 +249,10 @@ def load_set_file(path: str | Path) -> ParameterSet:
     from tirecli.io.tir import from_yaml_data, is_yaml_form
 
     if str(path).lower().endswith(".tir"):
-        from tirecli.parameters.mf import tire_set_from_file
-
         return tire_set_from_file(path)
     data, origins = load_yaml(path)
     if is_yaml_form(data):
-        from tirecli.parameters.mf import tire_data, tire_set
+        from tirecli.parameters.mf import tire_data
 
         return tire_set(tire_data(from_yaml_data(data, origins, str(path))), name=Path(path).stem)
     return parse_set(data, origins, label=str(path))
@@ -374,3 +374,102 @@ def _prefixed(merged: Origins, origins: Origins, path: tuple) -> Origins:
     for p, v in merged.where.items():
         out.where[tuple(path) + tuple(p)] = v
     return out
+
+
+# --------------------------------------------------------------------------- Magic Formula tyres
+
+
+def tire_set(td, name: str, title: str = "", citation: str = "") -> ParameterSet:
+    """The :class:`ParameterSet` of kind ``magic_formula`` of checked tyre data
+    (:class:`~tirecli.parameters.mf.TireData`).
+
+    Values are the complete SI coefficients; defaulted model coefficients are flagged as
+    *assumed*; ``extra`` records the version, side, units, file and the reader's warnings.
+    """
+    assumed = {k: f"not in the file; tirecli's default {td.values[k]:g} (docs/models/magic_formula_tyre.md §12.5 item 9)"
+               for k in td.defaulted}
+    extra = {
+        "version": td.version, "version_source": td.version_source, "side": td.side,
+        "file": td.doc.file, "units": dict(td.units),
+        "property_file_format": td.text.get("PROPERTY_FILE_FORMAT", ""),
+        "warnings": [str(w) for w in td.warnings],
+    }
+    return ParameterSet(name=name, kind="magic_formula", values=dict(td.values), source=dict(td.source),
+                        assumed=assumed, title=title or f"Magic Formula tyre {name} ({td.version})",
+                        citation=citation or f"read from {td.doc.file}", extra=extra)
+
+
+def builtin_tire_set(name: str) -> ParameterSet:
+    """The parameter set of a built-in tyre, with its title and citation
+    (:data:`~tirecli.parameters.mf.BUILTIN_TIRES`)."""
+    from tirecli.parameters.mf import BUILTIN_TIRES, load_builtin_tire_data
+
+    meta = BUILTIN_TIRES.get(name, {})
+    return tire_set(load_builtin_tire_data(name), name, meta.get("title", ""), meta.get("citation", ""))
+
+
+def tire_set_from_file(path: str | Path) -> ParameterSet:
+    """The parameter set of a ``.tir`` file (or its YAML form)."""
+    from tirecli.parameters.mf import read_tire_data
+
+    return tire_set(read_tire_data(path), Path(path).stem)
+
+
+def resolve_tire(raw, origins, path: tuple, base_dir: Path | None):
+    """Resolve a config's tyre group: a built-in tyre, a ``.tir`` path (relative to the config),
+    its YAML form, or inline coefficients, with overrides -- exactly like the LuGre parameter
+    groups (:func:`resolve_group`).
+
+    Returns ``(ParameterSet, MFTire)``; ConfigError names the config's file, key and line.
+    """
+    from tirecli.models.magic_formula.tire import complete_coefficients, family
+    from tirecli.parameters.mf import (coefficient_problems, fittyp_version, tire_from_set, unknown_fittyp, used_keys,
+                                       version_from_keys)
+    from tirecli.parameters.mf_catalogue import CATALOGUE
+
+    ps = resolve_group(raw, origins, path, "magic_formula", base_dir)
+    version = (ps.extra or {}).get("version")
+    problems = []
+    if version is None:  # inline coefficients
+        version, how, vp = version_from_keys(ps.values, [], origins.of(path)[0])
+        if version is None:
+            raise ConfigError([origins.problem(path, p.message) for p in vp])
+        coef, missing, defaulted = complete_coefficients(ps.values, version, turn_slip=False)
+        problems += [origins.problem(path, f"missing required coefficient {k!r} ({CATALOGUE[k].meaning})")
+                     for k in missing]
+        ps.assumed = {k: f"not given; tirecli's default {coef[k]:g} (docs/models/magic_formula_tyre.md §12.5 item 9)"
+                      for k in defaulted}
+        ps.values = coef
+        ps.extra = {"version": version, "version_source": how, "side": "unknown", "file": "inline"}
+    over = [k for k in raw if k != "set"] if isinstance(raw, dict) and "set" in raw else []
+    if "FITTYP" in over:  # a changed FITTYP changes the equations (or is refused), never ignored
+        new = fittyp_version(ps.values.get("FITTYP"))
+        if new is None:
+            raise ConfigError(origins.problem(path + ("FITTYP",), unknown_fittyp(ps.values.get("FITTYP"))))
+        if new != version:
+            if family(version) != family(new):
+                raise ConfigError(origins.problem(path + ("FITTYP",), f"the tyre {ps.name} is a {version} tyre: "
+                                                                      "its coefficients cannot be read as MF "
+                                                                      f"{new} (FITTYP {int(ps.values['FITTYP'])})"))
+            coef, missing, defaulted = complete_coefficients(ps.values, new, turn_slip=False)
+            if missing:
+                raise ConfigError(origins.problem(path + ("FITTYP",), f"MF {new} needs {', '.join(missing)}, "
+                                                                      f"which the tyre {ps.name} does not give"))
+            ps.values = coef
+            ps.extra = {**(ps.extra or {}), "version": new,
+                        "version_source": f"FITTYP = {int(ps.values['FITTYP'])} (override; the file says {version})"}
+            version = new
+    inert = [k for k in over if k in CATALOGUE and k not in used_keys(version)]
+    for k in inert:
+        problems.append(origins.problem(path + (k,), f"not read by tirecli's {version} Magic Formula evaluator "
+                                                     "(a tyre file key tirecli keeps but does not use): overriding "
+                                                     "it would change nothing"))
+    # the rules of a .tir file hold for inline coefficients and overrides too (never accepted silently)
+    given = {str(k).upper(): k for k in raw} if isinstance(raw, dict) else {}
+    for keys, msg in coefficient_problems(ps.values, family(version)):
+        key = next((k for k in keys if k in given), None)
+        problems.append(origins.problem(path + (given[key],), msg) if key is not None else
+                        origins.problem(path, f"{keys[0]}: {msg}"))
+    if problems:
+        raise ConfigError(problems)
+    return ps, tire_from_set(ps)

@@ -23,7 +23,7 @@ from tirecli.io import output
 from tirecli.io.atomic import out_path, staged_dir
 from tirecli.io.cache import read_bytes, read_timings, write_timings
 from tirecli.io.files import check_output_dir
-from tirecli.numerics.pool import default_jobs
+from tirecli.parallel import default_jobs
 from tirecli.report.cards import card_files
 from tirecli.report import work
 from tirecli.report.docs import card_doc, link_sources, write_docs

@@ -25,7 +25,7 @@ def _design_text(design: dict) -> str:
 def campaign_sections(paths, root: Path, env, progress=None) -> tuple[str, list]:
     """Run the campaigns ``paths`` and render their sections: ``(html, check records)``; their
     results tables are copied under ``root/campaigns/``."""
-    from tirecli.app_campaign import default_out, run_campaign
+    from tirecli.app.campaign import default_out, run_campaign
     from tirecli.io.output import write_text
 
     html, checks = [], []

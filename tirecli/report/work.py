@@ -24,6 +24,7 @@ import time
 import traceback
 from pathlib import Path
 
+from tirecli.app.results import assumed_list, scenario_assumptions
 from tirecli.io import output
 
 #: Formats the report can save its figures in (PNG is always one: the page embeds it).
@@ -158,7 +159,7 @@ def run_unit(task: dict, note=None) -> dict:
         output.write_csv(root / "data" / name / f"{dname}.csv", frame, comments)
     output.write_json(root / "studies" / f"{name}.json", {
         "study": res.study, "config": res.config.label, "sha256": res.config.digest(),
-        "parameters": res.parameter_records(), "assumed": output.assumed_list(res),
+        "parameters": res.parameter_records(), "assumed": assumed_list(res),
         "citations": res.citations(), "meta": res.meta, "synthetic": res.synthetic,
         "wall_time_s": round(wall, 4),
     })
@@ -190,7 +191,7 @@ def _draw_card(f, res, root: Path, formats) -> dict:
     from tirecli.studies.checks import checks_for
 
     card = {"id": f.id, "caption": f.caption_for(res), "synthetic": res.synthetic,
-            "assumed": output.scenario_assumptions(res),
+            "assumed": scenario_assumptions(res),
             "parameters": [{"group": g, "set": ps.name, "citation": ps.citation, "rows": ps.rows()}
                            for g, ps in res.parameter_sets.items()],
             "checks": [], "files": [], "table": None, "error": None}
@@ -225,7 +226,7 @@ _QUEUE = None
 def _init_worker(q) -> None:
     """A pool worker: Ctrl-C is the parent's to handle (it ends the pool), SIGTERM ends the worker.
 
-    A forked worker has none of the parent's threads: :mod:`tirecli.numerics.pool` drops the parent's
+    A forked worker has none of the parent's threads: :mod:`tirecli.parallel` drops the parent's
     thread pool in every forked child (``os.register_at_fork``)."""
     global _QUEUE
     _QUEUE = q

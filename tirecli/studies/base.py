@@ -12,10 +12,11 @@ from dataclasses import dataclass, field
 from importlib import resources
 from typing import Any, Callable
 
+from tirecli.config.budget import run_spec
 from tirecli.config.loader import Config, config_from_text
 from tirecli.config.schema import Context, Str
 from tirecli.errors import ConfigError, token
-from tirecli.limits import MAX_TITLE_CHARS, run_spec
+from tirecli.limits import MAX_TITLE_CHARS
 
 from tirecli.parameters.sets import ParameterSet
 
@@ -264,20 +265,29 @@ def _problem(msg: str):
     return Problem("<built-in configs>", None, "", msg)
 
 
+#: Looks up a figure id a config names (:class:`FigureId`): returns for a registered figure, raises
+#: UsageError ("unknown figure 'x'; did you mean 'y'? (see ...)") for any other. The figure registry is a
+#: layer above the studies, so the application layer, which draws the figures, installs its lookup
+#: (:func:`tirecli.figures.registry.get`) before it checks a config; while none is installed, figure
+#: ids are not looked up here (only when the figures are drawn).
+FIGURE_LOOKUP: Callable[[str], Any] | None = None
+
+
 @dataclass
 class FigureId(Str):
-    """A registered figure id; an unknown one is a config problem at its key and line, with a
-    did-you-mean, found before the study runs (also by ``tirecli params validate``)."""
+    """A registered figure id (:data:`FIGURE_LOOKUP`); an unknown one is a config problem at its key and
+    line, with a did-you-mean, found before the study runs (also by ``tirecli params validate``)."""
 
     def check(self, value, path, ctx):
         if not isinstance(value, str):
             return super().check(value, path, ctx)
         from tirecli.config.schema import MISSING
         from tirecli.errors import UsageError
-        from tirecli.figures import registry
 
+        if FIGURE_LOOKUP is None:
+            return value
         try:
-            registry.get(value)
+            FIGURE_LOOKUP(value)
         except UsageError as err:  # "unknown figure 'x'; did you mean 'y'? (see ...)"
             ctx.fail(path, str(err))
             return MISSING

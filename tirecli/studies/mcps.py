@@ -155,8 +155,7 @@ _MF_MAP = Map(fields={
 def mf_side(config: Config) -> MFSide:
     """Resolve the config's ``mf:`` (default :data:`DEFAULT_MF`)."""
     from tirecli.config.schema import check_document
-    from tirecli.parameters.mf import resolve_tire
-    from tirecli.parameters.sets import resolve_group
+    from tirecli.parameters.sets import resolve_group, resolve_tire
 
     raw = config.data.get("mf", DEFAULT_MF)
     path = ("mf",)
@@ -421,7 +420,7 @@ def run_stationary(config: Config, progress=None) -> StudyResult:
         default_figs.append("mcps-calibration")
     if mf.ps is not None:
         sets["mf"] = mf.ps
-    from tirecli.app_mf import describe_outside
+    from tirecli.models.magic_formula.inputs import describe_outside
 
     flags = [f"{mf.name}: {line}" for line in describe_outside(mf.outside)]
     lines = [f"stiffnesses at {fz}: D_xsigma {v['D_xsigma']:.6g} N, D_yalpha {v['D_yalpha']:.6g} N/rad "

@@ -61,7 +61,7 @@ SPEC = Map(fields=common_fields() | {
 def plan(config: Config):
     """Check an mf-eval config completely: ``(checked, tyre set, MFTire, {column: array})``."""
     from tirecli.errors import ConfigError
-    from tirecli.parameters.mf import resolve_tire
+    from tirecli.parameters.sets import resolve_tire
 
     checked, tire = collect(lambda: config.checked(SPEC),
                             lambda: resolve_tire(config.data.get("tire"), config.origins, ("tire",), config.base_dir))

@@ -91,7 +91,7 @@ SPEC = Map(fields=common_fields() | {
 
 def plan(config: Config):
     """Check a golden-data config: ``(checked document, (ParameterSet, MFTire))``."""
-    from tirecli.parameters.mf import resolve_tire
+    from tirecli.parameters.sets import resolve_tire
 
     checked, tire = collect(lambda: config.checked(SPEC),
                             lambda: resolve_tire(config.data.get("tire"), config.origins, ("tire",), config.base_dir))

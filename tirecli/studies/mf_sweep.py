@@ -111,8 +111,7 @@ def uses_mf_tire(config: Config) -> bool:
 
 def plan(config: Config):
     """Check an MF sweep config completely: ``(checked, tire set, MFTire, LuGre set or None)``."""
-    from tirecli.parameters.mf import resolve_tire
-    from tirecli.parameters.sets import resolve_group
+    from tirecli.parameters.sets import resolve_group, resolve_tire
 
     checked, tire = collect(lambda: config.checked(SPEC),
                             lambda: resolve_tire(config.data.get("tire"), config.origins, ("tire",), config.base_dir))
@@ -161,8 +160,8 @@ class NonFinite(Exception):
 def _block(t, family, kappa, alpha, gamma, fz, vx, p, kw, key=("sweep",)) -> pd.DataFrame:
     import pandas as pd
 
-    from tirecli.app_mf import nonfinite_point
     from tirecli.models.magic_formula import evaluate
+    from tirecli.models.magic_formula.engine import nonfinite_point
 
     k, a, g, f = np.broadcast_arrays(*(np.asarray(x, dtype=float) for x in (kappa, alpha, gamma, fz)))
     r = evaluate(t, k, a, g, f, vx, p, **{n: v for n, v in kw.items() if n != "outside"})
@@ -229,7 +228,7 @@ def mf_sweep_frame(t, sw: dict, convention="mfeval", side=None, limits=True, com
 def lugre_frame(lugre_set, cmp: dict) -> pd.DataFrame:
     """The LuGre steady state (distributed, uniform load) at the held speed, for the comparison."""
     from tirecli.models.variants import FrictionVariant
-    from tirecli.studies.sweep import sweep_frame
+    from tirecli.studies.sweep_frames import sweep_frame
 
     p = lugre_set.model()
     df = sweep_frame([FrictionVariant(model="distributed")], p, cmp["slip"], [cmp["speed"]], [1.0])
@@ -238,7 +237,8 @@ def lugre_frame(lugre_set, cmp: dict) -> pd.DataFrame:
 
 def run_mf_sweep(config: Config, progress=None) -> StudyResult:
     """Run a Magic Formula sweep config (see module doc)."""
-    from tirecli.app_mf import VERSION_NAMES, describe_counts
+    from tirecli.models.magic_formula.inputs import describe_counts
+    from tirecli.models.magic_formula.tire import VERSION_NAMES
 
     checked, ps, t, lugre = plan(config)
     sw = checked["sweep"]
@@ -253,7 +253,7 @@ def run_mf_sweep(config: Config, progress=None) -> StudyResult:
         if at_fault:
             raise ConfigError(config.origins.problem(key, f"{text}; nothing was written")) from None
         raise RunError(f"{config.label}: {text}; nothing was written") from None
-    from tirecli.app_mf import describe_outside
+    from tirecli.models.magic_formula.inputs import describe_outside
 
     flags = describe_outside(outside)
     data = {"sweep": df}

@@ -41,12 +41,13 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from tirecli.config.loader import Config
+from tirecli.config.profiles import profile_from_checked, profile_problems, profile_spec
 from tirecli.config.schema import ListOf, Map, Nullable, Num, Raw, Str
 from tirecli.conventions import (THETA_CONVENTIONS, slip_from_speeds, theta_fm_from_obs, theta_obs_from_fm,
                                  to_theta_fm)
 from tirecli.errors import ConfigError
 from tirecli.limits import MAX_TITLE_CHARS
-from tirecli.models.profiles import Table, Transitions, profile_from_checked, profile_problems, profile_spec
+from tirecli.models.profiles import Table, Transitions
 from tirecli.observers import lugre_observer as lo
 from tirecli.observers import metrics as om
 from tirecli.observers.measurement import METHODS, Sensor

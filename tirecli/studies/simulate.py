@@ -45,10 +45,11 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from tirecli.config.loader import Config
+from tirecli.config.profiles import profile_from_checked, profile_problems, profile_spec
 from tirecli.config.schema import AnyOf, ListOf, Map, Nullable, Num, Raw, Str, collect
 from tirecli.conventions import THETA_CONVENTIONS, omega_from_slip, slip_from_speeds, slip_of
 from tirecli.errors import ConfigError, DataError, RunError, token
-from tirecli.models.profiles import Constant, Table, profile_from_checked, profile_problems, profile_spec, run_times
+from tirecli.models.profiles import Constant, Table, run_times
 from tirecli.models.variants import MODELS
 from tirecli.numerics import runs
 from tirecli.numerics.ros2 import StepUnderflow
@@ -675,7 +676,7 @@ def _timeseries(trs: dict, cases: list, dt: float, r: float, gain: float):
         frame = pd.concat([_frame(trs[c.label], c, dt, r, gain) for c in cases], ignore_index=True)
         return frame, None, events()
     from tirecli.io.output import SpooledFrame
-    from tirecli.numerics.pool import helper_process_ok
+    from tirecli.parallel import helper_process_ok
 
     drawn = {}
     helper = helper_process_ok()

@@ -20,7 +20,7 @@ from tirecli.models.magic_formula.axes import mirror_outputs, needs_mirror
 from tirecli.models.magic_formula.mf61 import evaluate_kernel
 from tirecli.models.magic_formula.pac89 import evaluate_pac89
 from tirecli.models.magic_formula.tire import Convention, MFTire, get_convention
-from tirecli.numerics.pool import default_threads, thread_pool
+from tirecli.parallel import default_threads, thread_pool
 
 #: Outputs of :func:`evaluate`, in the order of ``tirecli mf eval``'s CSV.
 OUTPUTS = ("fx", "fy", "mz", "mx", "my")
@@ -199,3 +199,58 @@ def evaluate(tire: MFTire, kappa=0.0, alpha=0.0, gamma=0.0, fz=None, vx=None, p=
         mirror_outputs(res)
     outside = _inputs.outside_ranges(tire, vals, limits, n)
     return MFResult(**res, counts=counts, mirrored=mirrored, convention=cv.name, outside=outside)
+
+
+def nonfinite_point(tire, res, inputs: dict, limits: bool):
+    """The first point where an output of ``res`` (an :class:`MFResult` of ``tire``) is not finite: ``(index, text, input_at_fault)``, or None.
+
+    ``inputs`` maps ``kappa, alpha, gamma, fz, vx, p`` to arrays (or scalars, or None) broadcast like
+    the outputs. The text names the outputs, the point's inputs and, when an input lies outside the
+    tyre's ranges (or a load is far above FNOMIN), that input: then the input is at fault (exit 2),
+    else the tyre's coefficients are (a run failure).
+    """
+    outs = [k for k in OUTPUTS if getattr(res, k) is not None]
+    shape = np.shape(getattr(res, outs[0])) if outs else ()
+    bad = np.zeros(shape, dtype=bool)
+    for k in outs:
+        bad |= ~np.isfinite(getattr(res, k))
+    if not bad.any():
+        return None
+    i = int(np.flatnonzero(bad.ravel())[0])
+
+    def at(x):
+        if x is None:
+            return None
+        a = np.broadcast_to(np.asarray(x, dtype=float), shape).ravel()
+        return float(a[i])
+
+    vals = {k: at(v) for k, v in inputs.items()}
+    which = [k for k in outs if not np.isfinite(np.asarray(getattr(res, k)).ravel()[i])]
+    units = {"kappa": "", "alpha": " rad", "gamma": " rad", "fz": " N", "vx": " m/s", "p": " Pa"}
+    point = ", ".join(f"{k} = {v:g}{units[k]}" for k, v in vals.items() if v is not None)
+    why = []
+    names = {"fz": ("load", "FZMIN", "FZMAX"), "kappa": ("slip", "KPUMIN", "KPUMAX"),
+             "alpha": ("slip angle", "ALPMIN", "ALPMAX"), "gamma": ("inclination", "CAMMIN", "CAMMAX"),
+             "p": ("pressure", "PRESMIN", "PRESMAX")}
+    for k, (what, lo_key, hi_key) in names.items():
+        v = vals.get(k)
+        if v is None or (k == "p" and not tire.nominal_pressure):
+            continue
+        lo, hi = tire.coef.get(lo_key), tire.coef.get(hi_key)
+        if hi is not None and v > hi:
+            why.append(f"the {what} is above {hi_key} = {hi:g}{units[k]}")
+        elif lo is not None and v < lo:
+            why.append(f"the {what} is below {lo_key} = {lo:g}{units[k]}")
+    fnom = tire.coef.get("FNOMIN")
+    if vals.get("fz") is not None and fnom and vals["fz"] > 10 * fnom and not any(w.startswith("the load") for w in why):
+        why.append(f"the load is {vals['fz'] / fnom:.3g} x FNOMIN ({fnom:g} N)")
+    n = int(bad.sum())
+    text = f"the Magic Formula gives no finite {', '.join(which)} at {point}"
+    if n > 1:
+        text += f" (and at {n - 1} more point(s))"
+    if why:
+        mode = " with the limits off" if not limits else ""
+        text += f": {'; '.join(why)}, beyond what the tyre can evaluate{mode}"
+    else:
+        text += ": the tyre's coefficients give no finite value there"
+    return i, text, bool(why)

@@ -168,3 +168,13 @@ def prepare(t, kappa, alpha, gamma, fz, vx, p, phit=None, limits=True, low_speed
             phit = phit * np.cos(alpha)
     return SimpleNamespace(kappa=kappa, alpha=alpha, gamma=gamma, fz=fz, vx=vx, p=p, phit=phit,
                            kernel=kw, counts=counts)
+
+
+def describe_counts(counts: dict) -> list[str]:
+    """Lines naming every input rule that touched points (:data:`COUNTERS`; ``tirecli mf eval``, run.json)."""
+    return [f"{n} point(s): {COUNTERS.get(k, k)}" for k, n in counts.items() if n]
+
+
+def describe_outside(outside: dict) -> list[str]:
+    """Lines naming the inputs evaluated outside the tyre's ranges (:data:`OUTSIDE`; flagged: extrapolated results)."""
+    return [f"{n} point(s): {OUTSIDE.get(k, k)}" for k, n in outside.items() if n]

@@ -17,6 +17,9 @@ from dataclasses import dataclass, field, replace
 
 #: Model versions: MF 6.1 (and 6.2, same steady-state equations), MF 5.2 / PAC2002, PAC89.
 VERSIONS = ("6.1", "6.2", "5.2", "pac89")
+#: How each version is named in messages, summaries and run.json.
+VERSION_NAMES = {"6.1": "MF 6.1", "6.2": "MF 6.2 (MF 6.1 steady-state equations)", "5.2": "MF 5.2 / PAC2002",
+                 "pac89": "PAC89 (Bakker-Pacejka-Lidner 1989)"}
 
 #: Required coefficients per equation family (§12.5 item 9; §13.2 for PAC89).
 REQUIRED = {

@@ -1,7 +1,7 @@
 """Application layer of ``tirecli campaign``: check every point, run the missing ones, write results.
 
 1. The campaign file and the design are read (:func:`tirecli.campaign.spec.load_campaign`) and
-   every point's config is checked (:func:`~tirecli.campaign.spec.check_points`): a bad key or
+   every point's config is checked (:func:`~tirecli.campaign.check.check_points`): a bad key or
    value fails the campaign (exit 2) before anything runs.
 2. The output directory is locked; the points already finished there (same identity, the asked
    outputs stored, and the time series with ``keep: timeseries``) are skipped.
@@ -21,9 +21,10 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from tirecli.app import DEFAULT_OUT, command_line
+from tirecli.app.run import DEFAULT_OUT, command_line
 from tirecli.campaign import analysis
-from tirecli.campaign.spec import Campaign, check_points, load_campaign, value_text
+from tirecli.campaign.check import check_points
+from tirecli.campaign.spec import Campaign, load_campaign, value_text
 from tirecli.errors import ConfigError, Interrupted
 
 #: Seconds between writes of finished points.
@@ -144,7 +145,7 @@ def run_campaign(path: str | Path, out=None, jobs: int | None = None, scheduler:
     """Run the campaign file ``path`` into ``out`` (module doc). ``note(text)`` reports what happens
     (points to run, resumed)."""
     from tirecli.campaign.execute import batch_size, run_batches
-    from tirecli.numerics.pool import default_jobs
+    from tirecli.parallel import default_jobs
     from tirecli.io.atomic import locked_dir, out_path
     from tirecli.io.campaign import PointStore
 
@@ -279,7 +280,7 @@ def _previous_outputs(root: Path) -> set:
 
 
 def _write_figures(campaign, study: str, results, ana, root: Path) -> list:
-    from tirecli.campaign.spec import column_units
+    from tirecli.campaign.facts import column_units
     from tirecli.figures.campaign import campaign_figures
     from tirecli.io.output import save_figure
 

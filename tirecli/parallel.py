@@ -1,7 +1,9 @@
-"""A shared worker-thread pool for large vectorized evaluations (numpy releases the GIL in its loops).
+"""A shared worker-thread pool for large vectorized evaluations (numpy releases the GIL in its loops),
+and the cores a process may use (:func:`default_jobs`).
 
 Used by the Magic Formula evaluator and the fast CSV formatter: work is split into blocks that fit
 the CPU cache and the blocks run on these threads. Results never depend on the number of threads.
+A leaf module: it imports nothing from tirecli, so every layer may use it.
 """
 from __future__ import annotations
 

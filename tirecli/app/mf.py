@@ -13,6 +13,7 @@ import numpy as np
 from tirecli.errors import DataError, RunError, UsageError, token
 from tirecli.io import tir as tirio
 from tirecli.io.files import check_output_file, exists
+from tirecli.models.magic_formula.tire import VERSION_NAMES
 from tirecli.parameters import mf as mfp
 
 #: Columns of ``tirecli mf eval``: inputs (``p``, ``vx`` optional) and outputs, ISO-W, SI.
@@ -61,10 +62,6 @@ def _fmt_range(t, var: str, unit: str) -> str:
     if lo == -float("inf") and hi == float("inf"):
         return "none"
     return f"{lo:g} .. {hi:g}{(' ' + unit) if unit else ''}"
-
-
-VERSION_NAMES = {"6.1": "MF 6.1", "6.2": "MF 6.2 (MF 6.1 steady-state equations)", "5.2": "MF 5.2 / PAC2002",
-                 "pac89": "PAC89 (Bakker-Pacejka-Lidner 1989)"}
 
 
 def tir_show(ref: str) -> str:
@@ -241,6 +238,7 @@ def _evaluate_points(tire_ref, points, out: Path, convention, side, limits, mapp
     from tirecli.io.files import read_input_bytes
     from tirecli.limits import csv_max_bytes
     from tirecli.models.magic_formula import evaluate
+    from tirecli.models.magic_formula.engine import nonfinite_point
 
     check_size(points)  # a points file over the budget is refused before anything is loaded
     ps, tire = load_tire(tire_ref)
@@ -320,74 +318,4 @@ def _extra_columns(tire, cols, vx, p, res, convention, side, limits, points) -> 
     return ext, omitted
 
 
-def nonfinite_point(tire, res, inputs: dict, limits: bool):
-    """The first point where an output of ``res`` is not finite: ``(index, text, input_at_fault)``, or None.
-
-    ``inputs`` maps ``kappa, alpha, gamma, fz, vx, p`` to arrays (or scalars, or None) broadcast like
-    the outputs. The text names the outputs, the point's inputs and, when an input lies outside the
-    tyre's ranges (or a load is far above FNOMIN), that input: then the input is at fault (exit 2),
-    else the tyre's coefficients are (a run failure).
-    """
-    outs = [k for k in OUTPUT_COLUMNS if getattr(res, k) is not None]
-    shape = np.shape(getattr(res, outs[0])) if outs else ()
-    bad = np.zeros(shape, dtype=bool)
-    for k in outs:
-        bad |= ~np.isfinite(getattr(res, k))
-    if not bad.any():
-        return None
-    i = int(np.flatnonzero(bad.ravel())[0])
-
-    def at(x):
-        if x is None:
-            return None
-        a = np.broadcast_to(np.asarray(x, dtype=float), shape).ravel()
-        return float(a[i])
-
-    vals = {k: at(v) for k, v in inputs.items()}
-    which = [k for k in outs if not np.isfinite(np.asarray(getattr(res, k)).ravel()[i])]
-    units = {"kappa": "", "alpha": " rad", "gamma": " rad", "fz": " N", "vx": " m/s", "p": " Pa"}
-    point = ", ".join(f"{k} = {v:g}{units[k]}" for k, v in vals.items() if v is not None)
-    why = []
-    names = {"fz": ("load", "FZMIN", "FZMAX"), "kappa": ("slip", "KPUMIN", "KPUMAX"),
-             "alpha": ("slip angle", "ALPMIN", "ALPMAX"), "gamma": ("inclination", "CAMMIN", "CAMMAX"),
-             "p": ("pressure", "PRESMIN", "PRESMAX")}
-    for k, (what, lo_key, hi_key) in names.items():
-        v = vals.get(k)
-        if v is None or (k == "p" and not tire.nominal_pressure):
-            continue
-        lo, hi = tire.coef.get(lo_key), tire.coef.get(hi_key)
-        if hi is not None and v > hi:
-            why.append(f"the {what} is above {hi_key} = {hi:g}{units[k]}")
-        elif lo is not None and v < lo:
-            why.append(f"the {what} is below {lo_key} = {lo:g}{units[k]}")
-    fnom = tire.coef.get("FNOMIN")
-    if vals.get("fz") is not None and fnom and vals["fz"] > 10 * fnom and not any(w.startswith("the load") for w in why):
-        why.append(f"the load is {vals['fz'] / fnom:.3g} x FNOMIN ({fnom:g} N)")
-    n = int(bad.sum())
-    text = f"the Magic Formula gives no finite {', '.join(which)} at {point}"
-    if n > 1:
-        text += f" (and at {n - 1} more point(s))"
-    if why:
-        mode = " with the limits off" if not limits else ""
-        text += f": {'; '.join(why)}, beyond what the tyre can evaluate{mode}"
-    else:
-        text += ": the tyre's coefficients give no finite value there"
-    return i, text, bool(why)
-
-
-def describe_counts(counts: dict) -> list[str]:
-    """Lines naming every input rule that touched points (``tirecli mf eval``, run.json)."""
-    from tirecli.models.magic_formula.inputs import COUNTERS
-
-    return [f"{n} point(s): {COUNTERS.get(k, k)}" for k, n in counts.items() if n]
-
-
-def describe_outside(outside: dict) -> list[str]:
-    """Lines naming the inputs evaluated outside the tyre's ranges (flagged: extrapolated results)."""
-    from tirecli.models.magic_formula.inputs import OUTSIDE
-
-    return [f"{n} point(s): {OUTSIDE.get(k, k)}" for k, n in outside.items() if n]
-
-
-__all__ = ["tir_show", "tir_check", "tir_convert", "mf_eval", "load_tire", "read_document", "describe_counts",
-           "describe_outside", "nonfinite_point"]
+__all__ = ["tir_show", "tir_check", "tir_convert", "mf_eval", "load_tire", "read_document"]

@@ -1,7 +1,7 @@
 """Application layer: what one command does, independent of the CLI framework.
 
 ``run_config`` loads a config, runs its study, draws the figures the result asks for,
-evaluates their reference checks and writes the output contract (:mod:`tirecli.io.output`).
+evaluates their reference checks and writes the output contract (:mod:`tirecli.app.results`).
 The Typer commands in :mod:`tirecli.cli` only parse arguments and call these functions.
 """
 from __future__ import annotations
@@ -13,14 +13,20 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from tirecli import limits
+from tirecli.app.results import write_result
+from tirecli.config.budget import resolve_budget
 from tirecli.config.loader import Config, load_config
 from tirecli.errors import UsageError
 from tirecli.figures import registry
 from tirecli.io import output
+from tirecli.studies import base as studies_base
 from tirecli.studies.base import Check, StudyResult, run_study
 from tirecli.studies.checks import checks_for
 
 DEFAULT_OUT = Path("tirecli-out")
+
+# the figure ids a config names are looked up in the figure registry, a layer above the studies
+studies_base.FIGURE_LOOKUP = registry.get
 
 
 @dataclass
@@ -137,13 +143,13 @@ def run_config(command: str, config_path: str | Path, overrides=(), out: str | P
     out = out or default_out(config, command)
     # before the run: a bad location fails in a second, not after it
     check_output_dir(out, files=("run.json",), dirs=("data", "figures"))
-    budget = limits.resolve(config, max_samples)
+    budget = resolve_budget(config, max_samples)
     with staged_dir(out) as stage:
         with limits.budget(budget):
             result = run_study(config, expected=command, progress=progress)
         figs, checks = draw(result, progress=progress)
         wall = time.perf_counter() - t0
-        paths = output.write_result(stage, result, figs, checks, command_line(), wall, progress=progress,
+        paths = write_result(stage, result, figs, checks, command_line(), wall, progress=progress,
                                     data_format=data_format)
         close_figures(figs)
     paths.update(removed=stage.removed, kept=stage.kept)
@@ -187,14 +193,15 @@ def validate_file(path: str | Path, max_samples: int | None = None) -> str:
     from tirecli.studies.base import check_study
 
     if str(path).lower().endswith(".tir"):  # a Magic Formula property file
-        from tirecli.app_mf import load_tire
+        from tirecli.app.mf import load_tire
 
         ps, tire = load_tire(str(path))
         return (f"{path}: reads as a Magic Formula tyre ({tire.version}); for the coefficients' sanity run "
                 f"'tirecli tir check {path}'")
     data, origins = load_yaml(path)
     if isinstance(data, dict) and "campaign" in data and "study" not in data:
-        from tirecli.campaign.spec import check_points, load_campaign
+        from tirecli.campaign.check import check_points
+        from tirecli.campaign.spec import load_campaign
 
         campaign = load_campaign(path)
         ids, study = check_points(campaign)
@@ -203,6 +210,6 @@ def validate_file(path: str | Path, max_samples: int | None = None) -> str:
         ps = parse_set(data, origins, label=str(path))
         return f"{path}: valid {ps.kind} parameter set {ps.name!r} ({len(ps.values)} values)"
     config = load_config(path)
-    with limits.budget(limits.resolve(config, max_samples)):
+    with limits.budget(resolve_budget(config, max_samples)):
         name = check_study(config)
     return f"{path}: valid {name} config"
