@@ -38,7 +38,31 @@ def require_asammdf():
     except ImportError:
         raise UsageError(f"reading MDF files needs asammdf: pip install 'tirecli[{EXTRA}]' "
                          f"(from a checkout: pip install '.[{EXTRA}]')") from None
+    import logging
+
+    # asammdf logs what it finds wrong in a file on its own stderr handler: tirecli reports one line itself
+    logging.getLogger("asammdf").disabled = True
     return asammdf
+
+
+def _open(asammdf, data: bytes):
+    """``asammdf.MDF`` of the file's bytes, or None when the library cannot read them. A half-built
+    object's ``__del__`` fails on a damaged file and Python would print that on stderr: the unraisable
+    hook is silenced until the object is gone."""
+    import gc
+    import sys
+
+    hook = sys.unraisablehook
+    sys.unraisablehook = lambda unraisable: None
+    try:
+        try:
+            return asammdf.MDF(io.BytesIO(data))
+        except Exception:  # noqa: BLE001 - the library's message quotes the file's bytes: never printed
+            pass
+        gc.collect()
+        return None
+    finally:
+        sys.unraisablehook = hook
 
 
 def _auto_selection(names) -> dict:
@@ -76,10 +100,9 @@ def read_mdf(path, mapping: dict | None = None, units: dict | None = None, conve
     data = read_input_bytes(path, "an MDF file", limits.csv_max_bytes())
     if data[:3] != b"MDF":
         raise DataError(f"{path}: not an MDF file (it does not start with the MDF identification)")
-    try:
-        mdf = asammdf.MDF(io.BytesIO(data))
-    except Exception:  # noqa: BLE001 - the library's message quotes the file's bytes: never printed
-        raise DataError(f"{path}: cannot read as an MDF file (damaged or unsupported version)") from None
+    mdf = _open(asammdf, data)
+    if mdf is None:
+        raise DataError(f"{path}: cannot read as an MDF file (damaged or unsupported version)")
     try:
         names = [n for n in mdf.channels_db if n and n.lower() not in ("time", "t")]
         selection = dict(mapping) if mapping else _auto_selection(names)
