@@ -240,3 +240,20 @@ def test_angles_shown_in_degrees_beside_radians(cli):
     code, out, err = cli("data", "show", CLEAN)
     line = next(line for line in out.splitlines() if line.strip().startswith("alpha"))
     assert f"{math.radians(12):.6g}" in line and "(-12 .. 12 deg)" in line
+
+
+# --------------------------------------------------------------------------- the documented commands
+
+
+def test_documented_data_commands_run_as_written(cli, tmp_path, monkeypatch):
+    """Every ``tirecli data`` command of the README and docs/data.md shell blocks runs as written, in
+    order (later ones read what earlier ones wrote), from a folder where examples/ resolves."""
+    from doc_commands import shell_commands
+
+    commands = [c for c in shell_commands([ROOT / "README.md", ROOT / "docs" / "data.md"]) if c.argv[0] == "data"]
+    assert len(commands) >= 7
+    (tmp_path / "examples").symlink_to(ROOT / "examples")
+    monkeypatch.chdir(tmp_path)
+    for c in commands:
+        code, out, err = cli(*c.argv)
+        assert code == 0, f"{c.id}: {err}"

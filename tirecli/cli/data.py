@@ -95,7 +95,7 @@ def synth(
                                         help="Loads of the pure sweeps [N], e.g. 2000,4000,6000 [default: 0.5, 1, 1.5 x FNOMIN]."),
     pressures: Optional[str] = typer.Option(None, "--pressures", metavar="PRESSURES",
                                             help="Further pressures [Pa] of pure sweeps at FNOMIN, e.g. 180000,220000 [default: none]."),
-    points: int = typer.Option(41, "--points", metavar="N", help="Samples per sweep."),
+    samples: int = typer.Option(41, "--points", metavar="N", help="Samples per sweep."),
     max_samples_: Optional[str] = MaxSamplesOpt,
 ) -> None:
     """Generate a SYNTHETIC rig data set from a Magic Formula tyre: pure longitudinal and pure lateral
@@ -103,4 +103,4 @@ def synth(
     the file and its name."""
     from tirecli.app_data import data_synth
 
-    result_line(data_synth(tire, out, noise, seed, loads, pressures, points, max_samples(max_samples_)))
+    result_line(data_synth(tire, out, noise, seed, loads, pressures, samples, max_samples(max_samples_)))
