@@ -98,37 +98,48 @@ def read_tydex(path, mapping: dict | None = None, units: dict | None = None,
     return _table(sections, shown, convention, units or {}, mapping or {})
 
 
+_KEYWORD = re.compile(r"^[ \t]*\*\*([A-Za-z]*)[^\n]*$", re.M)
+
+
 def split_sections(text: str, path: str) -> dict:
-    """``{KEYWORD: [(line number, text), ...]}`` of a TYDEX text; DataError for a text that is not one."""
-    lines = text.replace("\r\n", "\n").replace("\r", "\n").split("\n")
+    """``{KEYWORD: (number of the section's first line, its text)}`` of a TYDEX text (the text between the
+    keyword line and the next); DataError for a text that is not one."""
+    text = text.replace("\r\n", "\n").replace("\r", "\n")
     sections: dict = {}
-    current = None
-    for no, line in enumerate(lines, 1):
-        stripped = line.strip()
-        if stripped.startswith("**"):
-            key = stripped[2:].split()[0].upper() if stripped[2:].split() else ""
-            if current is None and key != "HEADER":
-                break
-            if key in sections and key in SECTIONS:
-                raise DataError(f"{path}:{no}: a second **{key} section")
-            current = key
-            sections[key] = []
-            if key == "END":
-                break
-            continue
+    line, pos, current = 1, 0, None
+    for m in _KEYWORD.finditer(text):
         if current is None:
-            if not stripped or stripped.startswith("!"):
-                continue
-            break  # text before **HEADER: not a TYDEX file
-        sections[current].append((no, line.rstrip()))
-    if "HEADER" not in sections:
+            before = text[:m.start()].split("\n")
+            if any(t.strip() and not t.lstrip().startswith("!") for t in before):
+                break  # text before **HEADER: not a TYDEX file
+        else:
+            sections[current] = (line, text[pos:m.start()])
+        key = m.group(1).upper()
+        if current is None and key != "HEADER":
+            break
+        if key in sections and key in SECTIONS:
+            raise DataError(f"{path}:{text.count(chr(10), 0, m.start()) + 1}: a second **{key} section")
+        current, pos = key, min(m.end() + 1, len(text))
+        line = text.count("\n", 0, pos) + 1
+        if key == "END":
+            sections[key] = (line, "")
+            break
+    if "HEADER" not in sections and current != "HEADER":
         raise DataError(f"{path}: not a TYDEX file (it does not start with a **HEADER line)")
+    if current is not None and current not in sections:
+        sections[current] = (line, text[pos:])
     for key in ("MEASURCHANNELS", "MEASURDATA"):
         if key not in sections:
             raise DataError(f"{path}: no **{key} section (a TYDEX file of measured data needs one)")
     if "END" not in sections:
         raise DataError(f"{path}: no **END line after the data (is the file cut short?)")
     return sections
+
+
+def _lines(section) -> list:
+    """``[(line number, text)]`` of a section's lines."""
+    first, text = section
+    return [(first + i, t.rstrip()) for i, t in enumerate(text.split("\n"))]
 
 
 def _content(lines):
@@ -237,22 +248,27 @@ def _channels(lines, path) -> list[tuple[int, str, str, str, float]]:
     return out
 
 
-def _data(lines, names: list, path) -> tuple[np.ndarray, list[int]]:
+def _data(section, names: list, path) -> tuple[np.ndarray, list[int]]:
     """The ``**MEASURDATA`` values (rows x channels) and the line number of each row."""
-    rows = _content(lines)
+    rows = _content(_lines(section))
     n = len(names)
     check_budget(path, len(rows), n)
     if not rows:
         raise DataError(f"{path}: **MEASURDATA holds no data row")
+    counts = [len(t.split()) for _, t in rows]
+    if counts.count(n) == len(rows):  # blank-separated throughout: one conversion
+        try:
+            values = np.array(" ".join(t for _, t in rows).split(), dtype=float).reshape(len(rows), n)
+        except ValueError:
+            values = None
+        if values is not None:
+            return values, [no for no, _ in rows]
     values = np.empty((len(rows), n))
     for k, (no, t) in enumerate(rows):
-        cells = t.split()
-        if len(cells) != n:
-            cells = _fixed_cells(t, n)
-            if cells is None:
-                got = len(t.split())
-                raise DataError(f"{path}:{no}: data row {k + 1} has {got} value(s) but **MEASURCHANNELS names "
-                                f"{n} channel(s)")
+        cells = t.split() if counts[k] == n else _fixed_cells(t, n)
+        if cells is None:
+            raise DataError(f"{path}:{no}: data row {k + 1} has {counts[k]} value(s) but **MEASURCHANNELS names "
+                            f"{n} channel(s)")
         try:
             values[k] = [_float(c) for c in cells]
         except ValueError:
@@ -281,11 +297,11 @@ def _fixed_cells(text: str, n: int):
 
 
 def _table(sections: dict, path: str, option: str | None, unit_map: dict, mapping: dict) -> MeasuredData:
-    header = _header(sections.get("HEADER", []))
-    comments = [t.strip() for _, t in sections.get("COMMENTS", []) if t.strip()]
+    header = _header(_lines(sections["HEADER"]))
+    comments = [t.strip() for _, t in _lines(sections.get("COMMENTS", (0, ""))) if t.strip()]
     convention = choose_convention(path, declared(comments, path)[0], option)
-    constants = _constants(sections.get("CONSTANTS", []), path, unit_map)
-    channels = _channels(sections["MEASURCHANNELS"], path)
+    constants = _constants(_lines(sections.get("CONSTANTS", (0, ""))), path, unit_map)
+    channels = _channels(_lines(sections["MEASURCHANNELS"]), path)
     names = [c[1] for c in channels]
     missing = [src for src in mapping if src not in names]
     if missing:
