@@ -190,6 +190,7 @@ def test_missing_channel_and_mapping(cli, tmp_path):
     _bad(cli, tmp_path, ["data", "show", p, "--map", "Fz=fz"], "mapped column(s) 'Fz' not in the file")
     _bad(cli, tmp_path, ["data", "show", p, "--units", "fz=deg"], "unit 'deg' is rad, expected N")
     _bad(cli, tmp_path, ["data", "show", p, "--units", "fz"], "--units 'fz': expected NAME=UNIT")
+    _bad(cli, tmp_path, ["data", "show", p, "--units", "Fz=kN"], "--units 'Fz': c.csv has no column or channel")
     _bad(cli, tmp_path, ["data", "show", p, "--convention", "up"], "--convention 'up': expected one of iso, sae")
     _bad(cli, tmp_path, ["data", "show", p, "--rate", "10"], "--rate applies to MDF files only")
     _bad(cli, tmp_path, ["data", "show", tmp_path / "x.xlsx"], "unknown data format '.xlsx'")

@@ -75,6 +75,10 @@ def read_measured(path, *, mapping: dict | None = None, units: dict | None = Non
         from tirecli.io.mdf import read_mdf
 
         data = read_mdf(path, mapping, units, convention, rate)
+    known = set(data.channels) | {ch.source for ch in data.channels.values()}
+    unused = [k for k in (units or {}) if k not in known]
+    if unused:
+        raise UsageError(f"--units {token(unused[0], 40)}: {Path(str(path)).name} has no column or channel of that name")
     data.require(*require)
     return data
 
