@@ -14,6 +14,14 @@ EXAMPLE = ROOT / "examples" / "data" / "synthetic-externdata-205-60r15.tdx"
 CLEAN = ROOT / "examples" / "data" / "synthetic-externdata-205-60r15-clean.tdx"
 SECRET = "".join(f"user{i}:$6$Zq8s9Yw1$" + "k3Jf9a8B" * 12 + ":19000:0:99999:7:::\n" for i in range(12))
 
+
+def tyre(name: str):
+    """A built-in Magic Formula tyre (through the parameter sets, as every command loads it)."""
+    from tirecli.parameters.mf import tire_from_set
+    from tirecli.parameters.sets import load_set
+
+    return tire_from_set(load_set(name))
+
 GOOD = """**HEADER
 RELEASE   Release of TYDEX-Format       1.3
 **COMMENTS
@@ -100,12 +108,11 @@ def test_convert_round_trip_and_default_name(cli, tmp_path):
 
 
 def test_synthetic_file_is_the_tyre_and_the_seed_decides_the_noise(cli, tmp_path):
-    from tirecli.app_mf import load_tire
     from tirecli.io.readers import read_measured
     from tirecli.models.magic_formula import evaluate
 
     d = read_measured(CLEAN)
-    _, tire = load_tire("externdata-205-60r15")
+    tire = tyre("externdata-205-60r15")
     f = d.frame
     res = evaluate(tire, f["kappa"].to_numpy(), f["alpha"].to_numpy(), f["gamma"].to_numpy(), f["fz"].to_numpy(),
                    f["vx"].to_numpy(), f["p"].to_numpy())

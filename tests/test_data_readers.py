@@ -17,6 +17,14 @@ from tirecli.io.readers import read_measured, write_measured
 DEG = math.pi / 180
 
 
+def tyre(name: str):
+    """A built-in Magic Formula tyre (through the parameter sets, as every command loads it)."""
+    from tirecli.parameters.mf import tire_from_set
+    from tirecli.parameters.sets import load_set
+
+    return tire_from_set(load_set(name))
+
+
 # --------------------------------------------------------------------------- unit strings
 
 
@@ -81,10 +89,9 @@ def test_sign_facts_of_a_real_tyre_in_each_convention():
     """ISO-W: a positive slip angle and a positive camber give a negative side force, Fz > 0 under load.
     SAE: the load is negative, the cornering stiffness stays negative. Adapted ISO: positive alpha and
     positive gamma give a positive side force."""
-    from tirecli.app_mf import load_tire
     from tirecli.models.magic_formula import evaluate
 
-    _, tire = load_tire("externdata-205-60r15")
+    tire = tyre("externdata-205-60r15")
     a = evaluate(tire, 0.0, 2 * DEG, 0.0, 4000.0)
     g = evaluate(tire, 0.0, 0.0, 3 * DEG, 4000.0)
     iso_a = {"alpha": 2 * DEG, "fy": a.fy, "fz": 4000.0}
@@ -313,10 +320,9 @@ def test_without_asammdf_one_line_names_the_extra(tmp_path, monkeypatch):
 
 @pytest.fixture(scope="module")
 def rig():
-    from tirecli.app_mf import load_tire
     from tirecli.studies.rig_data import synthetic_rig_data
 
-    _, tire = load_tire("externdata-205-60r15")
+    tire = tyre("externdata-205-60r15")
     return tire, synthetic_rig_data(tire, "externdata-205-60r15", noise=0.02, seed=7)
 
 
@@ -358,11 +364,10 @@ def test_longitudinal_then_lateral_sweep_from_zero_at_one_load_are_two(rig):
 
 
 def test_synthetic_data_are_the_tyre_exactly_without_noise():
-    from tirecli.app_mf import load_tire
     from tirecli.models.magic_formula import evaluate
     from tirecli.studies.rig_data import synthetic_rig_data
 
-    _, tire = load_tire("pacejka2006-205-60r15")
+    tire = tyre("pacejka2006-205-60r15")
     data = synthetic_rig_data(tire, "pacejka2006-205-60r15", noise=0.0)
     f = data.frame
     res = evaluate(tire, f["kappa"].to_numpy(), f["alpha"].to_numpy(), f["gamma"].to_numpy(), f["fz"].to_numpy(),
