@@ -39,6 +39,22 @@ Road adhesion theta (docs/models/lugre_friction.md §5)
 - OBS convention ``theta_obs``: theta multiplies the sliding term ``sigma0 |vr| / g``;
   1 = nominal, > 1 = less grip.
 - They are exactly equivalent: ``theta_obs = 1 / theta_fm``.
+
+Tyre axis conventions (docs/data.md "Axis conventions")
+-------------------------------------------------------
+Measured tyre forces, moments and slips come in one of three conventions; tirecli converts them to
+ISO-W (the TYDEX W axes of ``.tir`` files and ``tirecli mf eval``: x forward, y left, z up, the forces
+and moments the road exerts on the tyre, so ``Fz > 0`` under load) with :func:`axes_to_iso`:
+
+- ``iso``: ISO-W itself; nothing changes.
+- ``sae``: SAE J670 (x forward, y right, z down), a rotation by 180 degrees about x: ``alpha``,
+  ``Fy``, ``Fz``, ``My``, ``Mz`` change sign (``Fz < 0`` under load); ``kappa``, ``gamma``, ``Fx``, ``Mx``
+  do not.
+- ``adapted-iso``: ISO-W axes with the slip angle and the inclination counted the other way, so that a
+  positive ``alpha`` and a positive ``gamma`` give a positive side force: ``alpha`` and ``gamma`` change sign,
+  every force and moment keeps its ISO-W sign (``Fz > 0`` under load).
+
+Each map is its own inverse (:func:`axes_from_iso` is :func:`axes_to_iso`).
 """
 from __future__ import annotations
 
@@ -173,3 +189,65 @@ def to_theta_fm(theta, convention):
     if convention == "obs":
         return theta_fm_from_obs(theta)
     raise ValueError(f"unknown theta convention {convention!r}; expected one of {THETA_CONVENTIONS}")
+
+
+#: Axis conventions of measured tyre data (:func:`axes_to_iso`).
+AXIS_CONVENTIONS = ("iso", "sae", "adapted-iso")
+
+#: Quantities whose sign each convention reverses against ISO-W (the others keep it).
+_FLIPPED = {
+    "iso": frozenset(),
+    "sae": frozenset({"alpha", "fy", "fz", "my", "mz"}),
+    "adapted-iso": frozenset({"alpha", "gamma"}),
+}
+
+#: Quantities an axis convention can touch (slips, angles, forces, moments at the contact point).
+AXIS_QUANTITIES = ("kappa", "alpha", "gamma", "fx", "fy", "fz", "mx", "my", "mz")
+
+
+def axis_sign(name: str, convention: str) -> float:
+    """``+1.0`` or ``-1.0``: the factor taking quantity ``name`` from ``convention`` to ISO-W (and back).
+
+    ``name`` is one of :data:`AXIS_QUANTITIES` (any other name, e.g. a time or a pressure: ``+1``).
+    """
+    if convention not in _FLIPPED:
+        raise ValueError(f"unknown axis convention {convention!r}; expected one of {', '.join(AXIS_CONVENTIONS)}")
+    return -1.0 if name in _FLIPPED[convention] else 1.0
+
+
+def flipped(convention: str) -> tuple[str, ...]:
+    """The quantities whose sign ``convention`` reverses against ISO-W, in :data:`AXIS_QUANTITIES` order."""
+    axis_sign("fx", convention)  # checks the name
+    return tuple(q for q in AXIS_QUANTITIES if q in _FLIPPED[convention])
+
+
+def axes_to_iso(values: dict, convention: str) -> dict:
+    """Convert a mapping ``name -> value`` given in ``convention`` to ISO-W (a new dict; arrays are not
+    changed in place; names outside :data:`AXIS_QUANTITIES` and ``None`` values pass through)."""
+    out = {}
+    for k, v in values.items():
+        s = axis_sign(k, convention)
+        out[k] = v if v is None or s > 0 else -np.asarray(v, dtype=float)
+    return out
+
+
+#: The inverse of :func:`axes_to_iso` (every map is an involution).
+axes_from_iso = axes_to_iso
+
+
+def iso_to_sae(fx=None, fy=None, fz=None, mx=None, my=None, mz=None, alpha=None) -> dict:
+    """Convert ISO-W quantities to SAE J670 (and back: the map is its own inverse).
+
+    ``Fy`` [N], ``Fz`` [N], ``My`` [N m], ``Mz`` [N m] and ``alpha`` [rad] change sign; ``Fx`` [N]
+    and ``Mx`` [N m] (and ``kappa``, ``gamma``) do not. ``None`` entries are passed through; the other
+    values are returned as float arrays.
+    """
+    vals = {"fx": fx, "fy": fy, "fz": fz, "mx": mx, "my": my, "mz": mz, "alpha": alpha}
+    out = {}
+    for k, v in vals.items():
+        a = None if v is None else np.asarray(v, dtype=float)
+        out[k] = a if a is None or axis_sign(k, "sae") > 0 else -a
+    return out
+
+
+sae_to_iso = iso_to_sae

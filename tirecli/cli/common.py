@@ -124,6 +124,21 @@ def jobs_option(value: Optional[int]) -> Optional[int]:
     return value
 
 
+def pairs(values: Optional[List[str]], option: str = "--map", form: str = "FILE_COLUMN=NAME",
+          example: str = "slip=kappa") -> dict | None:
+    """Repeated ``KEY=VALUE`` options (``--map FILE_COLUMN=NAME``, ``--units NAME=UNIT``) as a dict
+    (None when none is given); UsageError naming a value without ``=``."""
+    from tirecli.errors import UsageError
+
+    out = {}
+    for text in values or []:
+        if "=" not in text:
+            raise UsageError(f"{option} {text!r}: expected {form}, e.g. {option} {example}")
+        key, _, value = text.partition("=")
+        out[key.strip()] = value.strip()
+    return out or None
+
+
 def max_samples(text: Optional[str]) -> Optional[int]:
     """The value of ``--max-samples`` (UsageError if it is not a whole number >= 1)."""
     from tirecli.limits import parse_max_samples

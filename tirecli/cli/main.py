@@ -18,7 +18,7 @@ import traceback
 import typer
 
 from tirecli import __version__
-from tirecli.cli import campaign, common, compare, figures, fit, mf, observe, params, report, simulate, sweep, tir
+from tirecli.cli import campaign, common, compare, data, figures, fit, mf, observe, params, report, simulate, sweep, tir
 
 app = typer.Typer(
     name="tirecli",
@@ -59,6 +59,7 @@ app.add_typer(params.app, name="params")
 app.add_typer(figures.app, name="figures")
 app.add_typer(tir.app, name="tir")
 app.add_typer(mf.app, name="mf")
+app.add_typer(data.app, name="data")
 
 
 def _error(msg) -> None:

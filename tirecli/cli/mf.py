@@ -6,21 +6,9 @@ from typing import List, Optional
 
 import typer
 
-from tirecli.cli.common import echo, max_samples, result_line, warn
+from tirecli.cli.common import echo, max_samples, pairs, result_line, warn
 
 app = typer.Typer(help="Magic Formula tyre model (MF 6.1 / 6.2 / 5.2 / PAC89).", no_args_is_help=True)
-
-
-def _mapping(values: Optional[List[str]]) -> dict | None:
-    from tirecli.errors import UsageError
-
-    out = {}
-    for text in values or []:
-        if "=" not in text:
-            raise UsageError(f"--map {text!r}: expected FILE_COLUMN=NAME, e.g. --map slip=kappa")
-        src, _, dst = text.partition("=")
-        out[src.strip()] = dst.strip()
-    return out or None
 
 
 @app.command("eval")
@@ -62,7 +50,7 @@ def eval_(
     if side is not None and side.lower() not in ("left", "right"):
         raise UsageError(f"--side {side!r}: expected left or right")
     s = mf_eval(tire, points, out, convention=convention, side=side.lower() if side else None,
-                limits=not no_limits, mapping=_mapping(map_), max_samples=max_samples(max_samples_))
+                limits=not no_limits, mapping=pairs(map_), max_samples=max_samples(max_samples_))
     extra = []
     if s["pressure_default"] is not None:
         extra.append(f"p = {s['pressure_default']:g} Pa (tyre default)")

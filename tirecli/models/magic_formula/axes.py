@@ -18,7 +18,8 @@ frame of every ``.tir`` file:
 
 SAE J670 (x forward, y right, z down) is a rotation by 180 degrees about ``x``:
 ``alpha_SAE = -alpha``, ``Fy_SAE = -Fy``, ``Fz_SAE = -Fz``, ``My_SAE = -My``, ``Mz_SAE = -Mz``;
-``kappa``, ``gamma``, ``Fx`` and ``Mx`` keep their signs (:func:`iso_to_sae`, an involution).
+``kappa``, ``gamma``, ``Fx`` and ``Mx`` keep their signs (:func:`tirecli.conventions.iso_to_sae`, an
+involution; measured data in SAE or adapted ISO are converted by :func:`tirecli.conventions.axes_to_iso`).
 
 Left and right tyres (§2.4): a file is measured on the side given by ``TYRESIDE``. A tyre used
 on the other side is its mirror image in the ``x-z`` plane: the inputs ``alpha`` and ``gamma``
@@ -29,6 +30,9 @@ spec recommends (§10), used for both conventions.
 from __future__ import annotations
 
 import numpy as np
+
+# the ISO-W <-> SAE J670 map lives with the other sign conventions (one place); re-exported here
+from tirecli.conventions import iso_to_sae, sae_to_iso  # noqa: F401
 
 #: Sides a tyre can be measured on / mounted at.
 SIDES = ("left", "right")
@@ -66,17 +70,3 @@ def mirror_outputs(out: dict) -> dict:
             np.negative(out[k], out=out[k])
     return out
 
-
-def iso_to_sae(fx=None, fy=None, fz=None, mx=None, my=None, mz=None, alpha=None) -> dict:
-    """Convert ISO-W quantities to SAE J670 (and back: the map is its own inverse).
-
-    ``Fy`` [N], ``Fz`` [N], ``My`` [N m], ``Mz`` [N m] and ``alpha`` [rad] change sign; ``Fx`` [N]
-    and ``Mx`` [N m] (and ``kappa``, ``gamma``) do not. ``None`` entries are passed through.
-    """
-    flip = {"fy", "fz", "my", "mz", "alpha"}
-    vals = {"fx": fx, "fy": fy, "fz": fz, "mx": mx, "my": my, "mz": mz, "alpha": alpha}
-    return {k: (None if v is None else (-np.asarray(v, dtype=float) if k in flip else np.asarray(v, dtype=float)))
-            for k, v in vals.items()}
-
-
-sae_to_iso = iso_to_sae
