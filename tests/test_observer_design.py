@@ -20,9 +20,10 @@ def test_coordinates_round_trip(plant):
 
 def test_obs_form_equals_quarter_car_plant(plant):
     """OBS (22) in (eta, chi, z) is the quarter car with sigma2 in the vehicle equation only (OBS (3)-(5))."""
-    from tirecli.models.quarter_car import QuarterCarLumped, rhs
+    from tirecli.models.lugre_lumped import LumpedTire
+    from tirecli.models.quarter_car import QuarterCar, rhs
 
-    qc = QuarterCarLumped(tire=plant.tire, car=plant.car, sigma2_in_wheel=False)
+    qc = QuarterCar(tire=LumpedTire(plant.tire), car=plant.car, sigma2_in_wheel=False)
     rng = np.random.default_rng(0)
     for _ in range(20):
         v, w, z = rng.uniform(5, 40), rng.uniform(20, 160), rng.uniform(-3e-3, 3e-3)

@@ -9,7 +9,11 @@ restated in ``docs/models/lugre_friction.md``:
 - the distributed steady state for a uniform load (FM eq. (4)), an exponential load
   (FM eq. (6) with its misprinted sign corrected) and any normal-load density (quadrature);
 - ``kappa0(Z)`` of FM eq. (10) and the averaged lumped steady state (FM eqs. (8)-(9) with
-  ``dz/dt = 0``) for constant ``kappa0``, ``kappa0(Z)`` and ``kappa = lambda/L``.
+  ``dz/dt = 0``) for constant ``kappa0``, ``kappa0(Z)`` and ``kappa = lambda/L``;
+- the pieces of the lumped dynamics: its coefficient ``kappa``, decay rate (FM eq. (8)) and the
+  friction of a deflection (FM eq. (9)). The dynamic models themselves (``rhs(t, x, u, p)``,
+  ``outputs(t, x, u, p)``) are :mod:`tirecli.models.lugre_lumped` (lumped), :mod:`tirecli.models.lugre_pde`
+  (distributed) and :mod:`tirecli.models.quarter_car`.
 
 All functions take the relative velocity ``vr = r*omega - v`` and the wheel circumferential
 speed ``romega = r*omega`` in m/s (signs: :mod:`tirecli.conventions`) and broadcast like numpy.
@@ -420,23 +424,18 @@ def lumped_decay_rate(vr, romega, p: LuGreParams, kappa0=None, theta=1.0):
             + lumped_kappa(vr, romega, p, kappa0, theta) * np.abs(np.asarray(romega, dtype=float)))
 
 
-def lumped_zdot(z, vr, romega, p: LuGreParams, kappa0=None, theta=1.0):
-    """Lumped bristle dynamics ``dz/dt = vr - sigma0 |vr|/(theta g) z - kappa |r omega| z`` [m/s] (FM eq. (8)).
+def mu_of_deflection(z, zdot, vr, p: LuGreParams):
+    """Normalised friction ``mu = sigma0 z + sigma1 dz/dt + sigma2 vr`` [-] (FM eq. (9); FM eq. (2) with
+    the load-weighted mean deflection and its rate).
 
     Parameters
     ----------
     z : array_like
         Mean bristle deflection [m] (FM eq. (7)).
-    vr, romega : array_like
-        Relative velocity and wheel circumferential speed [m/s].
-    kappa0 : float, None or "Z"
-        Lumped coefficient (see :func:`lumped_kappa`).
-    theta : array_like
-        Adhesion, FM convention [-].
+    zdot : array_like
+        Its rate ``dz/dt`` [m/s].
+    vr : array_like
+        Relative velocity ``r omega - v`` [m/s].
+    p : LuGreParams
     """
-    return np.asarray(vr, dtype=float) - lumped_decay_rate(vr, romega, p, kappa0, theta) * z
-
-
-def lumped_mu(z, zdot, vr, p: LuGreParams):
-    """Normalised friction ``mu = sigma0 z + sigma1 dz/dt + sigma2 vr`` [-] (FM eq. (9))."""
     return p.sigma0 * z + p.sigma1 * zdot + p.sigma2 * np.asarray(vr, dtype=float)

@@ -497,9 +497,10 @@ def full_rhs(plant: ObserverPlant, gains: ObserverGains, scenario: Scenario):
     observer: OBS (14) driven by the ideal measurement ``y = omega``. The straightforward
     formulation a generic stiff solver integrates.
     """
-    from tirecli.models.quarter_car import QuarterCarLumped, rhs
+    from tirecli.models.lugre_lumped import LumpedTire
+    from tirecli.models.quarter_car import QuarterCar, rhs
 
-    qc = QuarterCarLumped(tire=plant.tire, car=plant.car, kappa0=None, sigma2_in_wheel=False)
+    qc = QuarterCar(tire=LumpedTire(plant.tire), car=plant.car, sigma2_in_wheel=False)
     u_of = getattr(scenario.torque, "at", scenario.torque)  # scalar evaluation without numpy overhead
     th_of = scenario.theta_fm
 

@@ -1,0 +1,242 @@
+"""Parity of every fast kernel with the model right-hand side it inlines (ARCHITECTURE.md "One model shape").
+
+Each kernel of tirecli.numerics (and the exact steps of tirecli.models) re-derives its model's equations
+for speed; here it is evaluated beside the model's ``rhs(t, x, u, p)`` / ``outputs(t, x, u, p)`` on random
+states and inputs that cover its branches, and the largest absolute difference must be at most 1e-12 in
+the units of each quantity scaled by its size (``|a - b| <= 1e-12 max(1, |b|)``: the wheel acceleration
+reaches 1e4 rad/s^2, where one rounding is 2e-12).
+"""
+from __future__ import annotations
+
+from dataclasses import replace
+
+import numpy as np
+import pytest
+
+from tirecli.models import lugre_lumped, quarter_car
+from tirecli.models.lugre_lumped import LumpedTire
+from tirecli.models.quarter_car import QuarterCar
+
+TOL = 1e-12
+
+
+def gap(a, b) -> float:
+    """Largest ``|a - b| / max(1, |b|)`` (NaN anywhere but in both: inf)."""
+    a, b = np.asarray(a, dtype=float), np.asarray(b, dtype=float)
+    if not np.array_equal(np.isnan(a), np.isnan(b)):
+        return float("inf")
+    ok = ~np.isnan(b)
+    return float(np.max(np.abs(a[ok] - b[ok]) / np.maximum(1.0, np.abs(b[ok])), initial=0.0))
+
+
+@pytest.fixture(scope="module")
+def car():
+    from tirecli.parameters.sets import load_builtin
+
+    return load_builtin("canudas2003-obs-quarter-car").model()
+
+
+@pytest.fixture(scope="module")
+def tires():
+    """Table 2 with the Stribeck exponents of the kernels' branches (1, 2 and any other)."""
+    from tirecli.parameters.sets import load_builtin
+
+    p = load_builtin("canudas2003-table2").model()
+    return [p, replace(p, alpha=2.0), replace(p, alpha=0.7, sigma1=3.0)]
+
+
+def states(car, n: int, seed: int):
+    """Random quarter-car kinematics ``(v [m/s], omega [rad/s], theta [-], torque [N m])`` covering the branches:
+    braking and driving slip, ``vr = 0`` exactly, the locked wheel (``omega = 0``), a wheel at standstill with the
+    vehicle moving slowly, tiny and huge ``x = L/Z`` (``kappa0(Z)`` series and limit)."""
+    rng = np.random.default_rng(seed)
+    v = rng.uniform(0.5, 40.0, n)
+    s = rng.uniform(-1.0, 0.6, n)
+    omega = v * (1.0 + s) / car.r
+    omega[::7] = 0.0                                   # locked wheel
+    omega[1::7] = v[1::7] / car.r                      # vr = 0
+    omega[2::7] = (v[2::7] + 1e-9) / car.r             # x = L/Z below the series threshold
+    omega[3::7] = 1e-13 / car.r                        # x = L/Z above 1e12
+    theta = rng.uniform(0.3, 1.6, n)
+    torque = rng.uniform(-2500.0, 1200.0, n)
+    return v, omega, theta, torque
+
+
+def deflections(p, vr, theta, rng):
+    """Bristle deflections [m] around their sliding values ``vr/b``, both signs."""
+    from tirecli.models.lugre import stribeck
+
+    zs = np.sign(vr) * stribeck(vr, p, theta) / p.sigma0
+    return zs * rng.uniform(-1.5, 1.5, np.shape(vr))
+
+
+# --------------------------------------------------------------------------- lumped tire, quarter car
+
+
+def _lumped_stepper(p, car, kappa0, u, theta, v=None, omega=None):
+    from tirecli.numerics.lumped import LumpedStepper
+
+    return LumpedStepper(p, car, kappa0, lambda t: u[int(t)], lambda t: theta[int(t)],
+                         None if v is None else (lambda t: v[int(t)]), None if omega is None else (lambda t: omega[int(t)]))
+
+
+@pytest.mark.parametrize("kappa0", [1.0, 2.0, "Z"])
+def test_lumped_stepper_is_the_quarter_car_rhs(tires, car, kappa0):
+    """numerics.lumped.LumpedStepper (scalar right-hand side and outputs, free and locked wheel, and the tire
+    alone with prescribed kinematics) against models.quarter_car.rhs/outputs and models.lugre_lumped.rhs."""
+    from tirecli.numerics.ros2 import FREE, LOCKED, PRESCRIBED
+
+    worst = {}
+    for k, p in enumerate(tires):
+        v, omega, theta, u = states(car, 70, k)
+        z = deflections(p, car.r * omega - v, theta, np.random.default_rng(10 + k))
+        qc = QuarterCar(LumpedTire(p, kappa0), car)
+        st = _lumped_stepper(p, car, kappa0, u, theta)
+        ps = _lumped_stepper(p, car, kappa0, u, theta, v, omega)
+        names = st.out_names
+        for i in range(len(v)):
+            t, y = float(i), [v[i], omega[i], z[i]]
+            ref = quarter_car.rhs(t, y, (u[i], theta[i]), qc)
+            out = quarter_car.outputs(t, y, (u[i], theta[i]), qc)
+            mode = LOCKED if omega[i] == 0.0 else FREE
+            if mode == LOCKED:
+                ref[1] = 0.0                            # the integrator holds omega = 0
+            worst["rhs"] = max(worst.get("rhs", 0.0), gap(st.rhs_at(t, y, mode), ref))
+            got = dict(zip(names, st.evaluate(t, y, mode)[1]))
+            want = {"vr": out["vr"], "mu": out["mu"], "zdot": out["zdot"], "dv": ref[0], "domega": ref[1],
+                    "kappa0": out["kappa0"]}
+            worst["outputs"] = max(worst.get("outputs", 0.0), gap([got[n] for n in want], list(want.values())))
+            # the tire alone: v, omega prescribed, (0, 0, dz/dt)
+            tire = lugre_lumped.rhs(t, [z[i]], (car.r * omega[i] - v[i], car.r * omega[i], theta[i]), qc.tire)
+            worst["prescribed"] = max(worst.get("prescribed", 0.0),
+                                      gap(ps.rhs_at(t, [0.0, 0.0, z[i]], PRESCRIBED), [0.0, 0.0, tire[0]]))
+    assert max(worst.values()) <= TOL, worst
+
+
+@pytest.mark.parametrize("kappa0", [1.0, 2.0, "Z"])
+def test_lumped_dense_output_is_the_quarter_car_rhs(tires, car, kappa0):
+    """The vectorised arithmetic of LumpedStepper's dense output: the outputs it returns at the end of each
+    step (state ``Y``, inputs at ``t0 + dt``) against models.quarter_car.rhs/outputs there."""
+    from tirecli.numerics.ros2 import FREE, LOCKED
+
+    for k, p in enumerate(tires):
+        v, omega, theta, u = states(car, 60, 20 + k)
+        z = deflections(p, car.r * omega - v, theta, np.random.default_rng(30 + k))
+        th, tq = float(theta[0]), float(u[0])
+        st = _lumped_stepper(p, car, kappa0, [tq] * 2, [th] * 2)
+        modes = np.where(omega == 0.0, LOCKED, FREE)
+        Y, O = st.dense(np.zeros(len(v)), np.column_stack([v, omega, z]), modes, np.full(len(v), 1e-7))
+        o = dict(zip(st.out_names, O.T))
+        qc = QuarterCar(LumpedTire(p, kappa0), car)
+        ref = quarter_car.rhs(0.5, Y.T, (tq, th), qc)
+        out = quarter_car.outputs(0.5, Y.T, (tq, th), qc)
+        ref[1][modes == LOCKED] = 0.0
+        pairs = [(o["dv"], ref[0]), (o["domega"], ref[1]), (o["zdot"], ref[2]), (o["vr"], out["vr"]),
+                 (o["mu"], out["mu"]), (o["kappa0"], out["kappa0"])]
+        worst = max(gap(a, b) for a, b in pairs)
+        assert worst <= TOL, (k, worst)
+
+
+# --------------------------------------------------------------------------- distributed tire
+
+
+LOADS = {"uniform": ("uniform",), "exponential": ("exponential", 1.5), "parabolic": ("parabolic",),
+         "tabulated": ("tabulated", 0.0, (0.0, 0.3, 0.6, 1.0), (0.2, 1.0, 0.7, 0.1))}
+
+
+def _reduction(load):
+    from tirecli.models.lugre_pde import patch_reduction
+
+    return patch_reduction(*LOADS[load])
+
+
+@pytest.mark.parametrize("load", list(LOADS))
+def test_characteristics_stepper_is_the_quarter_car_rhs(tires, car, load):
+    """numerics.characteristics.CharacteristicsStepper (``_eval1`` for one tire state, ``_eval`` for several; free,
+    locked and prescribed) against models.quarter_car.rhs/outputs with the distributed tire and
+    models.lugre_pde.rhs, the tracked deflections read from the stepper's own characteristic history."""
+    from tirecli.models import lugre_pde
+    from tirecli.models.lugre_pde import DistributedTire
+    from tirecli.numerics.characteristics import CharacteristicsStepper
+    from tirecli.numerics.ros2 import FREE, LOCKED, PRESCRIBED, integrate
+
+    red = _reduction(load)
+    worst = {}
+    for k, p in enumerate(tires):
+        v, omega, theta, u = states(car, 50, 40 + k)
+        t_run = 0.3
+        tq = {float(t_run + 1 + i): x for i, x in enumerate(u)}
+        th = {float(t_run + 1 + i): x for i, x in enumerate(theta)}
+        V = {float(t_run + 1 + i): x for i, x in enumerate(v)}
+        W = {float(t_run + 1 + i): x for i, x in enumerate(omega)}
+
+        def torque(t):
+            return tq[t] if t > t_run else -800.0 * t / t_run
+
+        def adhesion(t):
+            return th[t] if t > t_run else 1.0
+        st = CharacteristicsStepper(p, car, red, torque, adhesion, lambda t: V[t], lambda t: W[t])
+        integrate(st, [20.0, 20.0 / car.r] + [0.0] * (3 + red.size), 0.0, t_run, tol=1e-5)   # a history
+        hist = st.hist
+        model = DistributedTire(p, red)
+        qc = QuarterCar(model, car)
+        rng = np.random.default_rng(50 + k)
+        assert (st._eval == st._eval1) == (red.size == 1 and len(red.points) == 1)
+        for i in range(len(v)):
+            t = float(t_run + 1 + i)
+            vr, romega = car.r * omega[i] - v[i], car.r * omega[i]
+            Y = float(deflections(p, vr, theta[i], rng))
+            x = [Y, hist.Phi[-1] + rng.uniform(-2.0, 40.0), rng.uniform(-0.1, 1.3) * hist.X[-1]]
+            x += list(Y * red.A * rng.uniform(0.5, 1.5, red.size))
+            # the tracked deflections z(u_i L) = Y - exp(Phi(tau) - Phi) Y(tau) from the stepper's history,
+            # the current point (rates from the model) closing it
+            dY, b, c = lugre_pde.rhs(t, x, (vr, romega, theta[i], np.zeros(len(red.points))), model)[:3]
+            zp = []
+            for d in red.points * p.L:
+                Pt, Yt, _ = hist.lookup(x[2] - d, (t, x[2], x[1], Y, c, b, dY))
+                zp.append(Y - np.exp(min(Pt - x[1], 0.0)) * Yt)
+            y = [v[i], omega[i]] + x
+            mode = LOCKED if omega[i] == 0.0 else FREE
+            ref = quarter_car.rhs(t, y, (u[i], theta[i], zp), qc)
+            out = quarter_car.outputs(t, y, (u[i], theta[i], zp), qc)
+            if mode == LOCKED:
+                ref[1] = 0.0
+            worst["rhs"] = max(worst.get("rhs", 0.0), gap(st.rhs_at(t, y, mode), ref))
+            got = dict(zip(st.out_names, st.evaluate(t, y, mode)[1]))
+            want = {"vr": out["vr"], "mu": out["mu"], "zbar": out["zbar"], "zdot": out["zdot"], "dv": ref[0],
+                    "domega": ref[1], "z_trailing": out["z_trailing"], "kappa0": out["kappa0"]}
+            worst["outputs"] = max(worst.get("outputs", 0.0), gap([got[n] for n in want], list(want.values())))
+            tire = lugre_pde.rhs(t, x, (vr, romega, theta[i], zp), model)
+            worst["prescribed"] = max(worst.get("prescribed", 0.0),
+                                      gap(st.rhs_at(t, [0.0, 0.0] + x, PRESCRIBED), [0.0, 0.0, *tire]))
+    assert max(worst.values()) <= TOL, worst
+
+
+@pytest.mark.parametrize("load", list(LOADS))
+def test_driven_grid_is_the_distributed_tire_rhs(tires, load):
+    """numerics.driven.GridModel (exponential integrator over time, two parameter sets at once) against
+    models.lugre_pde.rhs at every grid node, the tracked deflections from the grid's own characteristics."""
+    from tirecli.models import lugre_pde
+    from tirecli.models.lugre_pde import DistributedTire
+    from tirecli.numerics.driven import GridModel, drive_from_samples
+
+    red = _reduction(load)
+    t = np.linspace(0.0, 1.0, 101)
+    v = 20.0 - 12.0 * t
+    romega = v * (1.0 + 0.3 * np.sin(9.0 * t) - 0.1)    # braking and driving slip
+    romega[60:70] = 0.0                                   # locked wheel
+    drive = drive_from_samples(t, v, romega, 4, "linear")
+    grid = GridModel(drive, tires[0].L, red)
+    ps = [tires[0], replace(tires[2], sigma0=250.0, mu_s=1.1)]
+    theta = 0.8
+    sol = grid.solve(*(np.array([getattr(p, k) for p in ps]) for k in ("sigma0", "mu_c", "mu_s", "v_s", "alpha")),
+                     theta=theta)
+    worst = 0.0
+    for i, p in enumerate(ps):
+        x = np.vstack([sol["Y"][i], sol["Phi"][i], drive.X] + [s_[i] for s_ in sol["S"]])
+        u = (drive.vr, drive.romega, theta, np.vstack([z[i] for z in sol["z_points"]]))
+        got = np.vstack([sol["dY"][i], sol["b"][i], np.abs(drive.romega)] + [d[i] for d in sol["dS"]])
+        worst = max(worst, gap(got, lugre_pde.rhs(drive.t, x, u, DistributedTire(p, red))))
+        out = lugre_pde.outputs(drive.t, x, u, DistributedTire(p, red))
+        worst = max(worst, gap(sol["zbar"][i], out["zbar"]), gap(sol["zdot"][i], out["zdot"]))
+    assert worst <= TOL
