@@ -3,8 +3,10 @@
 Each kernel of tirecli.numerics (and the exact steps of tirecli.models) re-derives its model's equations
 for speed; here it is evaluated beside the model's ``rhs(t, x, u, p)`` / ``outputs(t, x, u, p)`` on random
 states and inputs that cover its branches, and the largest absolute difference must be at most 1e-12 in
-the units of each quantity scaled by its size (``|a - b| <= 1e-12 max(1, |b|)``: the wheel acceleration
-reaches 1e4 rad/s^2, where one rounding is 2e-12).
+the units of each quantity scaled by its size: ``|a - b| <= 1e-12 max(1, |b|, S)`` (the wheel acceleration
+reaches 1e4 rad/s^2, where one rounding is 2e-12), with ``S`` the size of the terms the model's form sums
+where they cancel (the observer's slow manifold: terms of 1e5 rad/s^2 summing to about 1).
+A kernel perturbed by 1e-11 (relative) in one term fails these tests.
 """
 from __future__ import annotations
 
@@ -20,13 +22,13 @@ from tirecli.models.quarter_car import QuarterCar
 TOL = 1e-12
 
 
-def gap(a, b) -> float:
-    """Largest ``|a - b| / max(1, |b|)`` (NaN anywhere but in both: inf)."""
-    a, b = np.asarray(a, dtype=float), np.asarray(b, dtype=float)
+def gap(a, b, scale=1.0) -> float:
+    """Largest ``|a - b| / max(scale, |b|)`` (NaN anywhere but in both: inf)."""
+    a, b = np.broadcast_arrays(np.asarray(a, dtype=float), np.asarray(b, dtype=float))
     if not np.array_equal(np.isnan(a), np.isnan(b)):
         return float("inf")
     ok = ~np.isnan(b)
-    return float(np.max(np.abs(a[ok] - b[ok]) / np.maximum(1.0, np.abs(b[ok])), initial=0.0))
+    return float(np.max(np.abs(a[ok] - b[ok]) / np.maximum(max(scale, 1.0), np.abs(b[ok])), initial=0.0))
 
 
 @pytest.fixture(scope="module")
@@ -240,3 +242,102 @@ def test_driven_grid_is_the_distributed_tire_rhs(tires, load):
         out = lugre_pde.outputs(drive.t, x, u, DistributedTire(p, red))
         worst = max(worst, gap(sol["zbar"][i], out["zbar"]), gap(sol["zdot"][i], out["zdot"]))
     assert worst <= TOL
+
+
+# --------------------------------------------------------------------------- observer plant and observer
+
+
+@pytest.fixture(scope="module")
+def observers():
+    """The OBS design plant (Stribeck exponent 1 and not 1) with the OBS gains, stiff gains (k1 = 1e6) and
+    the theta-known gains (gamma = 0)."""
+    from tirecli.observers import lugre_observer as lo
+    from tirecli.parameters.sets import load_builtin
+
+    tire = load_builtin("canudas2003-table1").model()
+    car = load_builtin("canudas2003-obs-quarter-car").model()
+    g = load_builtin("canudas2003-obs-gains").model()
+    plants = [lo.ObserverPlant(tire, car), lo.ObserverPlant(replace(tire, alpha=1.6), car)]
+    return [(pl, gg) for pl in plants for gg in (g, g.replace(k1=1.0e6), g.replace(gamma=0.0))]
+
+
+def _observer_points(plant, n, seed):
+    """Random plant states, estimates and inputs around a braking or driving wheel."""
+    rng = np.random.default_rng(seed)
+    v = rng.uniform(2.0, 35.0, n)
+    w = v * (1.0 + rng.uniform(-0.6, 0.4, n)) / plant.car.r
+    w[::5] = 0.0
+    th_fm = rng.uniform(0.4, 1.5, n)
+    z = deflections(plant.tire, plant.car.r * w - v, th_fm, rng)
+    est = (v + rng.normal(0.0, 1.0, n), z * rng.uniform(0.5, 1.5, n), rng.uniform(0.3, 2.5, n))
+    return v, w, z, th_fm, rng.uniform(-1500.0, 800.0, n), est, w + rng.normal(0.0, 0.5, n)
+
+
+@pytest.mark.parametrize("encoder", [False, True])
+def test_observer_scalar_rhs_is_the_models(observers, encoder):
+    """numerics.observer_integrator.scalar_rhs (what the adaptive methods integrate) against full_rhs, the
+    composition of models.quarter_car.rhs and observers.observer.rhs: ideal and held measurement, with and
+    without the encoder's wheel-angle state, for every gain variant."""
+    from tirecli.numerics import observer_integrator as oi
+
+    worst = 0.0
+    for k, (plant, gains) in enumerate(observers):
+        v, w, z, th_fm, u, (vh, zh, thh), y_held = _observer_points(plant, 40, 60 + k)
+        c = plant.car
+        tq = {float(i): x for i, x in enumerate(u)}
+        th = {float(i): x for i, x in enumerate(th_fm)}
+        sc = oi.Scenario(duration=1.0, torque=lambda t: tq[t], theta_fm=lambda t: th[t], v0=20.0, omega0=60.0)
+        fast, ref = oi.scalar_rhs(plant, gains, sc), oi.full_rhs(plant, gains, sc)
+        for i in range(len(v)):
+            X = [v[i], w[i], z[i], c.r * c.m * vh[i] + c.J * w[i], c.J * w[i] + plant.P * zh[i], zh[i], thh[i]]
+            X = np.array(X + ([17.0] if encoder else []))
+            for y in (None, y_held[i]):
+                worst = max(worst, gap(fast(float(i), X, y), ref(float(i), X, y)))
+    assert worst <= TOL, worst
+
+
+def test_observer_fast_scheme_is_the_models(observers):
+    """numerics.observer_integrator.fast_model (the functions and constants simulate_fast inlines) against
+    observers.plant.rhs and observers.observer.rhs: the plant's eta' and its stiff (chi, z) block, its wheel
+    acceleration, and the observer's output error on its slow manifold (C x_hat' = y_m'), ideal and sampled."""
+    from tirecli.numerics import observer_integrator as oi
+    from tirecli.observers import observer, plant as plant_model
+
+    worst = {}
+    for k, (pl, gains) in enumerate(observers):
+        fm = oi.fast_model(pl, gains)
+        obs = observer.Observer(pl, gains)
+        C = pl.matrices()[4]
+        v, w, z, th_fm, u, (vh, zh_, thh), y_held = _observer_points(pl, 40, 80 + k)
+        for i in range(len(v)):
+            th = 1.0 / th_fm[i]
+            x = np.array(pl.to_obs_coords(v[i], w[i], z[i]))
+            dx = plant_model.rhs(0.0, x, (u[i], th), pl)
+            vr = pl.car.r * w[i] - v[i]
+            a = th * fm.aphi_of(vr) + fm.kr * abs(w[i])
+            eta, chi = x[0], x[1]
+            block = [-fm.c * eta + fm.E1 * w[i] + u[i], fm.m11 * chi + fm.m12 * z[i] + u[i],
+                     fm.m21 * chi + (fm.m22c - a) * z[i] - eta * fm.irm]
+            worst["plant"] = max(worst.get("plant", 0.0), gap(block, dx))
+            yd = C @ dx
+            qc = QuarterCar(LumpedTire(pl.tire), pl.car, sigma2_in_wheel=False)      # omega' without C x' cancelling
+            dw = quarter_car.rhs(0.0, [v[i], w[i], z[i]], (u[i], th_fm[i]), qc)[1]
+            worst["ydot"] = max(worst.get("ydot", 0.0), gap(fm.ydot(z[i], w[i], vr, a, u[i]), dw))
+            # the observer on its slow manifold: estimates from the errors (eta~, chi~), measured y_m
+            for ym, ydiff in ((w[i], 0.0), (y_held[i], -yd)):       # ideal; held sample (y_m' = 0)
+                nv = ym - w[i]
+                et = pl.car.r * pl.car.m * (v[i] - vh[i])
+                ct = pl.P * (z[i] - zh_[i])
+                yt, phh, zh, vhat = fm.oeval(et, ct, thh[i], eta, z[i], w[i], th * fm.aphi_of(vr) * z[i], nv, ydiff)
+                xh = np.array([eta - et, chi - ct, zh, thh[i]])
+                out = observer.outputs(0.0, xh, (ym, u[i]), obs)
+                F0 = observer.rhs(0.0, xh, (ym, u[i]), obs)
+                lam = pl.fast_rate(gains, thh[i])
+                # y~ lam = y_m' - C F0, F0 the observer's rhs without injection: C F0 = C x_hat' - lam y~(x_hat)
+                # (y~(x_hat) is 0 up to rounding); terms of P/J (|eta_hat|/(r m) + |E_3 y_m|) cancel in C F0
+                terms = pl.P / pl.car.J * (abs(xh[0]) * fm.irm + abs(pl.E[2] * ym))
+                worst["slow manifold"] = max(worst.get("slow manifold", 0.0),
+                                             gap(yt * lam, ydiff + yd - (C @ F0[:3] - lam * out["y_tilde"]), terms),
+                                             gap(out["y_tilde"], 0.0 * ym), gap(vhat, out["v_hat"]),
+                                             gap(phh, pl.phi(ym, xh[0], zh)))
+    assert max(worst.values()) <= TOL, worst
