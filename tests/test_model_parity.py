@@ -341,3 +341,149 @@ def test_observer_fast_scheme_is_the_models(observers):
                                              gap(out["y_tilde"], 0.0 * ym), gap(vhat, out["v_hat"]),
                                              gap(phh, pl.phi(ym, xh[0], zh)))
     assert max(worst.values()) <= TOL, worst
+
+
+# --------------------------------------------------------------------------- MCPS law and belt
+
+
+@pytest.fixture(scope="module")
+def mcps():
+    from tirecli.parameters.sets import load_builtin
+
+    return load_builtin("sorine2000-mcps").model()
+
+
+@pytest.fixture(scope="module")
+def laws(mcps):
+    """The patch law (per unit length) and the slider law of the built-in set (second order), and a first-order law."""
+    from tirecli.models.mcps import law as L
+
+    return [mcps.patch_law(4000.0), mcps.slider_law(mcps.patch(4000.0).P),
+            L.first_order([5000.0, 3500.0], [19.8, 18.7], 0.35, 0.187)]
+
+
+def exact_flow(law, x0, u):
+    """The exact flow over a unit time of models.mcps.law.rhs with the constant input ``u`` (rate independence:
+    ``u`` the increments): ``x0 + phi_1(A) f(x0)`` for the affine right-hand side ``f(x) = A x + b``, ``phi_1`` from
+    the matrix exponential (scipy) of ``[[A, f(x0)/s], [0, 0]]`` (``s = max |f(x0)|``: a norm of the size of ``A``)."""
+    from scipy.linalg import expm
+
+    from tirecli.models.mcps import law as L
+
+    n = len(x0)
+    b = L.rhs(0.0, np.zeros(n), u, law)
+    big = 2.0 ** 30          # columns of A from far-apart points: b (up to 1e5) does not swamp them
+    A = np.column_stack([(L.rhs(0.0, big * e, u, law) - b) / big for e in np.eye(n)])
+    r = L.rhs(0.0, x0, u, law)
+    s = max(float(np.max(np.abs(r))), 1e-300)
+    M = np.zeros((n + 1, n + 1))
+    M[:n, :n], M[:n, n] = A, r / s
+    return x0 + s * expm(M)[:n, n]
+
+
+def _law_points(law, rng, n):
+    """Random law states near the Coulomb levels, increments from 1e-6 to 10 patch relaxations, spins, frame turns
+    (0 in a third of them)."""
+    F = rng.normal(size=(n, law.nb, 2)) * law.Fk
+    M = rng.normal(size=(n, law.nbz)) * law.Mkz
+    scale = 10.0 ** rng.uniform(-6, 1, (n, 1)) * law.Fk / law.K
+    du = rng.normal(size=(n, 2)) * scale
+    dpsi = rng.normal(size=n) * 10.0 ** rng.uniform(-4, 0, n)
+    dth = np.where(np.arange(n) % 3 == 0, 0.0, rng.normal(size=n) * 10.0 ** rng.uniform(-4, 0, n))
+    du[n // 2] = 0.0                                   # at rest
+    return F, M, du, dpsi, dth
+
+
+def test_mcps_law_step_is_the_exact_flow_of_the_rhs(laws):
+    """models.mcps.law.step (closed-form 2 x 2 exponential per branch) against the exact flow of models.mcps.law.rhs
+    (matrix exponential of the whole state), outputs through models.mcps.law.outputs."""
+    from tirecli.models.mcps import law as L
+
+    worst = 0.0
+    for k, law in enumerate(laws):
+        F, M, du, dpsi, dth = _law_points(law, np.random.default_rng(90 + k), 40)
+        F1, M1 = L.step(F, M, du, dpsi, dth, law)
+        for i in range(len(F)):
+            u = (du[i, 0], du[i, 1], dpsi[i], dth[i])
+            ref = exact_flow(law, L.join_state(F[i], M[i]), u)
+            worst = max(worst, gap(L.join_state(F1[i], M1[i]), ref))
+            f, m = L.output(F1[i], M1[i], law)
+            o = L.outputs(0.0, ref, u, law)
+            worst = max(worst, gap([*f, m], [o["f_x"], o["f_y"], o["m"]]))
+    assert worst <= TOL, worst
+
+
+def test_mcps_rolling_patch_step_is_the_law(mcps):
+    """numerics.mcps_transient.patch_step (every tread element of the rolling tire, exact per component, the frame
+    rotation split half a step before and after) against the exact flows of models.mcps.law.rhs: the law without
+    its frame term, between two half turns of the frame term alone."""
+    from tirecli.models.mcps import law as L
+    from tirecli.numerics.mcps_transient import patch_step
+
+    law = mcps.patch_law(4000.0)
+    G = np.concatenate([law.g.T, law.gz[None, :]])[:, :, None]
+    H = np.concatenate([law.h.T, law.hz[None, :]])[:, :, None]
+    rng = np.random.default_rng(7)
+    N = 30
+    worst = 0.0
+    for dth in (0.0, 3e-3, -0.2):
+        F, M, du2, _, _ = _law_points(law, rng, N)
+        dps = 0.5 * dth if dth else 1e-3
+        S0 = np.concatenate([np.moveaxis(F, 0, -1).transpose(1, 0, 2), np.moveaxis(M, 0, -1)[None]])  # (3, nb, N)
+        du = np.concatenate([du2.T[:, None, :], np.full((1, 1, N), dps)])
+        S1 = patch_step(S0, du, dth, -G, H, law.Fk, np.empty((3, 1, N)), np.empty((3, law.nb, N)))
+        for e in range(N):
+            x = L.join_state(F[e], M[e])
+            x = exact_flow(law, x, (0.0, 0.0, 0.0, 0.5 * dth))
+            x = exact_flow(law, x, (du2[e, 0], du2[e, 1], dps, 0.0))
+            x = exact_flow(law, x, (0.0, 0.0, 0.0, 0.5 * dth))
+            worst = max(worst, gap(L.join_state(S1[:2, :, e].T, S1[2, :, e]), x))
+    assert worst <= TOL, worst
+
+
+def test_mcps_stationary_rates_are_the_law(laws):
+    """models.mcps.tire.stationary_rates (the RK4 kernel of the stationary patch with a yaw rate) against
+    models.mcps.law.rhs per unit rolled distance."""
+    from tirecli.models.mcps import law as L
+    from tirecli.models.mcps.tire import stationary_rates
+
+    law, l = laws[0], 0.15
+    rng = np.random.default_rng(8)
+    P = 25
+    F = rng.normal(size=(P, law.nb, 2)) * law.Fk
+    sx, sy0, phi = rng.normal(size=P) * 0.1, rng.normal(size=P) * 0.1, rng.normal(size=P) * 2.0
+    d = rng.uniform(0.0, l, P)
+    worst = 0.0
+    for frame in (False, True):
+        got = stationary_rates(d, F, sx, sy0, phi, law, l, frame)
+        u = (sx, sy0 + phi * (l / 2.0 - d), phi, phi if frame else 0.0)
+        ref = L.rhs(0.0, L.join_state(F, np.zeros((P, law.nbz))), u, law)[:2 * law.nb]
+        worst = max(worst, gap(L.join_state(got, np.zeros((P, 0))), ref))
+    assert worst <= TOL, worst
+
+
+@pytest.mark.parametrize("locked", [(), (2,), (0, 1)])
+def test_mcps_belt_step_is_the_trapezoidal_rule_of_the_belt_rhs(mcps, locked):
+    """numerics.mcps_transient._belt_matrices: ``y1 = Phi y0 + Gam (u0 + u1)`` is the trapezoidal rule of
+    models.mcps.belt.rhs, ``(y1 - y0)/dt = (f(y0, u0) + f(y1, u1))/2``, with the locked DOFs held at zero;
+    the rim forces of models.mcps.belt.outputs are ``k q + c qdot`` with the kernel's ``k``, ``c``."""
+    from tirecli.models.mcps import belt
+    from tirecli.numerics.mcps_transient import _belt_matrices
+
+    dt = 1e-4
+    Phi, Gam, kv, cv = _belt_matrices(mcps, dt, locked)
+    rng = np.random.default_rng(9)
+    worst = 0.0
+    for _ in range(20):
+        y0 = rng.normal(size=6) * [1e-3, 1e-3, 1e-2, 0.1, 0.1, 1.0]
+        for j in locked:
+            y0[[j, 3 + j]] = 0.0
+        u0, u1 = (rng.normal(size=3) * [300.0, 300.0, 30.0] for _ in range(2))
+        y1 = Phi @ y0 + Gam @ (u0 + u1)
+        mean = 0.5 * (belt.rhs(0.0, y0, u0, mcps) + belt.rhs(0.0, y1, u1, mcps))
+        free = [j for j in range(6) if j % 3 not in locked]
+        worst = max(worst, gap(((y1 - y0) / dt)[free], mean[free]))
+        assert all(y1[j] == 0.0 and y1[3 + j] == 0.0 for j in locked)
+        o = belt.outputs(0.0, y1, u1, mcps)
+        worst = max(worst, gap(kv * y1[:3] + cv * y1[3:], [o["rim_fx"], o["rim_fy"], o["rim_mz"]]))
+    assert worst <= TOL, worst
