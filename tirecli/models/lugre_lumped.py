@@ -84,8 +84,21 @@ def rhs(t, x, u, p: LumpedTire):
 
 
 def friction(x, dx, u, p: LumpedTire):
-    """Normalised friction ``mu = sigma0 z + sigma1 dz/dt + sigma2 vr`` [-] (FM eq. (9)) of the state ``x``
-    [m] and its rate ``dx`` [m/s] (:func:`rhs`): what a coupled model needs without evaluating ``rhs`` twice."""
+    """Normalised friction ``mu = sigma0 z + sigma1 dz/dt + sigma2 vr`` [-] (FM eq. (9)).
+
+    What a coupled model (:mod:`tirecli.models.quarter_car`) needs from the tire without evaluating
+    :func:`rhs` twice.
+
+    Parameters
+    ----------
+    x : array_like, shape (1, ...)
+        State ``(z,)`` [m].
+    dx : array_like, shape (1, ...)
+        Its rate ``(dz/dt,)`` [m/s] (:func:`rhs`).
+    u : sequence
+        ``(vr [m/s], romega [m/s], theta [-])`` (:class:`TireInput`).
+    p : LumpedTire
+    """
     return mu_of_deflection(np.asarray(x, dtype=float)[0], np.asarray(dx, dtype=float)[0], u[0], p.params)
 
 

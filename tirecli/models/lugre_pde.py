@@ -106,7 +106,7 @@ def _powers(points, orders) -> tuple:
 
 
 def patch_reduction(load: str, lam: float = 0.0, u=None, f=None) -> PatchReduction:
-    """The :class:`PatchReduction` of a normal-load density (docs/models/lugre_friction.md §3.2).
+    """The :class:`PatchReduction` of a normal-load density (FM eqs. (1)-(3), (5); docs/models/lugre_friction.md §3.2).
 
     Parameters
     ----------
@@ -114,6 +114,12 @@ def patch_reduction(load: str, lam: float = 0.0, u=None, f=None) -> PatchReducti
         ``uniform`` (FM eq. (3)), ``exponential`` (FM eq. (5), decay ``lam``), ``parabolic``
         (``6 u (1 - u)``) or ``tabulated`` (samples ``f`` at positions ``u = zeta/L``, linear in
         between, zero outside, normalised to unit mass).
+    lam : float
+        Exponential load decay ``lambda`` [-] (below 1e-9: the uniform load).
+    u : array_like or None
+        Tabulated load: sample positions ``zeta/L`` [-], increasing.
+    f : array_like or None
+        Tabulated load: the density at them [any unit: normalised].
     """
     one = np.array([1.0])
     if load == "uniform" or (load == "exponential" and lam < 1e-9):
@@ -235,9 +241,21 @@ def rhs(t, x, u, p: DistributedTire):
 
 
 def friction(x, dx, u, p: DistributedTire):
-    """Normalised friction ``mu = sigma0 zbar + sigma1 dzbar/dt + sigma2 vr`` [-] (FM eq. (2)) of the state
-    ``x`` and its rate ``dx`` (:func:`rhs`), ``zbar = w . S`` the load-weighted mean deflection [m]: what a
-    coupled model needs without evaluating ``rhs`` twice."""
+    """Normalised friction ``mu = sigma0 zbar + sigma1 dzbar/dt + sigma2 vr`` [-] (FM eq. (2)).
+
+    ``zbar = w . S`` is the load-weighted mean deflection [m]. What a coupled model
+    (:mod:`tirecli.models.quarter_car`) needs from the tire without evaluating :func:`rhs` twice.
+
+    Parameters
+    ----------
+    x : array_like, shape (3 + K, ...)
+        State ``(Y [m], Phi [-], X [m], S_0 .. S_{K-1} [m])``.
+    dx : array_like, shape (3 + K, ...)
+        Its rate (:func:`rhs`) [m/s, 1/s, m/s, m/s].
+    u : sequence
+        ``(vr [m/s], romega [m/s], theta [-], z_points [m])`` (:class:`DistributedInput`).
+    p : DistributedTire
+    """
     w, dx = p.red.w, np.asarray(dx, dtype=float)
     x = np.broadcast_to(np.asarray(x, dtype=float), dx.shape)
     return mu_of_deflection(np.tensordot(w, x[3:], axes=1), np.tensordot(w, dx[3:], axes=1), u[0], p.params)
@@ -266,11 +284,22 @@ def outputs(t, x, u, p: DistributedTire) -> dict:
 
 
 def deflection(zeta, Y_now, Phi_now, X_now, hist_t, hist_X, hist_Phi, hist_Y):
-    """Bristle deflection ``z(zeta, t)`` [m] along the patch from the characteristic history.
+    """Bristle deflection ``z(zeta, t)`` [m] along the patch from the characteristic history (FM eq. (1)).
 
     ``z = Y(t) - exp(Phi(tau) - Phi(t)) Y(tau)`` with ``X(tau) = X(t) - zeta`` (module doc);
     history arrays are the values at earlier times (``hist_X`` nondecreasing), interpolated
     linearly. Used for profile plots; the solver uses a higher-order version.
+
+    Parameters
+    ----------
+    zeta : array_like
+        Distance from the leading edge [m], in ``[0, L]``.
+    Y_now, Phi_now, X_now : float
+        The reduced state now: point-model deflection [m], ``int b dt`` [-], travelled length [m].
+    hist_t : array_like
+        Earlier times [s] (unused by the interpolation in ``X``; kept with the history).
+    hist_X, hist_Phi, hist_Y : array_like
+        ``X`` [m], ``Phi`` [-] and ``Y`` [m] at those times.
     """
     zeta = np.asarray(zeta, dtype=float)
     target = X_now - zeta
@@ -288,6 +317,19 @@ def upwind_steady_mu(vr: float, romega: float, p: LuGreParams, cells: int, theta
     solve ``|r omega| (z_j - z_{j-1})/dzeta = vr - b z_j``, ``z_0 = 0``; the force (FM eq. (2))
     is their mean, ``mu = sigma0 mean(z) + sigma2 vr``. Converges to FM eq. (4) at first order
     (docs/models/lugre_friction.md §3.3).
+
+    Parameters
+    ----------
+    vr : float
+        Relative velocity ``r omega - v`` [m/s].
+    romega : float
+        Wheel circumferential speed ``r omega`` [m/s].
+    p : LuGreParams
+        Tire parameters, SI units (:class:`~tirecli.models.lugre.LuGreParams`).
+    cells : int
+        Number of cells over the patch [-].
+    theta : float
+        Road adhesion [-], FM convention.
     """
     b = p.sigma0 * abs(vr) / float(stribeck(vr, p, theta))
     c = abs(romega)

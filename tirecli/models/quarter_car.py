@@ -118,7 +118,7 @@ def rhs(t, x, u, p: QuarterCar):
 
 
 def outputs(t, x, u, p: QuarterCar) -> dict:
-    """Outputs at state ``x`` and input ``u`` (arguments as :func:`rhs`).
+    """Outputs at state ``x`` and input ``u`` (arguments as :func:`rhs`; FM eqs. (2), (9), docs/models/lugre_friction.md §7).
 
     Returns
     -------

@@ -53,6 +53,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from tirecli.models.lugre import mu_of_deflection
 from tirecli.models.lugre_pde import PatchReduction, patch_reduction
 
 #: Largest increase of ``int lambda dt`` inside one block of the cumulative-sum recurrence
@@ -384,4 +385,4 @@ class DrivenDistributed:
         Its ``L`` must be ``self.L`` (the lookups were built for it).
         """
         z, zd = self.states(p.sigma0, p.mu_c, p.mu_s, p.v_s, p.alpha, theta)
-        return p.sigma0 * z[0] + p.sigma1 * zd[0] + p.sigma2 * self.vr
+        return mu_of_deflection(z[0], zd[0], self.vr, p)

@@ -68,7 +68,7 @@ def rhs(t, x, u, p):
 
 
 def outputs(t, x, u, p) -> dict:
-    """The forces the belt puts on the rim at state ``x`` (arguments as :func:`rhs`).
+    """The forces the belt puts on the rim at state ``x`` (arguments as :func:`rhs`; MCPS eq. 17).
 
     Returns
     -------

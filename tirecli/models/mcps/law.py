@@ -131,7 +131,19 @@ def second_order(K, Fk, alpha, beta, Sz, Mkz, alpha_z, beta_z) -> DahlLaw:
 
 def first_order(K, Fk, Sz, Mkz) -> DahlLaw:
     """The first-order 2-D Dahl law (MCPS eq. 4): ``K^-1 df/dt + |F_k du| F_k^-2 f = du``, with a
-    first-order torsion of the same type."""
+    first-order torsion of the same type (``S_z^-1 dm/dt + |dpsi| M_kz^-1 m = dpsi``).
+
+    Parameters
+    ----------
+    K : array_like, shape (2,)
+        Small-deformation stiffness along x, y [N/m] (per length [N/m^2]).
+    Fk : array_like, shape (2,)
+        Coulomb levels along x, y [N] (per length [N/m]).
+    Sz : float
+        Torsional stiffness [N m/rad] (per length [N m/(rad m)]).
+    Mkz : float
+        Torsional sliding torque [N m] (per length [N m/m]).
+    """
     K = np.asarray(K, dtype=float)
     Fk = np.asarray(Fk, dtype=float)
     return DahlLaw(h=K[None, :], g=(K / Fk**2)[None, :], sigma=np.array([1.0]), Fk=Fk,
@@ -149,6 +161,7 @@ def coulomb(du, Fk):
     Parameters
     ----------
     du : array_like, shape (..., 2)
+        Sliding velocity of the slider relative to the road [m/s].
     Fk : array_like, shape (2,)
         Friction levels along x and y [N].
     """
@@ -161,17 +174,34 @@ def coulomb(du, Fk):
 
 
 def output(F, M, law: DahlLaw):
-    """Friction force ``f`` [N] (shape ``(..., 2)``) and torque ``m`` [N m] of states ``F``
-    (``(..., nb, 2)``) and ``M`` (``(..., nbz)``): ``f = C_xy F``, ``m = C_z M`` (MCPS eqs. 5, 7).
+    """Friction force ``f`` [N] (shape ``(..., 2)``) and torque ``m`` [N m]: ``f = C_xy F``, ``m = C_z M`` (MCPS eqs. 5, 7).
 
-    :func:`outputs` in the kernels' layout of the states (:func:`split_state`)."""
+    :func:`outputs` in the kernels' layout of the states (:func:`split_state`).
+
+    Parameters
+    ----------
+    F : array_like, shape (..., nb, 2)
+        Force states [N].
+    M : array_like, shape (..., nbz)
+        Torque states [N m].
+    law : DahlLaw
+        The friction law (gains, levels; per unit patch length for a patch).
+    """
     f = np.einsum("k,...kj->...j", law.sigma, F)
     m = np.einsum("k,...k->...", law.sigz, M)
     return f, m
 
 
 def sliding_measure(du, Fk):
-    """``|F_k du|`` [N m/s] (or [N m] for a displacement), the rate that drives relaxation."""
+    """``|F_k du|`` [N m/s] (or [N m] for a displacement), the rate that drives relaxation (MCPS eqs. 4-9).
+
+    Parameters
+    ----------
+    du : array_like, shape (..., 2)
+        Slider base velocity relative to the road [m/s] (or displacement [m]).
+    Fk : array_like, shape (2,)
+        Coulomb levels along x, y [N].
+    """
     du = np.asarray(du, dtype=float)
     return np.hypot(Fk[0] * du[..., 0], Fk[1] * du[..., 1])
 
@@ -198,8 +228,18 @@ class LawInput(NamedTuple):
 
 
 def split_state(x, law: DahlLaw):
-    """The law's state ``x`` (shape ``(2 nb + nbz, ...)``: ``F^1_x, F^1_y, .., F^nb_x, F^nb_y, M^1 .. M^nbz``)
-    in the layout of the kernels: ``F`` [N], shape ``(..., nb, 2)``, and ``M`` [N m], shape ``(..., nbz)``."""
+    """The law's state ``x`` in the layout of the kernels (MCPS eq. 9's states ``F^k``, ``M^k``).
+
+    ``x`` (shape ``(2 nb + nbz, ...)``: ``F^1_x, F^1_y, .., F^nb_x, F^nb_y, M^1 .. M^nbz``) becomes ``F`` [N],
+    shape ``(..., nb, 2)``, and ``M`` [N m], shape ``(..., nbz)``.
+
+    Parameters
+    ----------
+    x : array_like, shape (2 nb + nbz, ...)
+        Force states [N] then torque states [N m].
+    law : DahlLaw
+        The friction law (gains, levels; per unit patch length for a patch).
+    """
     x = np.asarray(x, dtype=float)
     nb = law.nb
     F = np.moveaxis(x[:2 * nb].reshape((nb, 2) + x.shape[1:]), (0, 1), (-2, -1))
@@ -207,7 +247,15 @@ def split_state(x, law: DahlLaw):
 
 
 def join_state(F, M) -> np.ndarray:
-    """The inverse of :func:`split_state`: ``x`` of shape ``(2 nb + nbz, ...)`` from ``F``, ``M``."""
+    """The inverse of :func:`split_state`: ``x`` of shape ``(2 nb + nbz, ...)`` (MCPS eq. 9's states).
+
+    Parameters
+    ----------
+    F : array_like, shape (..., nb, 2)
+        Force states [N].
+    M : array_like, shape (..., nbz)
+        Torque states [N m].
+    """
     F, M = np.asarray(F, dtype=float), np.asarray(M, dtype=float)
     lead = F.shape[:-2]
     return np.concatenate([np.moveaxis(F, (-2, -1), (0, 1)).reshape((-1,) + lead), np.moveaxis(M, -1, 0)])
@@ -296,6 +344,8 @@ def step(F, M, du, dpsi, dtheta, law: DahlLaw):
     dtheta : array_like, shape (...)
         Rotation of the slider frame relative to the road over the step [rad] (the frame term;
         0 switches it off).
+    law : DahlLaw
+        The friction law.
 
     Returns
     -------
@@ -339,8 +389,18 @@ def step(F, M, du, dpsi, dtheta, law: DahlLaw):
 
 
 def path_rates(alpha, beta, K, Fk):
-    """Decay rates [1/m] of the two branches along a monotone 1-D path (docs/models/mcps_tire.md §3.2):
-    ``a = beta K/(alpha F_k)``, ``b = (beta - 1) K/((alpha - 1) F_k)``."""
+    """Decay rates [1/m] of the two branches along a monotone 1-D path (MCPS eqs. 5-6; docs/models/mcps_tire.md §3.2):
+    ``a = beta K/(alpha F_k)``, ``b = (beta - 1) K/((alpha - 1) F_k)``.
+
+    Parameters
+    ----------
+    alpha, beta : float or array_like
+        Overshoot factors [-] (> 1).
+    K : float or array_like
+        Stiffness [N/m].
+    Fk : float or array_like
+        Coulomb level [N].
+    """
     return beta * K / (alpha * Fk), (beta - 1.0) * K / ((alpha - 1.0) * Fk)
 
 
@@ -367,7 +427,17 @@ def path_response(p, alpha, beta, K, Fk):
 
 def overshoot_peak(alpha, beta, K=1.0, Fk=1.0):
     """Peak of :func:`path_response`: ``(p*, g(p*))`` with ``p* = ln(beta/(beta-1))/(a - b)`` [m]
-    (docs/models/mcps_tire.md §3.2); ``(inf, 1)`` when there is no overshoot (``alpha <= beta``)."""
+    (MCPS eqs. 5-6; docs/models/mcps_tire.md §3.2); ``(inf, 1)`` when there is no overshoot (``alpha <= beta``).
+
+    Parameters
+    ----------
+    alpha, beta : float
+        Overshoot factors [-] (> 1).
+    K : float
+        Stiffness [N/m].
+    Fk : float
+        Coulomb level [N].
+    """
     if alpha <= beta:
         return float("inf"), 1.0
     a, b = path_rates(alpha, beta, K, Fk)

@@ -43,7 +43,14 @@ _F2Z = [((-1) ** j) * j / (2.0 * math.factorial(j + 2)) for j in range(1, 14)]  
 
 
 def f1z(z):
-    """``f1(z)/z`` with ``f1(z) = 1 - (1 - e^-z)/z`` (the patch mean of ``1 - e^{-z d/l}``); finite at 0 (1/2)."""
+    """``f1(z)/z`` [-] with ``f1(z) = 1 - (1 - e^-z)/z``: the patch mean of ``1 - e^{-z d/l}`` (MCPS eq. 14,
+    docs/models/mcps_tire.md §6); finite at 0 (1/2).
+
+    Parameters
+    ----------
+    z : array_like
+        ``z = |F_k s| g l`` [-], >= 0 (patch length over the relaxation length).
+    """
     z = np.asarray(z, dtype=float)
     small = z < SERIES_Z
     zs = np.where(small, 1.0, z)
@@ -52,8 +59,14 @@ def f1z(z):
 
 
 def f2z(z):
-    """``f2(z)/z`` with ``f2(z) = (1 - e^-z (1+z))/z^2 - (1 - e^-z)/(2z)`` (the first moment about
-    the patch centre, docs/models/mcps_tire.md §6); series ``sum (-1)^j j z^(j-1)/(2 (j+2)!)`` below ``SERIES_Z``."""
+    """``f2(z)/z`` [-] with ``f2(z) = (1 - e^-z (1+z))/z^2 - (1 - e^-z)/(2z)`` (MCPS eq. 14: the first moment about
+    the patch centre, docs/models/mcps_tire.md §6); series ``sum (-1)^j j z^(j-1)/(2 (j+2)!)`` below ``SERIES_Z``.
+
+    Parameters
+    ----------
+    z : array_like
+        ``z = |F_k s| g l`` [-], >= 0.
+    """
     z = np.asarray(z, dtype=float)
     small = z < SERIES_Z
     zs = np.where(small, 1.0, z)
@@ -151,8 +164,14 @@ def stationary_linear(sx, sy0, phi, law: DahlLaw, l: float, frame_term: bool = F
     phi : array_like, shape (P,)
         ``Omega_s/(r omega)`` [1/m]: the lateral slip is ``sy0 + phi xi``; also the spin of the
         torsion and, with ``frame_term``, the rotation rate of the slider frame per unit rolled distance.
+    law : DahlLaw
+        The law per unit patch length (:meth:`MCPSParams.patch_law`).
+    l : float
+        Patch length [m].
+    frame_term : bool
+        Include the frame rotation (docs/models/mcps_tire.md §4).
     steps : int or None
-        RK4 steps on each side of the zero of the lateral slip (default: from the stiffness, at
+        RK4 steps [-] on each side of the zero of the lateral slip (default: from the stiffness, at
         least 64).
 
     Returns
@@ -162,7 +181,8 @@ def stationary_linear(sx, sy0, phi, law: DahlLaw, l: float, frame_term: bool = F
     Notes
     -----
     Integrated in ``d`` with the augmented state ``(F, int F, int (l/2-d) F)``, split where the
-    lateral slip vanishes (kink of ``|F_k s|``); the torsion is uniform and exact.
+    lateral slip vanishes (kink of ``|F_k s|``); the torsion is uniform and exact. The right-hand side
+    is :func:`stationary_rates`.
     """
     sx, sy0, phi = (np.atleast_1d(np.asarray(a, dtype=float)) for a in (sx, sy0, phi))
     P = sx.shape[0]
@@ -208,7 +228,19 @@ def stationary_linear(sx, sy0, phi, law: DahlLaw, l: float, frame_term: bool = F
 
 def resultants(f0, f1y, m0, c_Mz: float):
     """Road-on-tire resultants about the patch centre from the patch integrals (MCPS eq. 10):
-    ``Fx, Fy = -int f`` [N], ``Mz = -(int m + c_Mz int xi f_y)`` [N m]."""
+    ``Fx, Fy = -int f`` [N], ``Mz = -(int m + c_Mz int xi f_y)`` [N m].
+
+    Parameters
+    ----------
+    f0 : array_like, shape (..., 2)
+        ``int f dd`` [N] (:func:`stationary_uniform`).
+    f1y : array_like
+        ``int (l/2 - d) f_y dd`` [N m].
+    m0 : array_like
+        ``int m dd`` [N m].
+    c_Mz : float
+        Weight of the lever-arm torque [-].
+    """
     f0 = np.asarray(f0)
     return -f0[..., 0], -f0[..., 1], -(np.asarray(m0) + c_Mz * np.asarray(f1y))
 
@@ -227,7 +259,7 @@ def belt_velocities(Vx, Vy, romega, yaw, q, qdot):
     q : array_like, shape (..., 3)
         Belt displacement ``(x, y, delta)`` relative to the rim [m, m, rad] (zeros: solid carcass).
     qdot : array_like, shape (..., 3)
-        Its rates.
+        Its rates [m/s, m/s, rad/s].
 
     Returns
     -------
