@@ -53,9 +53,10 @@ def radau_lumped(p, car, torque, rtol):
     """The straightforward implementation: solve_ivp(Radau) on quarter_car.rhs, default FD Jacobian."""
     from scipy.integrate import solve_ivp
 
-    from tirecli.models.quarter_car import QuarterCarLumped, rhs
+    from tirecli.models.lugre_lumped import LumpedTire
+    from tirecli.models.quarter_car import QuarterCar, rhs
 
-    qc = QuarterCarLumped(tire=p, car=car, kappa0="Z")
+    qc = QuarterCar(tire=LumpedTire(p, "Z"), car=car)
 
     def f(t, x):
         return rhs(t, x, (torque.at(t), 1.0), qc)
@@ -67,10 +68,11 @@ def radau_lumped(p, car, torque, rtol):
 def lumped_outputs(p, car, torque, t, y):
     """Slip and friction along a lumped solution (FM eqs. (8)-(9))."""
     from tirecli.conventions import slip_from_speeds
-    from tirecli.models.quarter_car import QuarterCarLumped, outputs
+    from tirecli.models.lugre_lumped import LumpedTire
+    from tirecli.models.quarter_car import QuarterCar, outputs
 
-    qc = QuarterCarLumped(tire=p, car=car, kappa0="Z")
-    mu = np.array([outputs(y[:, k], (torque.at(tk), 1.0), qc)[2] for k, tk in enumerate(t)])
+    qc = QuarterCar(tire=LumpedTire(p, "Z"), car=car)
+    mu = np.array([outputs(tk, y[:, k], (torque.at(tk), 1.0), qc)["mu"] for k, tk in enumerate(t)])
     return slip_from_speeds(y[0], y[1], car.r), mu
 
 

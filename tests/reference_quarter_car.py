@@ -6,7 +6,9 @@ from __future__ import annotations
 import numpy as np
 from scipy.integrate import solve_ivp
 
-from tirecli.models.quarter_car import QuarterCarLumped, outputs, rhs
+from tirecli.models import lugre_lumped
+from tirecli.models.lugre_lumped import LumpedTire
+from tirecli.models.quarter_car import QuarterCar, outputs, rhs
 
 
 def reference_run(p, car, kappa0, torque, t_end, v0, omega0, v_stop=0.1, theta=1.0, rtol=1e-9, atol=1e-11,
@@ -15,7 +17,7 @@ def reference_run(p, car, kappa0, torque, t_end, v0, omega0, v_stop=0.1, theta=1
 
     ``torque`` is a tirecli profile (``at``, ``breakpoints``); the brake part cannot reverse the wheel.
     """
-    qc = QuarterCarLumped(p, car, kappa0)
+    qc = QuarterCar(LumpedTire(p, kappa0), car)
     bps = sorted({b for b in torque.breakpoints() if 0 < b < t_end} | {t_end})
 
     def u_of(t):
@@ -23,7 +25,7 @@ def reference_run(p, car, kappa0, torque, t_end, v0, omega0, v_stop=0.1, theta=1
 
     def margin(t, x):  # brake holding margin of a locked wheel: min(T_b, T_b - |r F|)
         u = torque.at(t)
-        mu = outputs((x[0], 0.0, x[2]), (u, theta), qc)[2]
+        mu = outputs(t, (x[0], 0.0, x[2]), (u, theta), qc)["mu"]
         return min(-u, car.r * mu * car.F_n - u)
 
     def f_free(t, x):
@@ -86,20 +88,22 @@ def reference_run(p, car, kappa0, torque, t_end, v0, omega0, v_stop=0.1, theta=1
 
 def reference_mu(p, car, kappa0, t, y, torque, theta=1.0):
     """Friction ``mu`` of the reference at its states ``y`` (rows ``v, omega, z``), times ``t``."""
-    qc = QuarterCarLumped(p, car, kappa0)
-    return np.array([outputs(x, (torque.at(tt), theta), qc)[2] for tt, x in zip(t, y)])
+    qc = QuarterCar(LumpedTire(p, kappa0), car)
+    return np.array([outputs(tt, x, (torque.at(tt), theta), qc)["mu"] for tt, x in zip(t, y)])
 
 
 def reference_open_loop(p, car, kappa0, v_of_t, omega_of_t, breakpoints, t_end, t_eval, theta=1.0, rtol=1e-10,
                         atol=1e-13):
     """The lumped tire alone driven by prescribed ``v(t)``, ``omega(t)``: ``mu`` at ``t_eval`` (solve_ivp
-    DOP853 on ``dz/dt`` of tirecli.models.lugre, split at the breakpoints)."""
-    from tirecli.models.lugre import lumped_mu, lumped_zdot
+    DOP853 on the lumped tire's right-hand side, tirecli.models.lugre_lumped.rhs, split at the breakpoints)."""
+    tire = LumpedTire(p, kappa0)
+
+    def u_of(t):
+        rw = car.r * omega_of_t(t)
+        return (rw - v_of_t(t), rw, theta)
 
     def zdot(t, z):
-        v, w = v_of_t(t), omega_of_t(t)
-        rw = car.r * w
-        return [float(lumped_zdot(z[0], rw - v, rw, p, kappa0, theta))]
+        return lugre_lumped.rhs(t, z, u_of(t), tire)
 
     edges = [0.0] + sorted(b for b in set(breakpoints) if 0 < b < t_end) + [t_end]
     z, out = [0.0], np.full(len(t_eval), np.nan)
@@ -109,9 +113,6 @@ def reference_open_loop(p, car, kappa0, v_of_t, omega_of_t, breakpoints, t_end, 
         sol = solve_ivp(zdot, (a, b), z, method="DOP853", rtol=rtol, atol=atol, t_eval=t_eval[q], max_step=2e-3)
         for tt, zz in zip(sol.t, sol.y[0]):
             i = int(np.flatnonzero(t_eval == tt)[0])
-            v, w = v_of_t(tt), omega_of_t(tt)
-            rw = car.r * w
-            zd = lumped_zdot(zz, rw - v, rw, p, kappa0, theta)
-            out[i] = float(lumped_mu(zz, zd, rw - v, p))
+            out[i] = float(lugre_lumped.outputs(tt, [zz], u_of(tt), tire)["mu"])
         z = [float(solve_ivp(zdot, (a, b), z, method="DOP853", rtol=rtol, atol=atol, max_step=2e-3).y[0, -1])]
     return out

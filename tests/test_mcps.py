@@ -116,8 +116,7 @@ def test_exact_step_matches_a_tight_reference_with_the_frame_term():
         dth, dps = rng.normal() * 10 ** rng.uniform(-3, 1), rng.normal() * 0.5
 
         def f(t, x):
-            dF, dM = L.rates(x[:4].reshape(2, 2), x[4:], du, dps, dth, lw, True)
-            return np.r_[dF.ravel(), dM]
+            return L.rhs(t, x, (du[0], du[1], dps, dth), lw)
 
         ref = solve_ivp(f, (0, 1), np.r_[F0.ravel(), M0], method="DOP853", rtol=1e-13, atol=1e-14).y[:, -1]
         F1, M1 = L.step(F0, M0, du, dps, dth, lw)
@@ -484,9 +483,7 @@ def test_rate_independence_of_the_time_integrated_law(slider_law):
         w = 2 * np.pi / T_
 
         def f(t, x):
-            du = np.array([A * w * np.cos(w * t), 0.0])
-            dF, dM = L.rates(x[:4].reshape(2, 2), x[4:], du, Psi * w * np.cos(w * t), 0.0, lw, False)
-            return np.r_[dF.ravel(), dM]
+            return L.rhs(t, x, (A * w * np.cos(w * t), 0.0, Psi * w * np.cos(w * t), 0.0), lw)
 
         # split at the reversals (kinks of |du|) so the integrator never steps across one
         pieces, x0 = [], np.zeros(6)
@@ -512,22 +509,6 @@ def test_check_bounds():
     assert Check("a", "", 1.1, 1.0, 0.0, bound="min").passed and not Check("a", "", 0.9, 1.0, 0.0, bound="min").passed
     assert not Check("a", "", float("nan"), 1.0, 0.0, bound="min").passed
     assert Check("a", "", 1.1, 1.0, 0.0, bound="max").record()["bound"] == "max"
-
-
-def test_belt_matrices_follow_the_model_rhs(p):
-    """The trapezoidal belt step integrates MCPS eq. (17) as written in tirecli.models.mcps.tire.belt_rhs."""
-    from tirecli.numerics.mcps_transient import _belt_matrices
-
-    dt = 1e-5
-    Phi, Gam, _, _ = _belt_matrices(p, dt, ())
-    rng = np.random.default_rng(4)
-    y0, u = rng.normal(size=6) * [1e-3, 1e-3, 1e-2, 0.1, 0.1, 1.0], rng.normal(size=3) * [100, 100, 10]
-    y1 = Phi @ y0 + 2 * Gam @ u
-    mid = T.belt_rhs(0.0, 0.5 * (y0 + y1), u, p)          # implicit midpoint = trapezoid for a linear system
-    assert np.allclose((y1 - y0) / dt, mid, rtol=1e-9, atol=1e-9)
-    Phi, Gam, _, _ = _belt_matrices(p, dt, (2,))
-    y1 = Phi @ np.zeros(6) + 2 * Gam @ u
-    assert y1[2] == 0 and y1[5] == 0 and y1[4] != 0
 
 
 def test_large_slip_angle_relaxation_is_resolved(p):

@@ -3,6 +3,8 @@ import numpy as np
 import pytest
 
 from tirecli.observers import lugre_observer as lo
+from tirecli.observers import observer
+from tirecli.observers import plant as obs_plant
 
 
 from observer_fixtures import gains, plant  # noqa: F401 (fixtures)
@@ -20,16 +22,17 @@ def test_coordinates_round_trip(plant):
 
 def test_obs_form_equals_quarter_car_plant(plant):
     """OBS (22) in (eta, chi, z) is the quarter car with sigma2 in the vehicle equation only (OBS (3)-(5))."""
-    from tirecli.models.quarter_car import QuarterCarLumped, rhs
+    from tirecli.models.lugre_lumped import LumpedTire
+    from tirecli.models.quarter_car import QuarterCar, rhs
 
-    qc = QuarterCarLumped(tire=plant.tire, car=plant.car, sigma2_in_wheel=False)
+    qc = QuarterCar(tire=LumpedTire(plant.tire), car=plant.car, sigma2_in_wheel=False)
     rng = np.random.default_rng(0)
     for _ in range(20):
         v, w, z = rng.uniform(5, 40), rng.uniform(20, 160), rng.uniform(-3e-3, 3e-3)
         u, th_obs = rng.uniform(-400, 400), rng.uniform(1, 2.5)
         dv, dw, dz = rhs(0.0, (v, w, z), (u, 1.0 / th_obs), qc)
         x = np.array(plant.to_obs_coords(v, w, z))
-        deta, dchi, dz2 = plant.plant_rhs(x, th_obs, u)
+        deta, dchi, dz2 = obs_plant.rhs(0.0, x, (u, th_obs), plant)
         c = plant.car
         np.testing.assert_allclose([deta, dchi, dz2],
                                    [c.r * c.m * dv + c.J * dw, c.J * dw + plant.P * dz, dz], rtol=1e-9, atol=1e-9)
@@ -38,8 +41,8 @@ def test_obs_form_equals_quarter_car_plant(plant):
 def test_observer_at_the_plant_state_has_no_injection(plant, gains):
     x = np.array(plant.to_obs_coords(25.0, 101.0, 1.2e-3))
     y = plant.from_obs_coords(*x)[1]
-    deta, dchi, dz, dth = plant.observer_rhs(x, 1.7, y, 120.0, gains)
-    np.testing.assert_allclose([deta, dchi, dz], plant.plant_rhs(x, 1.7, 120.0), rtol=1e-12)
+    deta, dchi, dz, dth = observer.rhs(0.0, [*x, 1.7], (y, 120.0), observer.Observer(plant, gains))
+    np.testing.assert_allclose([deta, dchi, dz], obs_plant.rhs(0.0, x, (120.0, 1.7), plant), rtol=1e-12)
     assert dth == 0.0
 
 

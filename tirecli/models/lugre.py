@@ -9,7 +9,11 @@ restated in ``docs/models/lugre_friction.md``:
 - the distributed steady state for a uniform load (FM eq. (4)), an exponential load
   (FM eq. (6) with its misprinted sign corrected) and any normal-load density (quadrature);
 - ``kappa0(Z)`` of FM eq. (10) and the averaged lumped steady state (FM eqs. (8)-(9) with
-  ``dz/dt = 0``) for constant ``kappa0``, ``kappa0(Z)`` and ``kappa = lambda/L``.
+  ``dz/dt = 0``) for constant ``kappa0``, ``kappa0(Z)`` and ``kappa = lambda/L``;
+- the pieces of the lumped dynamics: its coefficient ``kappa``, decay rate (FM eq. (8)) and the
+  friction of a deflection (FM eq. (9)). The dynamic models themselves (``rhs(t, x, u, p)``,
+  ``outputs(t, x, u, p)``) are :mod:`tirecli.models.lugre_lumped` (lumped), :mod:`tirecli.models.lugre_pde`
+  (distributed) and :mod:`tirecli.models.quarter_car`.
 
 All functions take the relative velocity ``vr = r*omega - v`` and the wheel circumferential
 speed ``romega = r*omega`` in m/s (signs: :mod:`tirecli.conventions`) and broadcast like numpy.
@@ -77,10 +81,11 @@ def stribeck(vr, p: LuGreParams, theta=1.0):
     Parameters
     ----------
     vr : array_like
-        Relative velocity ``r*omega - v`` [m/s].
+        Relative velocity ``r omega - v`` [m/s].
     p : LuGreParams
+        Tire parameters, SI units (:class:`LuGreParams`).
     theta : array_like
-        Road adhesion in the FM convention [-] (1 = nominal).
+        Road adhesion [-], FM convention (``g -> theta g``; 1 = nominal).
     """
     a = np.abs(np.asarray(vr, dtype=float) / p.v_s)
     e = np.exp(-a) if p.alpha == 1.0 else np.exp(-(a ** p.alpha))
@@ -98,6 +103,10 @@ def stribeck_slope(a, p: LuGreParams, theta=1.0):
     ----------
     a : array_like
         Magnitude of the relative velocity ``|vr|`` [m/s], > 0.
+    p : LuGreParams
+        Tire parameters, SI units (:class:`LuGreParams`).
+    theta : array_like
+        Road adhesion [-], FM convention (``g -> theta g``; 1 = nominal).
     """
     q = np.asarray(a, dtype=float) / p.v_s
     qa = q if p.alpha == 1.0 else q ** p.alpha
@@ -106,11 +115,22 @@ def stribeck_slope(a, p: LuGreParams, theta=1.0):
 
 
 def patch_ratio(vr, romega, p: LuGreParams, theta=1.0):
-    """Dimensionless patch length ``x = L/Z = sigma0 |vr| L / (theta g |r omega|)`` [-].
+    """Dimensionless patch length ``x = L/Z = sigma0 |vr| L / (theta g |r omega|)`` [-] (FM eq. (4)).
 
     ``Z = |r omega| theta g / (sigma0 |vr|)`` [m] is the distance a tread element travels
     before its deflection approaches the sliding value (docs/models/lugre_friction.md §3.3). ``x = inf`` for a
     locked wheel (``romega = 0``, ``vr != 0``) and 0 at ``vr = 0``.
+
+    Parameters
+    ----------
+    vr : array_like
+        Relative velocity ``r omega - v`` [m/s].
+    romega : array_like
+        Wheel circumferential speed ``r omega`` [m/s].
+    p : LuGreParams
+        Tire parameters, SI units (:class:`LuGreParams`).
+    theta : array_like
+        Road adhesion [-], FM convention (``g -> theta g``; 1 = nominal).
     """
     vr = np.asarray(vr, dtype=float)
     g = stribeck(vr, p, theta)
@@ -126,6 +146,11 @@ def h_uniform(x):
 
     Evaluated with ``expm1`` and the series ``x/2 - x^2/6 + x^3/24`` below ``x = 1e-4``;
     ``h(0) = 0`` and ``h(inf) = 1``.
+
+    Parameters
+    ----------
+    x : array_like
+        Dimensionless patch length ``x = L/Z`` [-], >= 0 (``inf``: locked wheel).
     """
     x = np.asarray(x, dtype=float)
     small = x < _X_SERIES
@@ -149,6 +174,11 @@ def h_uniform_slope(x):
     series ``sum_{n>=1} (-1)^(n+1) n x^(n-1) / (n+1)!`` (to ``n = 12``) replaces the closed form.
     With ``s = lam + x`` it is also the slope of the exponential-load shape (FM eq. (6)), up to
     the factor ``lam/(1 - e^-lam)``.
+
+    Parameters
+    ----------
+    x : array_like
+        Dimensionless patch length ``x = L/Z`` [-], >= 0 (``inf``: locked wheel).
     """
     x = np.asarray(x, dtype=float)
     small = x < _X_SLOPE_SERIES
@@ -170,6 +200,11 @@ def kappa0_of_x(x):
 
     ``kappa0 = (1 - exp(-x)) / h(x)`` with ``x = L/Z``; decreases from 2 (``x -> 0``) to 1
     (``x -> inf``). Series ``2 - x/3 + x^2/18 - x^3/270`` below ``x = 1e-4``.
+
+    Parameters
+    ----------
+    x : array_like
+        Dimensionless patch length ``x = L/Z`` [-], >= 0 (``inf``: locked wheel).
     """
     x = np.asarray(x, dtype=float)
     small = x < _X_SERIES
@@ -192,12 +227,13 @@ def mu_ss_uniform(vr, romega, p: LuGreParams, theta=1.0):
     Parameters
     ----------
     vr : array_like
-        Relative velocity ``r*omega - v`` [m/s].
+        Relative velocity ``r omega - v`` [m/s].
     romega : array_like
-        Wheel circumferential speed ``r*omega`` [m/s].
+        Wheel circumferential speed ``r omega`` [m/s].
     p : LuGreParams
+        Tire parameters, SI units (:class:`LuGreParams`).
     theta : array_like
-        Adhesion, FM convention [-].
+        Road adhesion [-], FM convention (``g -> theta g``; 1 = nominal).
     """
     # Written with in-place array operations: this is the hot path of every sweep
     # (benchmarks/bench_steady_state.py); it equals sgn(vr) g h(x) + sigma2 vr.
@@ -243,8 +279,16 @@ def mu_ss_exponential(vr, romega, p: LuGreParams, lam, theta=1.0):
 
     Parameters
     ----------
+    vr : array_like
+        Relative velocity ``r omega - v`` [m/s].
+    romega : array_like
+        Wheel circumferential speed ``r omega`` [m/s].
+    p : LuGreParams
+        Tire parameters, SI units (:class:`LuGreParams`).
     lam : float or array_like
-        Load decay ``lambda`` [-], ``>= 0``.
+        Load decay ``lambda`` [-], ``>= 0`` (FM eq. (5)).
+    theta : array_like
+        Road adhesion [-], FM convention (``g -> theta g``; 1 = nominal).
     """
     vr = np.asarray(vr, dtype=float)
     lam = np.asarray(lam, dtype=float)
@@ -281,18 +325,37 @@ def parabolic_density(u):
     """Parabolic normal-load density ``6 u (1 - u)`` per unit ``u = zeta/L`` [-] (docs/models/lugre_friction.md §3.2, [assumed form]).
 
     Integrates to 1 over ``u in [0, 1]``; ``f_n(zeta) = F_n/L * parabolic_density(zeta/L)``.
+
+    Parameters
+    ----------
+    u : array_like
+        Position along the patch ``u = zeta/L`` [-], 0 at the leading edge, 1 at the trailing edge.
     """
     u = np.asarray(u, dtype=float)
     return 6.0 * u * (1.0 - u)
 
 
 def uniform_density(u):
-    """Uniform normal-load density per unit ``u = zeta/L``: 1 (FM eq. (3))."""
+    """Uniform normal-load density per unit ``u = zeta/L``: 1 [-] (FM eq. (3)).
+
+    Parameters
+    ----------
+    u : array_like
+        Position along the patch ``u = zeta/L`` [-], 0 at the leading edge, 1 at the trailing edge.
+    """
     return np.ones_like(np.asarray(u, dtype=float))
 
 
 def exponential_density(u, lam):
-    """Exponential load density ``lam e^{-lam u}/(1 - e^{-lam})`` per unit ``u = zeta/L`` (FM eq. (5))."""
+    """Exponential load density ``lam e^{-lam u}/(1 - e^{-lam})`` [-] per unit ``u = zeta/L`` (FM eq. (5)).
+
+    Parameters
+    ----------
+    u : array_like
+        Position along the patch ``u = zeta/L`` [-], 0 at the leading edge, 1 at the trailing edge.
+    lam : float
+        Load decay ``lambda`` [-], >= 0 (below 1e-12: the uniform density).
+    """
     u = np.asarray(u, dtype=float)
     if lam < 1e-12:
         return np.ones_like(u)
@@ -300,9 +363,17 @@ def exponential_density(u, lam):
 
 
 def tabulated_density(u_samples, f_samples):
-    """A load density from samples ``f_n(zeta_i)`` at ``u_i = zeta_i/L``, normalised to unit mass.
+    """A load density from samples ``f_n(zeta_i)`` at ``u_i = zeta_i/L``, normalised to unit mass
+    (the density ``w`` of FM eq. (2); docs/models/lugre_friction.md §3.2).
 
     Returns a callable of ``u`` (linear interpolation; zero outside the samples).
+
+    Parameters
+    ----------
+    u_samples : array_like
+        Positions ``u_i = zeta_i/L`` [-], increasing.
+    f_samples : array_like
+        Load density at them [any unit: normalised here].
     """
     u_samples = np.asarray(u_samples, dtype=float)
     f_samples = np.asarray(f_samples, dtype=float)
@@ -324,11 +395,19 @@ def mu_ss_density(vr, romega, p: LuGreParams, density, theta=1.0, nodes: int = 1
 
     Parameters
     ----------
+    vr : array_like
+        Relative velocity ``r omega - v`` [m/s].
+    romega : array_like
+        Wheel circumferential speed ``r omega`` [m/s].
+    p : LuGreParams
+        Tire parameters, SI units (:class:`LuGreParams`).
     density : callable
-        ``w(u)`` on ``u in [0, 1]`` (e.g. :func:`parabolic_density`); a density built by
+        ``w(u)`` [-] on ``u in [0, 1]`` (e.g. :func:`parabolic_density`); a density built by
         :func:`tabulated_density` is integrated piecewise between its samples.
+    theta : array_like
+        Road adhesion [-], FM convention (``g -> theta g``; 1 = nominal).
     nodes : int
-        Gauss-Legendre nodes per interval of a composite rule graded towards the leading
+        Gauss-Legendre nodes per interval [-] of a composite rule graded towards the leading
         edge (where ``1 - e^{-x u}`` has a layer of width ``1/x``).
     """
     vr = np.asarray(vr, dtype=float)
@@ -348,10 +427,19 @@ def mu_ss_density(vr, romega, p: LuGreParams, density, theta=1.0, nodes: int = 1
 
 
 def density_shape_slope(x, density, nodes: int = 12):
-    """Slope ``d/dx int_0^1 w(u) (1 - e^{-x u}) du = int_0^1 w(u) u e^{-x u} du`` [-].
+    """Slope ``d/dx int_0^1 w(u) (1 - e^{-x u}) du = int_0^1 w(u) u e^{-x u} du`` [-] (FM eq. (2)).
 
     The derivative of the load-density shape of :func:`mu_ss_density` with respect to
     ``x = L/Z``, by the same graded composite Gauss-Legendre rule (``w`` of unit mass).
+
+    Parameters
+    ----------
+    x : array_like
+        Dimensionless patch length ``x = L/Z`` [-], >= 0 (``inf``: locked wheel).
+    density : callable
+        ``w(u)`` [-] on ``u in [0, 1]`` (:func:`mu_ss_density`).
+    nodes : int
+        Gauss-Legendre nodes per interval [-].
     """
     x = np.asarray(x, dtype=float)
     knots = np.union1d(_GRADED, np.clip(getattr(density, "knots", np.array([])), 0.0, 1.0))
@@ -372,6 +460,20 @@ def mu_ss_lumped(vr, romega, p: LuGreParams, kappa0=None, theta=1.0):
     a constant (``None`` takes ``p.kappa0``), ``lambda`` for an exponential load
     (``kappa = lambda/L``), or the string ``"Z"`` for ``kappa0(Z)`` of FM eq. (10), with which
     the lumped steady state equals eq. (4) exactly.
+
+    Parameters
+    ----------
+    vr : array_like
+        Relative velocity ``r omega - v`` [m/s].
+    romega : array_like
+        Wheel circumferential speed ``r omega`` [m/s].
+    p : LuGreParams
+        Tire parameters, SI units (:class:`LuGreParams`).
+    kappa0 : float, None or "Z"
+        Lumped coefficient ``kappa0 = kappa L`` [-]: a constant, ``None`` for ``p.kappa0``, or ``"Z"`` for
+        ``kappa0(Z)`` of FM eq. (10) at ``(vr, romega)``.
+    theta : array_like
+        Road adhesion [-], FM convention (``g -> theta g``; 1 = nominal).
     """
     vr = np.asarray(vr, dtype=float)
     g = stribeck(vr, p, theta)
@@ -388,9 +490,18 @@ def mu_ss_lumped(vr, romega, p: LuGreParams, kappa0=None, theta=1.0):
 
 
 def small_slip_slope(v, p: LuGreParams):
-    """Braking small-slip stiffness ``d|mu|/d|s|`` at ``s -> 0``: ``sigma0 L/2 + sigma2 v`` [-] (docs/models/lugre_friction.md §3.3).
+    """Braking small-slip stiffness ``d|mu|/d|s|`` at ``s -> 0``: ``sigma0 L/2 + sigma2 v`` [-].
+
+    The slope at the origin of FM eq. (4) (docs/models/lugre_friction.md §3.3).
 
     Independent of ``g`` and of ``theta``.
+
+    Parameters
+    ----------
+    v : array_like
+        Vehicle speed [m/s].
+    p : LuGreParams
+        Tire parameters, SI units (:class:`LuGreParams`).
     """
     return p.sigma0 * p.L / 2.0 + p.sigma2 * np.asarray(v, dtype=float)
 
@@ -398,8 +509,19 @@ def small_slip_slope(v, p: LuGreParams):
 def lumped_kappa(vr, romega, p: LuGreParams, kappa0=None, theta=1.0):
     """Lumped distribution coefficient ``kappa`` [1/m] = ``kappa0/L`` (FM eq. (8)).
 
-    ``kappa0`` is a number, ``None`` (``p.kappa0``) or ``"Z"`` for ``kappa0(Z)`` of FM eq. (10)
-    evaluated at the current ``(vr, romega)``.
+    Parameters
+    ----------
+    vr : array_like
+        Relative velocity ``r omega - v`` [m/s].
+    romega : array_like
+        Wheel circumferential speed ``r omega`` [m/s].
+    p : LuGreParams
+        Tire parameters, SI units (:class:`LuGreParams`).
+    kappa0 : float, None or "Z"
+        Lumped coefficient ``kappa0 = kappa L`` [-]: a constant, ``None`` for ``p.kappa0``, or ``"Z"`` for
+        ``kappa0(Z)`` of FM eq. (10) at ``(vr, romega)``.
+    theta : array_like
+        Road adhesion [-], FM convention (``g -> theta g``; 1 = nominal).
     """
     if isinstance(kappa0, str):
         if kappa0 != "Z":
@@ -409,34 +531,43 @@ def lumped_kappa(vr, romega, p: LuGreParams, kappa0=None, theta=1.0):
 
 
 def lumped_decay_rate(vr, romega, p: LuGreParams, kappa0=None, theta=1.0):
-    """Decay rate ``a = sigma0 |vr| / (theta g) + kappa |r omega|`` [1/s] of the lumped state.
+    """Decay rate ``a = sigma0 |vr| / (theta g) + kappa |r omega|`` [1/s] of the lumped state (FM eq. (8)).
 
     FM eq. (8) reads ``dz/dt = vr - a z``; ``a`` reaches 1e3-1e4 1/s at large slip velocity
     (stiff). With ``vr`` and ``romega`` frozen over a step ``h`` the exact update is
     ``z(t + h) = z_ss + (z - z_ss) exp(-a h)`` with ``z_ss = vr / a`` [m].
+
+    Parameters
+    ----------
+    vr : array_like
+        Relative velocity ``r omega - v`` [m/s].
+    romega : array_like
+        Wheel circumferential speed ``r omega`` [m/s].
+    p : LuGreParams
+        Tire parameters, SI units (:class:`LuGreParams`).
+    kappa0 : float, None or "Z"
+        Lumped coefficient ``kappa0 = kappa L`` [-]: a constant, ``None`` for ``p.kappa0``, or ``"Z"`` for
+        ``kappa0(Z)`` of FM eq. (10) at ``(vr, romega)``.
+    theta : array_like
+        Road adhesion [-], FM convention (``g -> theta g``; 1 = nominal).
     """
     vr = np.asarray(vr, dtype=float)
     return (p.sigma0 * np.abs(vr) / stribeck(vr, p, theta)
             + lumped_kappa(vr, romega, p, kappa0, theta) * np.abs(np.asarray(romega, dtype=float)))
 
 
-def lumped_zdot(z, vr, romega, p: LuGreParams, kappa0=None, theta=1.0):
-    """Lumped bristle dynamics ``dz/dt = vr - sigma0 |vr|/(theta g) z - kappa |r omega| z`` [m/s] (FM eq. (8)).
+def mu_of_deflection(z, zdot, vr, p: LuGreParams):
+    """Normalised friction ``mu = sigma0 z + sigma1 dz/dt + sigma2 vr`` [-] (FM eq. (9); FM eq. (2) with
+    the load-weighted mean deflection and its rate).
 
     Parameters
     ----------
     z : array_like
         Mean bristle deflection [m] (FM eq. (7)).
-    vr, romega : array_like
-        Relative velocity and wheel circumferential speed [m/s].
-    kappa0 : float, None or "Z"
-        Lumped coefficient (see :func:`lumped_kappa`).
-    theta : array_like
-        Adhesion, FM convention [-].
+    zdot : array_like
+        Its rate ``dz/dt`` [m/s].
+    vr : array_like
+        Relative velocity ``r omega - v`` [m/s].
+    p : LuGreParams
     """
-    return np.asarray(vr, dtype=float) - lumped_decay_rate(vr, romega, p, kappa0, theta) * z
-
-
-def lumped_mu(z, zdot, vr, p: LuGreParams):
-    """Normalised friction ``mu = sigma0 z + sigma1 dz/dt + sigma2 vr`` [-] (FM eq. (9))."""
     return p.sigma0 * z + p.sigma1 * zdot + p.sigma2 * np.asarray(vr, dtype=float)

@@ -28,16 +28,24 @@ deflection, FM eq. (7)) and one tracked point (the trailing edge): ``dzbar/dt = 
 (|r omega|/L) z(L, t)``, the lumped model (8) with the exact trailing-edge term in place of
 ``kappa |r omega| zbar``.
 
+**Model shape** (python-control, pure, vectorized with the state axis first): :func:`rhs` and
+:func:`outputs` of :class:`DistributedTire` with the state ``x = (Y, Phi, X, S_0 .. S_{K-1})``, the input
+``u = (vr, r omega, theta, z_points)`` (:class:`DistributedInput`; ``z_points`` from the history, see
+there) and the outputs ``mu``, ``zbar``, ``zdot``, ``z_trailing``, ``kappa0``. Fast kernels that inline
+it: :class:`tirecli.numerics.characteristics.CharacteristicsStepper` (quarter car) and
+:class:`tirecli.numerics.driven.GridModel` (prescribed kinematics); parity: tests/test_model_parity.py.
+
 :func:`upwind_steady_mu` is the first-order upwind discretisation of docs/models/lugre_friction.md §3.3, kept as
 a reference for the convergence figures.
 """
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
+from typing import NamedTuple
 
 import numpy as np
 
-from tirecli.models.lugre import LuGreParams, stribeck
+from tirecli.models.lugre import LuGreParams, mu_of_deflection, stribeck
 
 
 @dataclass(frozen=True)
@@ -98,7 +106,7 @@ def _powers(points, orders) -> tuple:
 
 
 def patch_reduction(load: str, lam: float = 0.0, u=None, f=None) -> PatchReduction:
-    """The :class:`PatchReduction` of a normal-load density (docs/models/lugre_friction.md §3.2).
+    """The :class:`PatchReduction` of a normal-load density (FM eqs. (1)-(3), (5); docs/models/lugre_friction.md §3.2).
 
     Parameters
     ----------
@@ -106,6 +114,12 @@ def patch_reduction(load: str, lam: float = 0.0, u=None, f=None) -> PatchReducti
         ``uniform`` (FM eq. (3)), ``exponential`` (FM eq. (5), decay ``lam``), ``parabolic``
         (``6 u (1 - u)``) or ``tabulated`` (samples ``f`` at positions ``u = zeta/L``, linear in
         between, zero outside, normalised to unit mass).
+    lam : float
+        Exponential load decay ``lambda`` [-] (below 1e-9: the uniform load).
+    u : array_like or None
+        Tabulated load: sample positions ``zeta/L`` [-], increasing.
+    f : array_like or None
+        Tabulated load: the density at them [any unit: normalised].
     """
     one = np.array([1.0])
     if load == "uniform" or (load == "exponential" and lam < 1e-9):
@@ -142,12 +156,150 @@ def patch_reduction(load: str, lam: float = 0.0, u=None, f=None) -> PatchReducti
     raise ValueError(f"unknown load {load!r}")
 
 
+@dataclass(frozen=True)
+class DistributedTire:
+    """Parameters of the distributed LuGre tire in its exact reduction (module doc).
+
+    Attributes
+    ----------
+    params : LuGreParams
+        Friction parameters (``sigma0`` [1/m], ``sigma1``, ``sigma2`` [s/m], ``mu_c``, ``mu_s`` [-],
+        ``v_s`` [m/s], ``L`` [m], ``alpha`` [-]; ``sigma_w`` is the wheel's).
+    red : PatchReduction
+        The normal-load density's reduction (:func:`patch_reduction`; default uniform, FM eq. (3)).
+    """
+
+    params: LuGreParams
+    red: PatchReduction = field(default_factory=lambda: patch_reduction("uniform"))
+
+
+class DistributedInput(NamedTuple):
+    """Input of the distributed tire (:func:`rhs`).
+
+    Attributes
+    ----------
+    vr : array_like
+        Relative velocity ``r omega - v`` [m/s].
+    romega : array_like
+        Wheel circumferential speed ``r omega`` [m/s].
+    theta : array_like
+        Road adhesion [-], FM convention (``g -> theta g``).
+    z_points : array_like, shape (len(red.points), ...)
+        Bristle deflections ``z(u_i L, t)`` [m] at the tracked points ``u_i = red.points`` (the last one
+        the trailing edge). The characteristics give them from the *history* of ``(X, Phi, Y)``
+        (:func:`deflection`): they are an input here because they depend on the state's past, not on
+        its present value.
+    """
+
+    vr: object
+    romega: object
+    theta: object
+    z_points: object
+
+
+def _column(a, nd: int) -> np.ndarray:
+    """A per-state vector as a column against ``nd`` trailing axes."""
+    return np.asarray(a, dtype=float).reshape((-1,) + (1,) * nd)
+
+
+def rhs(t, x, u, p: DistributedTire):
+    """Right-hand side of the exact reduction of FM eq. (1) (module doc; docs/models/lugre_friction.md §3.1-3.2).
+
+    ``dY/dt = vr - b Y``, ``dPhi/dt = b``, ``dX/dt = |r omega|`` and
+    ``dS/dt = A vr - b S - (|r omega|/L) (Bc z(points)[p] - D S)`` with ``b = sigma0 |vr| / (theta g(vr))``.
+
+    Parameters
+    ----------
+    t : float
+        Time [s] (unused: autonomous given ``u``).
+    x : array_like, shape (3 + K, ...)
+        State ``(Y [m], Phi [-], X [m], S_0 .. S_{K-1} [m])``: the point-model deflection from rest, the
+        integrated bristle rate ``int b dt``, the travelled length ``int |r omega| dt`` and the patch
+        integrals of :class:`PatchReduction` (``K = p.red.size``).
+    u : sequence
+        ``(vr [m/s], romega [m/s], theta [-], z_points [m])`` (:class:`DistributedInput`).
+    p : DistributedTire
+
+    Returns
+    -------
+    ndarray, shape (3 + K, ...)
+        ``(dY/dt [m/s], b [1/s], |r omega| [m/s], dS/dt [m/s])``.
+    """
+    tire, red = p.params, p.red
+    x = np.asarray(x, dtype=float)
+    vr = np.asarray(u[0], dtype=float)
+    c = np.abs(np.asarray(u[1], dtype=float))
+    zp = np.asarray(u[3], dtype=float)
+    shape = np.broadcast_shapes(x.shape[1:], vr.shape, c.shape, np.shape(u[2]), zp.shape[1:])
+    nd = len(shape)
+    Y, S = x[0], x[3:]
+    b = tire.sigma0 * np.abs(vr) / stribeck(vr, tire, u[2])
+    trans = _column(red.Bc, nd) * zp[red.p] - np.tensordot(red.D, S, axes=1)
+    dS = _column(red.A, nd) * vr - b * S - (c / tire.L) * trans
+    return np.concatenate([np.broadcast_to(a, shape)[None] for a in (vr - b * Y, b, c)]
+                          + [np.broadcast_to(dS, (red.size,) + shape)])
+
+
+def friction(x, dx, u, p: DistributedTire):
+    """Normalised friction ``mu = sigma0 zbar + sigma1 dzbar/dt + sigma2 vr`` [-] (FM eq. (2)).
+
+    ``zbar = w . S`` is the load-weighted mean deflection [m]. What a coupled model
+    (:mod:`tirecli.models.quarter_car`) needs from the tire without evaluating :func:`rhs` twice.
+
+    Parameters
+    ----------
+    x : array_like, shape (3 + K, ...)
+        State ``(Y [m], Phi [-], X [m], S_0 .. S_{K-1} [m])``.
+    dx : array_like, shape (3 + K, ...)
+        Its rate (:func:`rhs`) [m/s, 1/s, m/s, m/s].
+    u : sequence
+        ``(vr [m/s], romega [m/s], theta [-], z_points [m])`` (:class:`DistributedInput`).
+    p : DistributedTire
+    """
+    w, dx = p.red.w, np.asarray(dx, dtype=float)
+    x = np.broadcast_to(np.asarray(x, dtype=float), dx.shape)
+    return mu_of_deflection(np.tensordot(w, x[3:], axes=1), np.tensordot(w, dx[3:], axes=1), u[0], p.params)
+
+
+def outputs(t, x, u, p: DistributedTire) -> dict:
+    """Outputs of the distributed tire at state ``x`` and input ``u`` (arguments as :func:`rhs`).
+
+    Returns
+    -------
+    dict
+        ``mu`` [-]: normalised friction (FM eq. (2)); ``zbar`` [m]: load-weighted mean deflection
+        ``w . S``; ``zdot`` [m/s]: its rate; ``z_trailing`` [m]: the deflection at the trailing edge;
+        ``kappa0`` [-]: the equivalent lumped coefficient ``z_trailing / zbar`` (uniform load: FM eq. (8)
+        with the exact trailing-edge term, module doc), NaN for other loads or ``zbar = 0``.
+    """
+    dx = rhs(t, x, u, p)
+    w = p.red.w
+    zbar = np.tensordot(w, np.broadcast_to(np.asarray(x, dtype=float), dx.shape)[3:], axes=1)
+    zdot = np.tensordot(w, dx[3:], axes=1)
+    zt = np.broadcast_to(np.asarray(u[3], dtype=float)[-1], zbar.shape)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        k0 = np.where((zbar != 0.0) & p.red.uniform, zt / np.where(zbar != 0.0, zbar, 1.0), np.nan)
+    return {"mu": mu_of_deflection(zbar, zdot, u[0], p.params), "zbar": zbar, "zdot": zdot, "z_trailing": zt,
+            "kappa0": k0}
+
+
 def deflection(zeta, Y_now, Phi_now, X_now, hist_t, hist_X, hist_Phi, hist_Y):
-    """Bristle deflection ``z(zeta, t)`` [m] along the patch from the characteristic history.
+    """Bristle deflection ``z(zeta, t)`` [m] along the patch from the characteristic history (FM eq. (1)).
 
     ``z = Y(t) - exp(Phi(tau) - Phi(t)) Y(tau)`` with ``X(tau) = X(t) - zeta`` (module doc);
     history arrays are the values at earlier times (``hist_X`` nondecreasing), interpolated
     linearly. Used for profile plots; the solver uses a higher-order version.
+
+    Parameters
+    ----------
+    zeta : array_like
+        Distance from the leading edge [m], in ``[0, L]``.
+    Y_now, Phi_now, X_now : float
+        The reduced state now: point-model deflection [m], ``int b dt`` [-], travelled length [m].
+    hist_t : array_like
+        Earlier times [s] (unused by the interpolation in ``X``; kept with the history).
+    hist_X, hist_Phi, hist_Y : array_like
+        ``X`` [m], ``Phi`` [-] and ``Y`` [m] at those times.
     """
     zeta = np.asarray(zeta, dtype=float)
     target = X_now - zeta
@@ -165,6 +317,19 @@ def upwind_steady_mu(vr: float, romega: float, p: LuGreParams, cells: int, theta
     solve ``|r omega| (z_j - z_{j-1})/dzeta = vr - b z_j``, ``z_0 = 0``; the force (FM eq. (2))
     is their mean, ``mu = sigma0 mean(z) + sigma2 vr``. Converges to FM eq. (4) at first order
     (docs/models/lugre_friction.md §3.3).
+
+    Parameters
+    ----------
+    vr : float
+        Relative velocity ``r omega - v`` [m/s].
+    romega : float
+        Wheel circumferential speed ``r omega`` [m/s].
+    p : LuGreParams
+        Tire parameters, SI units (:class:`~tirecli.models.lugre.LuGreParams`).
+    cells : int
+        Number of cells over the patch [-].
+    theta : float
+        Road adhesion [-], FM convention.
     """
     b = p.sigma0 * abs(vr) / float(stribeck(vr, p, theta))
     c = abs(romega)

@@ -47,17 +47,52 @@ def _kinematics(sigma, speed, braking: bool):
 
 
 def abs_mu(variant: FrictionVariant, p: lugre.LuGreParams, sigma, speed, theta=1.0, braking=True):
-    """``|mu|`` [-] of the steady state at slip magnitude ``sigma = |s|`` [-] and held ``speed`` [m/s].
+    """``|mu|`` [-] of the steady state at slip magnitude ``sigma = |s|`` and held ``speed`` (module doc).
 
-    ``theta`` is a scalar adhesion (FM convention); ``sigma`` and ``speed`` broadcast. ``sigma`` must
-    be > 0 when driving (``s = 0`` counts as braking).
+    ``|mu|(sigma) = theta g(a) S(x) + sigma2 a`` with the variant's shape ``S`` (FM eqs. (4), (6), (8)-(10)):
+    :meth:`FrictionVariant.mu_ss <tirecli.models.variants.FrictionVariant.mu_ss>` at the kinematics of the curve.
+    ``theta`` is a scalar; ``sigma`` and ``speed`` broadcast (``s = 0`` counts as braking).
+
+    Parameters
+    ----------
+    variant : FrictionVariant
+        The model variant (:class:`~tirecli.models.variants.FrictionVariant`).
+    p : LuGreParams
+        Tire parameters, SI units (:class:`~tirecli.models.lugre.LuGreParams`).
+    sigma : array_like
+        Slip magnitude ``|s|`` [-], in ``(0, 1]`` (``> 0`` when driving).
+    speed : array_like
+        Held speed [m/s]: ``v`` braking, ``r omega`` driving.
+    theta : float
+        Road adhesion [-], FM convention.
+    braking : bool
+        Braking (``s < 0``, ``r omega = v (1 - sigma)``) or driving (``s > 0``, ``v = r omega (1 - sigma)``).
     """
     vr, romega = _kinematics(sigma, speed, braking)
     return np.abs(variant.mu_ss(vr, romega, p, theta))
 
 
 def abs_mu_slope(variant: FrictionVariant, p: lugre.LuGreParams, sigma, speed, theta=1.0, braking=True):
-    """``d|mu|/d|s|`` [-] of a steady-state curve at ``0 < sigma < 1`` (analytic; see module doc)."""
+    """``d|mu|/d|s|`` [-] of a steady-state curve at ``0 < sigma < 1`` (analytic; module doc).
+
+    ``d|mu|/dsigma = speed (theta g)'(a) S + theta g S'(x) x (1/sigma - speed (theta g)'/(theta g) + b/(1 - sigma))
+    + sigma2 speed`` (the derivative of FM eqs. (4), (6), (8)-(10) along the curve; ``b = 1`` braking, 0 driving).
+
+    Parameters
+    ----------
+    variant : FrictionVariant
+        The model variant (:class:`~tirecli.models.variants.FrictionVariant`).
+    p : LuGreParams
+        Tire parameters, SI units (:class:`~tirecli.models.lugre.LuGreParams`).
+    sigma : array_like
+        Slip magnitude ``|s|`` [-], in ``(0, 1]`` (``> 0`` when driving).
+    speed : array_like
+        Held speed [m/s]: ``v`` braking, ``r omega`` driving.
+    theta : float
+        Road adhesion [-], FM convention.
+    braking : bool
+        Braking (``s < 0``, ``r omega = v (1 - sigma)``) or driving (``s > 0``, ``v = r omega (1 - sigma)``).
+    """
     sigma, speed = np.broadcast_arrays(np.asarray(sigma, dtype=float), np.asarray(speed, dtype=float))
     vr, romega = _kinematics(sigma, speed, braking)
     a = speed * sigma
@@ -94,12 +129,18 @@ class CurvePeaks:
 
 def curve_peaks(variant: FrictionVariant, p: lugre.LuGreParams, speeds, theta=1.0, braking=True,
                 xtol: float = 1e-12) -> CurvePeaks:
-    """Root-found peaks of the curves ``|mu|(|s|)`` of one variant and adhesion at held ``speeds`` [m/s].
+    """Root-found peaks of the curves ``|mu|(|s|)`` of one variant and adhesion at held ``speeds`` (module doc).
+
+    The peak is the highest interior zero of :func:`abs_mu_slope` (the derivative of FM eqs. (4), (6),
+    (8)-(10) along the curve) where it changes sign from + to -, or full slide when ``|mu|`` rises
+    all the way.
 
     Parameters
     ----------
     variant : FrictionVariant
+        The model variant.
     p : LuGreParams
+        Tire parameters, SI units.
     speeds : array_like
         Held speeds [m/s] (``v`` braking, ``r omega`` driving), >= 0.
     theta : float

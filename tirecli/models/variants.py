@@ -67,7 +67,7 @@ class FrictionVariant:
         return f"distributed {self.load}"
 
     def density(self):
-        """Normal-load density per unit ``zeta/L`` (unit mass)."""
+        """Normal-load density per unit ``zeta/L`` [-] (unit mass): FM eqs. (3), (5), docs/models/lugre_friction.md §3.2."""
         if self.load == "uniform":
             return lugre.uniform_density
         if self.load == "parabolic":
@@ -80,7 +80,15 @@ class FrictionVariant:
         raise ValueError(f"unknown load {self.load!r}")
 
     def lumped_kappa0(self, p: lugre.LuGreParams):
-        """The lumped coefficient: a number or ``"Z"``."""
+        """The lumped coefficient ``kappa0`` [-] (FM eq. (8)): a number or ``"Z"`` (FM eq. (10)).
+
+        ``self.kappa0`` when set, else ``lam`` for an exponential load (``kappa = lambda/L``), else ``p.kappa0``.
+
+        Parameters
+        ----------
+        p : LuGreParams
+            Tire parameters (its ``kappa0`` [-]).
+        """
         if self.kappa0 is not None:
             return self.kappa0
         if self.load == "exponential":
@@ -88,7 +96,19 @@ class FrictionVariant:
         return p.kappa0
 
     def mu_ss(self, vr, romega, p: lugre.LuGreParams, theta=1.0):
-        """Steady-state friction ``mu`` [-] of this variant (FM eqs. (4), (6), (2); (8)-(10))."""
+        """Steady-state friction ``mu`` [-] of this variant (FM eqs. (4), (6), (2); (8)-(10)).
+
+        Parameters
+        ----------
+        vr : array_like
+            Relative velocity ``r omega - v`` [m/s].
+        romega : array_like
+            Wheel circumferential speed ``r omega`` [m/s].
+        p : LuGreParams
+            Tire parameters, SI units.
+        theta : array_like
+            Road adhesion [-], FM convention.
+        """
         if self.model == "lumped":
             return lugre.mu_ss_lumped(vr, romega, p, self.lumped_kappa0(p), theta)
         if self.load == "uniform":
@@ -105,6 +125,13 @@ class FrictionVariant:
         - exponential load (FM eq. (6)): ``lam/(1 - e^-lam) h'(lam + x)``;
         - other densities: ``int_0^1 w(u) u e^{-x u} du``;
         - lumped, constant ``kappa0`` (FM eqs. (8)-(9)): ``S = x/(x + kappa0)``, ``S' = kappa0/(x + kappa0)^2``.
+
+        Parameters
+        ----------
+        x : array_like
+            Dimensionless patch length ``x = L/Z`` [-], >= 0.
+        p : LuGreParams
+            Tire parameters (its ``kappa0`` [-] for the lumped variants).
         """
         x = np.asarray(x, dtype=float)
         if self.model == "lumped":

@@ -1,5 +1,12 @@
 """ROS2 stepper of the quarter car with the distributed LuGre tire, exact along characteristics.
 
+**Model it implements:** :func:`tirecli.models.quarter_car.rhs` / :func:`~tirecli.models.quarter_car.outputs`
+with ``QuarterCar(DistributedTire(p, red), car)`` for the free wheel, the same with ``domega/dt = 0`` for the
+locked wheel, and :func:`tirecli.models.lugre_pde.rhs` for the tire alone (prescribed ``v``, ``omega``); the
+model's input ``z_points`` (the tracked deflections) is read from the stepper's :class:`History`. Inlined as
+scalar Python in :meth:`CharacteristicsStepper._eval` and :meth:`CharacteristicsStepper._eval1`. Parity to
+1e-12: tests/test_model_parity.py.
+
 See :mod:`tirecli.models.lugre_pde` for the reduction: state
 ``y = (v, omega, Y, Phi, X, S_0 .. S_{K-1})`` with::
 

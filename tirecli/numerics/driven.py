@@ -1,5 +1,10 @@
 """The distributed LuGre tire driven by prescribed kinematics, vectorised over time (docs/models/lugre_friction.md §3.1-3.2, §8).
 
+**Model it implements:** :func:`tirecli.models.lugre_pde.rhs` / :func:`~tirecli.models.lugre_pde.outputs`
+with ``DistributedTire(p, red)`` and the input ``(vr, r omega, theta)`` of the drive, the tracked deflections
+``z_points`` from the grid's own characteristics (:meth:`GridModel.solve` returns the state, its rates and
+``z_points`` at the nodes). Parity to 1e-12: tests/test_model_parity.py.
+
 Open loop (the tire alone, ``v(t)`` [m/s] and ``r omega(t)`` [m/s] given, adhesion ``theta = 1``)
 the coefficient of the PDE (FM eq. (1))::
 
@@ -48,6 +53,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from tirecli.models.lugre import mu_of_deflection
 from tirecli.models.lugre_pde import PatchReduction, patch_reduction
 
 #: Largest increase of ``int lambda dt`` inside one block of the cumulative-sum recurrence
@@ -272,7 +278,8 @@ def _hermite(lk: _Lookup, y, dy):
 
 
 class GridModel:
-    """The distributed LuGre tire (any load of :func:`~tirecli.models.lugre_pde.patch_reduction`) on one grid.
+    """The distributed LuGre tire (any load of :func:`~tirecli.models.lugre_pde.patch_reduction`) on one grid:
+    the exponential-integrator kernel of :func:`tirecli.models.lugre_pde.rhs` (module doc).
 
     Parameters
     ----------
@@ -298,7 +305,10 @@ class GridModel:
         """Grid solution for parameter values: arrays of shape ``(P,)`` (``P`` parameter sets) or scalars.
 
         Returns ``zbar`` (load-weighted mean deflection ``w.S`` [m]) and ``zdot`` (its rate
-        [m/s]), each of shape ``(P, N)``; ``mu = sigma0 zbar + sigma1 zdot + sigma2 vr`` (FM eq. (2)).
+        [m/s]), each of shape ``(P, N)``; ``mu = sigma0 zbar + sigma1 zdot + sigma2 vr`` (FM eq. (2)). Also the
+        reduced state at the nodes, ``Y`` [m], ``Phi`` [-] and the list ``S`` [m] (``X`` is ``drive.X``), its
+        rates ``dY`` [m/s], ``b`` [1/s] and ``dS`` [m/s] (:func:`tirecli.models.lugre_pde.rhs` at the nodes, with
+        ``|r omega|`` for ``X``) and the tracked deflections ``z_points`` [m] (one array per point), each ``(P, N)``.
         """
         col = [np.atleast_1d(np.asarray(a, dtype=float))[:, None] for a in (sigma0, mu_c, mu_s, v_s, alpha)]
         s0, mc, ms, vs, al = np.broadcast_arrays(*col)
@@ -327,7 +337,7 @@ class GridModel:
             dS.append(f - rate * x)
         zbar = sum(w * x for w, x in zip(red.w, S))
         zdot = sum(w * x for w, x in zip(red.w, dS))
-        return {"zbar": zbar, "zdot": zdot}
+        return {"zbar": zbar, "zdot": zdot, "Y": Y, "Phi": Phi, "S": S, "dY": dY, "b": b, "dS": dS, "z_points": zp}
 
 
 class DrivenDistributed:
@@ -375,4 +385,4 @@ class DrivenDistributed:
         Its ``L`` must be ``self.L`` (the lookups were built for it).
         """
         z, zd = self.states(p.sigma0, p.mu_c, p.mu_s, p.v_s, p.alpha, theta)
-        return p.sigma0 * z[0] + p.sigma1 * zd[0] + p.sigma2 * self.vr
+        return mu_of_deflection(z[0], zd[0], self.vr, p)

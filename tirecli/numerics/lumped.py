@@ -1,5 +1,11 @@
 """ROS2 stepper of the quarter car with the averaged lumped LuGre tire (FM eqs. (8)-(10); docs/models/lugre_friction.md §4, §7).
 
+**Model it implements:** :func:`tirecli.models.quarter_car.rhs` / :func:`~tirecli.models.quarter_car.outputs`
+with ``QuarterCar(LumpedTire(p, kappa0), car)`` (``sigma2_in_wheel=True``, FM's form) for the free wheel,
+the same with ``domega/dt = 0`` for the locked wheel, and :func:`tirecli.models.lugre_lumped.rhs` for the
+tire alone (prescribed ``v``, ``omega``); inlined as scalar Python (``core``/``rhs``) and again on numpy
+arrays for the dense output (``dense``). Parity to 1e-12: tests/test_model_parity.py.
+
 State ``y = (v [m/s], omega [rad/s], z [m])``::
 
     dz/dt = vr - a z,      a = sigma0 |vr| / (theta g(vr)) + kappa0 |r omega| / L
@@ -28,7 +34,8 @@ _X_SERIES = 1e-4
 
 
 def kappa0_and_slope(x: float) -> tuple[float, float]:
-    """``kappa0(x)`` of FM eq. (10) and ``d kappa0/dx`` at one ``x = L/Z >= 0`` [-].
+    """``kappa0(x)`` of FM eq. (10) and ``d kappa0/dx`` at one ``x = L/Z >= 0`` [-] (scalar form of
+    :func:`tirecli.models.lugre.kappa0_of_x` with its slope, for the stepper's exact Jacobian).
 
     ``kappa0 = (1 - e^-x)/h(x)``, ``h = 1 - (1 - e^-x)/x``; series ``2 - x/3 + x^2/18`` near 0,
     ``kappa0 -> 1`` for ``x -> inf``.
@@ -45,7 +52,8 @@ def kappa0_and_slope(x: float) -> tuple[float, float]:
 
 
 class LumpedStepper:
-    """Quarter car (or tire alone, prescribed ``v``, ``omega``) with the lumped LuGre tire.
+    """Quarter car (or tire alone, prescribed ``v``, ``omega``) with the lumped LuGre tire: the ROS2 kernel of
+    :func:`tirecli.models.quarter_car.rhs` (module doc).
 
     Parameters
     ----------

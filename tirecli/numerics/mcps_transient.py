@@ -15,6 +15,11 @@
   zero state at the entry (fourth order for smooth profiles). The belt (linear springs and dampers) advances by the trapezoidal rule (A-stable) coupled
   to the patch by a predictor and ``passes - 1`` corrections. Second order in ``dxi``; the tests
   check the rate of convergence and the exact solution of the solid carcass.
+
+**Models the kernels implement:** :func:`tirecli.models.mcps.law.rhs` (the slider, standstill and
+integrated-in-time runs through :func:`tirecli.models.mcps.law.step`; the rolling patch through
+:func:`patch_step`) and :func:`tirecli.models.mcps.belt.rhs` (:func:`_belt_matrices`). Parity to 1e-12:
+tests/test_model_parity.py.
 """
 from __future__ import annotations
 
@@ -67,8 +72,8 @@ def simulate_slider(law: L.DahlLaw, ux, uy, psi, frame_term: bool = False):
 def integrate_slider_in_time(law: L.DahlLaw, amplitude: float, rotation: float, period: float, phase,
                              frame_term: bool = False, rtol: float = 1e-10):
     """The slider under ``u_x = A sin(2 pi t/T)``, ``psi = Psi sin(2 pi t/T)`` integrated **in time**
-    (MCPS eq. 9 by ``scipy.integrate.solve_ivp``, DOP853), split at the reversals (``|du|`` has a kink
-    there). An independent check of :func:`simulate_slider` and of the law's rate independence: the loop
+    (:func:`tirecli.models.mcps.law.rhs`, MCPS eq. 9, by ``scipy.integrate.solve_ivp``, DOP853), split at the
+    reversals (``|du|`` has a kink there). An independent check of :func:`simulate_slider` and of the law's rate independence: the loop
     must not depend on ``T``.
 
     Parameters
@@ -92,9 +97,8 @@ def integrate_slider_in_time(law: L.DahlLaw, amplitude: float, rotation: float, 
 
     def rhs(t, x):
         c = np.cos(w * t)
-        dF, dM = L.rates(x[:2 * nb].reshape(nb, 2), x[2 * nb:], np.array([amplitude * w * c, 0.0]),
-                         rotation * w * c, rotation * w * c, law, frame_term)
-        return np.concatenate([dF.ravel(), dM])
+        spin = rotation * w * c
+        return L.rhs(t, x, (amplitude * w * c, 0.0, spin, spin if frame_term else 0.0), law)
 
     edges = [0.0] + [0.25 + 0.5 * k for k in range(int(np.ceil(2 * phase[-1])) + 1) if 0.25 + 0.5 * k < phase[-1]] + [phase[-1]]
     x = np.zeros(2 * nb + nbz)
@@ -272,7 +276,9 @@ class RollingRun:
 
 
 def _belt_matrices(p, dt: float, locked):
-    """Trapezoidal-rule matrices of the belt ``y' = A y + B u`` (``y = (q, qdot)``, ``u = FW``)."""
+    """Trapezoidal-rule matrices of the belt ``y' = A y + B u`` (``y = (q, qdot)``, ``u = FW``): the kernel of
+    :func:`tirecli.models.mcps.belt.rhs` (``A``, ``B`` its Jacobians; the ``locked`` DOFs held at zero).
+    ``y1 = Phi y0 + Gam (u0 + u1)``; parity to 1e-12: tests/test_model_parity.py."""
     A = np.zeros((6, 6))
     B = np.zeros((6, 3))
     mass = (p.m_b, p.m_b, p.J_b)
@@ -322,6 +328,54 @@ def cells_needed(p, fz: float, romega: float, cells: int, carcass: str = "comple
     return max(n, int(math.ceil(w * pa.l / (courant * romega))))
 
 
+def patch_step(S0, du, dth, Gneg, H, Fk, meas, Pn):
+    """One transport step of the tread elements' friction states (module doc): the kernel of
+    :func:`tirecli.models.mcps.law.rhs`.
+
+    Each component advances by the exact flow of the law without its frame term over the step,
+    ``S' = e^-P S + h du (1 - e^-P)/P`` with ``P = g |F_k du|`` (x, y) or ``g_z |dpsi|`` (torsion), between
+    two half rotations by the frame increment, each the exact flow of the frame term ``-Omega_s Omega_hat F``
+    (Strang splitting). Parity with :func:`tirecli.models.mcps.law.rhs` (exact flows by matrix
+    exponential) to 1e-12: tests/test_model_parity.py.
+
+    Parameters
+    ----------
+    S0 : ndarray, shape (3, nb, N)
+        States per component (x, y [N/m], torsion [N m/m]: the law per unit patch length), branch and element.
+    du : ndarray, shape (3, 1, N)
+        Increments over the step: slider base displacement along x, y [m] and spin ``dpsi`` [rad].
+    dth : float
+        Rotation of the slider frame relative to the road over the step [rad] (0: no frame term).
+    Gneg, H : ndarray, shape (3, nb, 1)
+        Minus the relaxation gains and the input gains per component and branch (:class:`~tirecli.models.mcps.law.DahlLaw`).
+    Fk : array_like, shape (2,)
+        Coulomb levels along x, y [N/m].
+    meas, Pn : ndarray, shapes (3, 1, N) and (3, nb, N)
+        Work arrays (overwritten).
+
+    Returns
+    -------
+    ndarray, shape (3, nb, N)
+        The states at the end of the step.
+    """
+    if dth:                                               # the frame turns by +dth: states by -dth
+        ch, sh = np.cos(0.5 * dth), np.sin(0.5 * dth)
+        S0 = S0.copy()
+        S0[0], S0[1] = ch * S0[0] + sh * S0[1], -sh * S0[0] + ch * S0[1]
+    meas[0, 0] = np.hypot(Fk[0] * du[0, 0], Fk[1] * du[1, 0])  # |F_k du| drives x and y
+    meas[1] = meas[0]
+    meas[2] = np.abs(du[2])                               # |dpsi| drives the torsion
+    np.multiply(Gneg, meas, out=Pn)                       # -P (minus a tiny offset: no 0/0 at rest)
+    np.subtract(Pn, 1e-300, out=Pn)
+    em = np.expm1(Pn)
+    phi = em / Pn                                         # (1 - e^-P)/P
+    em += 1.0
+    S1 = em * S0 + (H * du) * phi                         # exact per component: e^-P S + h du (1-e^-P)/P
+    if dth:
+        S1[0], S1[1] = ch * S1[0] + sh * S1[1], -sh * S1[0] + ch * S1[1]
+    return S1
+
+
 def simulate_rolling(p, fz: float, Vx: float, Vy: float, romega: float, yaw: float, distance: float,
                      cells: int = 100, carcass: str = "complete", locked=(), frame_term: bool = True,
                      passes: int | None = None, progress=None) -> RollingRun:
@@ -368,7 +422,6 @@ def simulate_rolling(p, fz: float, Vx: float, Vy: float, romega: float, yaw: flo
     G = np.concatenate([law.g.T, law.gz[None, :]])[:, :, None]      # (3, 2, 1) relaxation gains
     H = np.concatenate([law.h.T, law.hz[None, :]])[:, :, None]      # (3, 2, 1) input gains
     sig = np.stack([law.sigma, law.sigma, law.sigz])                # (3, 2) output weights
-    Fkx, Fky = law.Fk
     S = np.zeros((3, 2, N))
     rigid = carcass == "rigid"
     locked = tuple(sorted(set(locked)))
@@ -398,23 +451,7 @@ def simulate_rolling(p, fz: float, Vx: float, Vy: float, romega: float, yaw: flo
         du[1] = (uy0 + Om * xi_mid) * dt
         dps = Om * dt
         du[2] = dps
-        dth = dps if frame_term else 0.0
-        if dth:                                               # the frame turns by +dth: states by -dth
-            ch, sh = np.cos(0.5 * dth), np.sin(0.5 * dth)
-            S0 = S0.copy()
-            S0[0], S0[1] = ch * S0[0] + sh * S0[1], -sh * S0[0] + ch * S0[1]
-        meas[0, 0] = np.hypot(Fkx * du[0, 0], Fky * du[1, 0])   # |F_k du| drives x and y
-        meas[1] = meas[0]
-        meas[2] = abs(dps)                                    # |dpsi| drives the torsion
-        np.multiply(Gneg, meas, out=Pn)                       # -P (minus a tiny offset: no 0/0 at rest)
-        np.subtract(Pn, 1e-300, out=Pn)
-        em = np.expm1(Pn)
-        phi = em / Pn                                         # (1 - e^-P)/P
-        em += 1.0
-        S1 = em * S0 + (H * du) * phi                         # exact per component: e^-P S + h du (1-e^-P)/P
-        if dth:
-            S1[0], S1[1] = ch * S1[0] + sh * S1[1], -sh * S1[0] + ch * S1[1]
-        return S1
+        return patch_step(S0, du, dps if frame_term else 0.0, Gneg, H, law.Fk, meas, Pn)
 
     def record(i, f, yv):
         q, qd = yv[:3], yv[3:]
@@ -479,5 +516,5 @@ def rigid_relaxation_exact(p, fz: float, alpha: float, s):
     return fy, mz
 
 
-__all__ = ["simulate_slider", "integrate_slider_in_time", "triangle_yaw", "gauss_patch", "simulate_standstill", "coupling_rate", "cells_needed",
+__all__ = ["simulate_slider", "integrate_slider_in_time", "triangle_yaw", "gauss_patch", "simulate_standstill", "coupling_rate", "cells_needed", "patch_step",
            "asymptotic_standstill_torque", "RollingRun", "simulate_rolling", "rigid_relaxation_exact"]

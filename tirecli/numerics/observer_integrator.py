@@ -30,13 +30,20 @@ OBS gains. :func:`simulate_fast` exploits the structure:
 :func:`simulate_adaptive` integrates the full 7-state system (plant ``(v, omega, z)``, observer
 OBS (14); :func:`scalar_rhs`) with ``scipy.integrate.solve_ivp``; :func:`simulate_reference` is it
 with the reference Radau settings of docs/models/observer_model.md §7. :func:`full_rhs` is the same system built from
-:func:`tirecli.models.quarter_car.rhs` (the straightforward form the benchmark once timed).
+the models' right-hand sides, :func:`tirecli.models.quarter_car.rhs` and :func:`tirecli.observers.observer.rhs`
+(the straightforward form the benchmark once timed).
+
+**Models the kernels implement:** :func:`scalar_rhs` inlines :func:`full_rhs`; :func:`simulate_fast` inlines
+:func:`tirecli.observers.plant.rhs` and :func:`tirecli.observers.observer.rhs` through :func:`fast_model`.
+Parity to 1e-12: tests/test_model_parity.py.
 """
 from __future__ import annotations
 
 import cmath
 import math
 from dataclasses import dataclass, field
+from operator import attrgetter
+from types import SimpleNamespace
 from typing import Callable
 
 import numpy as np
@@ -214,66 +221,22 @@ class StepTooLarge(RunError):
                          f"> {limit:g}; use a smaller solver.step or an adaptive method (solver.method: lsoda)")
 
 
-def simulate_fast(plant: ObserverPlant, gains: ObserverGains, scenario: Scenario, sensor: Sensor | None = None,
-                  step: float = DEFAULT_STEP, record_every: int = 1, rate_limit: float = math.inf) -> Trajectory:
-    """Simulate plant and observer with the structured fixed-step scheme (module doc).
+#: The constants and functions of :func:`fast_model` that :func:`simulate_fast` binds as locals.
+FAST_NAMES = tuple("r J rm irm kr c E1 P rho m11 m12 m21 m22c k1 k2 k3 gam alp lam0 lamb swmrj PJ PrmJ fabs aphi_of daphi_of oeval ydot".split())
 
-    Parameters
-    ----------
-    plant : ObserverPlant
-        Tire and quarter-car parameters (lumped LuGre, constant ``kappa``, OBS ``sigma2`` placement).
-    gains : ObserverGains
-        ``k1, k2, k3, gamma, alpha`` of OBS (14).
-    scenario : Scenario
-        Profiles and initial states.
-    sensor : Sensor or None
-        Measurement model (``None``: ideal).
-    step : float
-        Largest step [s]; sampling instants and profile breakpoints are added to the grid.
-    record_every : int
-        Keep every n-th grid point in the returned trajectory (the last one always).
-    rate_limit : float
-        Largest ``h rho`` allowed, ``rho`` [1/s] the spectral radius of the Jacobian of the slow
-        observer block ``(eta~, theta_hat)`` (what the linearly implicit trapezoid integrates; its
-        error grows like ``(h rho)^2``); :class:`StepTooLarge` is raised at the first step above
-        it. The largest ``h rho`` of the run is returned in ``info["max_step_x_rate"]``.
 
-    Raises
-    ------
-    RunError
-        When the observer's fast mode is too slow for the reduction (``lambda_f < 1e5 1/s``; use an
-        adaptive method), becomes unstable, or the state stops being finite; :class:`StepTooLarge`
-        when ``h rho`` exceeds ``rate_limit``.
+def fast_model(plant: ObserverPlant, gains: ObserverGains) -> SimpleNamespace:
+    """The plant and observer as :func:`simulate_fast` inlines them: constants and scalar functions (module doc).
+
+    **Models it implements:** :func:`tirecli.observers.plant.rhs` (OBS coordinates) and
+    :func:`tirecli.observers.observer.rhs` on its slow manifold. The plant's ``eta' = -c eta + E1 omega + u``
+    and the stiff pair ``(chi, z)' = M(a) (chi, z) + (u, -eta/(r m))`` with
+    ``M(a) = [[m11, m12], [m21, m22c - a]]``, ``a = theta_obs aphi_of(vr) + kr |omega|``; ``ydot``: the
+    plant's ``omega' = C x'``; ``oeval``: the observer's output error on its slow manifold, where
+    ``C x_hat' = y_m'`` (``y~' = 0``), with ``z_hat``, ``v_hat``. Parity to 1e-12:
+    tests/test_model_parity.py.
     """
-    sensor = sensor or Sensor()
     tire, car, g = plant.tire, plant.car, gains
-    lam_min = plant.fast_rate(gains, scenario.theta_hat0)
-    if not lam_min >= MIN_FAST_RATE:
-        raise RunError(f"the observer's fast output-error mode (lambda_f = {lam_min:.3g} 1/s) is too slow for the "
-                       f"fast scheme's singular-perturbation reduction (needs >= {MIN_FAST_RATE:g} 1/s); "
-                       "use an adaptive method (solver.method: lsoda)")
-    samples = sensor.sample_times(scenario.duration)
-    # sampled: at least one grid point inside each hold interval (mid-sample states on the grid)
-    grid = time_grid(scenario.duration, min(step, 0.5 * sensor.period) if not sensor.ideal else step,
-                     scenario.breakpoints, samples)
-    u0a, u1a, th0a, th1a, thma = _profiles(scenario, grid)
-    # a profile jumps at grid point n when its right limit differs from the left limit
-    jump = np.zeros(len(u0a), dtype=bool)
-    jump[1:] = ((np.abs(u0a[1:] - u1a[:-1]) > 1e-7 * (1.0 + np.abs(u0a[1:])))
-                | (np.abs(th0a[1:] - th1a[:-1]) > 1e-7 * (1.0 + np.abs(th0a[1:]))))
-    jumps = set(np.flatnonzero(jump).tolist())
-    U0, U1, TH0, TH1, THM = (a.tolist() for a in (u0a, u1a, th0a, th1a, thma))
-    T = grid.tolist()
-    N = len(T) - 1
-    # sampling instants -> grid indices
-    sample_at = {}
-    if not sensor.ideal:
-        idx = np.searchsorted(grid, samples - 1e-9 * step)
-        sample_at = {int(i): k for k, i in enumerate(idx) if i > 0}  # t = 0 is sampled at the start
-    ideal = sensor.ideal
-    sampler = None if ideal else sensor.sampler(len(samples), scenario.omega0)
-
-    # ---- constants (locals for speed)
     r, m, J = car.r, car.m, car.J
     s0, sw = tire.sigma0, tire.sigma_w
     muc, dmu, ivs, al_g = tire.mu_c, tire.mu_s - tire.mu_c, 1.0 / tire.v_s, tire.alpha
@@ -330,6 +293,71 @@ def simulate_fast(plant: ObserverPlant, gains: ObserverGains, scenario: Scenario
     def ydot(z_, w_, vr_, a_, u_):
         """Plant wheel acceleration ``omega'`` [rad/s^2] (OBS (4))."""
         return (-Q * z_ - P * (vr_ - a_ * z_) - sw * w_ + u_) / J
+
+    return SimpleNamespace(**{n: v for n, v in locals().items() if n not in ("plant", "gains", "tire", "car", "g")})
+
+
+def simulate_fast(plant: ObserverPlant, gains: ObserverGains, scenario: Scenario, sensor: Sensor | None = None,
+                  step: float = DEFAULT_STEP, record_every: int = 1, rate_limit: float = math.inf) -> Trajectory:
+    """Simulate plant and observer with the structured fixed-step scheme (module doc).
+
+    Parameters
+    ----------
+    plant : ObserverPlant
+        Tire and quarter-car parameters (lumped LuGre, constant ``kappa``, OBS ``sigma2`` placement).
+    gains : ObserverGains
+        ``k1, k2, k3, gamma, alpha`` of OBS (14).
+    scenario : Scenario
+        Profiles and initial states.
+    sensor : Sensor or None
+        Measurement model (``None``: ideal).
+    step : float
+        Largest step [s]; sampling instants and profile breakpoints are added to the grid.
+    record_every : int
+        Keep every n-th grid point in the returned trajectory (the last one always).
+    rate_limit : float
+        Largest ``h rho`` allowed, ``rho`` [1/s] the spectral radius of the Jacobian of the slow
+        observer block ``(eta~, theta_hat)`` (what the linearly implicit trapezoid integrates; its
+        error grows like ``(h rho)^2``); :class:`StepTooLarge` is raised at the first step above
+        it. The largest ``h rho`` of the run is returned in ``info["max_step_x_rate"]``.
+
+    Raises
+    ------
+    RunError
+        When the observer's fast mode is too slow for the reduction (``lambda_f < 1e5 1/s``; use an
+        adaptive method), becomes unstable, or the state stops being finite; :class:`StepTooLarge`
+        when ``h rho`` exceeds ``rate_limit``.
+    """
+    sensor = sensor or Sensor()
+    lam_min = plant.fast_rate(gains, scenario.theta_hat0)
+    if not lam_min >= MIN_FAST_RATE:
+        raise RunError(f"the observer's fast output-error mode (lambda_f = {lam_min:.3g} 1/s) is too slow for the "
+                       f"fast scheme's singular-perturbation reduction (needs >= {MIN_FAST_RATE:g} 1/s); "
+                       "use an adaptive method (solver.method: lsoda)")
+    samples = sensor.sample_times(scenario.duration)
+    # sampled: at least one grid point inside each hold interval (mid-sample states on the grid)
+    grid = time_grid(scenario.duration, min(step, 0.5 * sensor.period) if not sensor.ideal else step,
+                     scenario.breakpoints, samples)
+    u0a, u1a, th0a, th1a, thma = _profiles(scenario, grid)
+    # a profile jumps at grid point n when its right limit differs from the left limit
+    jump = np.zeros(len(u0a), dtype=bool)
+    jump[1:] = ((np.abs(u0a[1:] - u1a[:-1]) > 1e-7 * (1.0 + np.abs(u0a[1:])))
+                | (np.abs(th0a[1:] - th1a[:-1]) > 1e-7 * (1.0 + np.abs(th0a[1:]))))
+    jumps = set(np.flatnonzero(jump).tolist())
+    U0, U1, TH0, TH1, THM = (a.tolist() for a in (u0a, u1a, th0a, th1a, thma))
+    T = grid.tolist()
+    N = len(T) - 1
+    # sampling instants -> grid indices
+    sample_at = {}
+    if not sensor.ideal:
+        idx = np.searchsorted(grid, samples - 1e-9 * step)
+        sample_at = {int(i): k for k, i in enumerate(idx) if i > 0}  # t = 0 is sampled at the start
+    ideal = sensor.ideal
+    sampler = None if ideal else sensor.sampler(len(samples), scenario.omega0)
+
+    # ---- constants and model functions (locals for speed)
+    (r, J, rm, irm, kr, c, E1, P, rho, m11, m12, m21, m22c, k1, k2, k3, gam, alp, lam0, lamb, swmrj, PJ, PrmJ,
+     fabs, aphi_of, daphi_of, oeval, ydot) = attrgetter(*FAST_NAMES)(fast_model(plant, gains))
 
     # ---- initial state
     eta, chi, z = (float(a) for a in plant.to_obs_coords(scenario.v0, scenario.omega0, scenario.z0))
@@ -491,24 +519,31 @@ def simulate_fast(plant: ObserverPlant, gains: ObserverGains, scenario: Scenario
 
 
 def full_rhs(plant: ObserverPlant, gains: ObserverGains, scenario: Scenario):
-    """``f(t, X)`` of the full coupled system ``X = (v, omega, z, eta_hat, chi_hat, z_hat, theta_hat)``.
+    """``f(t, X, y)`` of plant + observer composed from the models, ``X = (v, omega, z, eta_hat, chi_hat, z_hat,
+    theta_hat[, angle])``.
 
-    Plant: :func:`tirecli.models.quarter_car.rhs` with ``sigma2_in_wheel=False`` (OBS (3)-(5));
-    observer: OBS (14) driven by the ideal measurement ``y = omega``. The straightforward
-    formulation a generic stiff solver integrates.
+    Plant: :func:`tirecli.models.quarter_car.rhs` with ``QuarterCar(LumpedTire(plant.tire), plant.car,
+    sigma2_in_wheel=False)`` (OBS (3)-(5); the scenario's adhesion ``theta_fm``); observer:
+    :func:`tirecli.observers.observer.rhs` driven by the held measured wheel speed ``y`` [rad/s] (``None``:
+    the ideal ``y = omega``); the wheel angle ``angle' = omega`` [rad] when ``X`` has an eighth state. The
+    straightforward formulation, which :func:`scalar_rhs` inlines (parity: tests/test_model_parity.py).
     """
-    from tirecli.models.quarter_car import QuarterCarLumped, rhs
+    from tirecli.models import quarter_car
+    from tirecli.models.lugre_lumped import LumpedTire
+    from tirecli.observers import observer
 
-    qc = QuarterCarLumped(tire=plant.tire, car=plant.car, kappa0=None, sigma2_in_wheel=False)
+    qc = quarter_car.QuarterCar(tire=LumpedTire(plant.tire), car=plant.car, sigma2_in_wheel=False)
+    obs = observer.Observer(plant, gains)
     u_of = getattr(scenario.torque, "at", scenario.torque)  # scalar evaluation without numpy overhead
-    th_of = scenario.theta_fm
+    th_of = getattr(scenario.theta_fm, "at", scenario.theta_fm)
 
     def f(t, X, y=None):
         u = float(u_of(t))
-        dx = rhs(t, X[:3], (u, float(th_of(t))), qc)
-        yy = X[1] if y is None else y
-        dobs = plant.observer_rhs(X[3:6], X[6], yy, u, gains)
-        return np.concatenate([dx, np.asarray(dobs, dtype=float)])
+        parts = [quarter_car.rhs(t, X[:3], (u, float(th_of(t))), qc),
+                 observer.rhs(t, X[3:7], (X[1] if y is None else y, u), obs)]
+        if len(X) > 7:
+            parts.append([X[1]])
+        return np.concatenate(parts)
 
     return f
 
@@ -542,6 +577,10 @@ def state_scales(plant: ObserverPlant) -> np.ndarray:
 
 def scalar_rhs(plant: ObserverPlant, gains: ObserverGains, scenario: Scenario):
     """``f(t, X, y)`` of plant + observer with scalar arithmetic (what the adaptive methods integrate).
+
+    **Models it implements:** :func:`full_rhs`, i.e. :func:`tirecli.models.quarter_car.rhs` (lumped tire,
+    ``sigma2_in_wheel=False``) and :func:`tirecli.observers.observer.rhs`, inlined; parity to 1e-12 for the
+    ideal and the held measurement, with and without the wheel angle: tests/test_model_parity.py.
 
     ``X = (v, omega, z, eta_hat, chi_hat, z_hat, theta_hat[, angle])``; ``y`` is the held measured
     wheel speed [rad/s] (``None``: the ideal ``y = omega``). Plant, OBS (3)-(5) with ``vr = r omega - v``:

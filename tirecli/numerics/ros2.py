@@ -33,7 +33,8 @@ A stepper (see :mod:`tirecli.numerics.lumped`, :mod:`tirecli.numerics.characteri
 ``attempt(E, h, left) -> (y_new, err)`` (``left``: the step ends on a breakpoint, use the
 inputs' left limits there), ``holds(E)`` (locked wheel stays locked), ``outputs(E)``,
 the names ``y_names``/``out_names`` and ``car`` (the quarter car: its radius scales the wheel speed's
-error tolerance).
+error tolerance). This module holds no model equations: the steppers are the kernels, and each names the
+model ``rhs`` it implements (:func:`tirecli.models.quarter_car.rhs`).
 """
 from __future__ import annotations
 

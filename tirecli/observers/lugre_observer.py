@@ -4,9 +4,12 @@ Pure, vectorized model code (no I/O, no plotting), restating ``docs/models/obser
 
 - the design plant in OBS coordinates ``x = (eta, chi, z)`` (OBS (19)-(22)), with ``theta`` in the
   OBS convention (``theta_obs`` multiplies ``sigma0 |vr| / g``; ``theta_obs = 1/theta_fm``,
-  :mod:`tirecli.conventions`) and ``sigma2`` in the vehicle equation only (OBS (3)-(4));
-- the observer of Theorem 1 in explicit form (docs/models/observer_model.md §3): output injection
-  ``K = (k1, k2, k3)``, adaptation gain ``gamma``, nonlinear injection gain ``alpha``;
+  :mod:`tirecli.conventions`) and ``sigma2`` in the vehicle equation only (OBS (3)-(4)): its
+  parameters, matrices and nonlinearities (:class:`ObserverPlant`); its dynamics ``rhs(t, x, u, p)``
+  are :mod:`tirecli.observers.plant`;
+- the observer of Theorem 1 (docs/models/observer_model.md §3): output injection ``K = (k1, k2, k3)``,
+  adaptation gain ``gamma``, nonlinear injection gain ``alpha`` (:class:`ObserverGains`); its dynamics
+  are :mod:`tirecli.observers.observer`;
 - the design checks: observability (§4), the transfer function ``G(s) = C (sI - A + KC)^-1 B``
   and its SPR conditions (§6), the error-dynamics poles, the Lipschitz sizes (§5) and the
   gain bound (17).
@@ -66,7 +69,8 @@ class ObserverPlant:
     ``m v' = F_n (sigma0 z + sigma1 z') + F_n sigma2 vr`` (OBS (3)),
     ``J omega' = -r F_n (sigma0 z + sigma1 z') - sigma_w omega + u`` (OBS (4)),
     ``z' = vr - theta_obs sigma0 |vr|/g(vr) z - kappa r |omega| z`` (OBS (1), (5)),
-    i.e. :func:`tirecli.models.quarter_car.rhs` with ``sigma2_in_wheel=False``.
+    i.e. :func:`tirecli.models.quarter_car.rhs` with ``sigma2_in_wheel=False``; in OBS coordinates
+    :func:`tirecli.observers.plant.rhs`.
     """
 
     tire: LuGreParams
@@ -143,51 +147,6 @@ class ObserverPlant:
     def psi(self, y, z):
         """``psi = kappa r |y| z`` [m/s] (OBS (18))."""
         return self.kappa * self.car.r * np.abs(np.asarray(y, dtype=float)) * np.asarray(z, dtype=float)
-
-    # ----------------------------------------------------------------- dynamics
-    def plant_rhs(self, x, theta_obs, u):
-        """Plant (6) in OBS coordinates: ``x' = A x + B (theta phi + psi) + R u + E y``, ``y = C x``.
-
-        ``x = (eta, chi, z)`` (arrays broadcast), ``theta_obs`` [-], ``u`` [N m]; returns ``x'``.
-        """
-        A, B, R, E, C = self.matrices()
-        x = np.asarray(x, dtype=float)
-        y = np.tensordot(C, x, axes=1)
-        nl = theta_obs * self.phi(y, x[0], x[2]) + self.psi(y, x[2])
-        return (np.tensordot(A, x, axes=1) + B.reshape(3, *([1] * (x.ndim - 1))) * nl
-                + R.reshape(3, *([1] * (x.ndim - 1))) * u + E.reshape(3, *([1] * (x.ndim - 1))) * y)
-
-    def observer_rhs(self, xhat, theta_hat, y, u, gains: ObserverGains):
-        """The observer of Theorem 1 in explicit form (docs/models/observer_model.md §3, OBS (14)).
-
-        Parameters
-        ----------
-        xhat : array_like, shape (3, ...)
-            ``(eta_hat, chi_hat, z_hat)``.
-        theta_hat : array_like
-            Adhesion estimate, OBS convention [-].
-        y : array_like
-            Measured wheel speed [rad/s].
-        u : array_like
-            Wheel torque [N m].
-
-        Returns
-        -------
-        (d eta_hat, d chi_hat, d z_hat, d theta_hat)
-        """
-        c, t, g = self.car, self.tire, gains
-        eta, chi, z = (np.asarray(a, dtype=float) for a in xhat)
-        y = np.asarray(y, dtype=float)
-        E = self.E
-        ytil = y - (chi - self.P * z) / c.J
-        phih = self.phi(y, eta, z)
-        psih = self.psi(y, z)
-        deta = -self.c_eta * eta + E[0] * y + u + g.k1 * ytil
-        dchi = -self.Q * z - t.sigma_w * y + u + g.k2 * ytil
-        dz = (-eta / (c.r * c.m) + E[2] * y - theta_hat * phih - psih
-              - g.alpha * (1.0 + theta_hat) * ytil + g.k3 * ytil)
-        dth = g.gamma * ytil * (phih + g.alpha * ytil)
-        return deta, dchi, dz, dth
 
     # ----------------------------------------------------------------- fast mode
     def fast_rate(self, gains: ObserverGains, theta_hat=1.0):

@@ -53,6 +53,7 @@ from tirecli.errors import ConfigError, DataError, RunError, token
 from tirecli.io.files import exists
 from tirecli.io.yamlio import dump_yaml
 from tirecli.limits import MAX_TITLE_CHARS
+from tirecli.models.lugre import mu_of_deflection
 from tirecli.numerics import identify, runs
 from tirecli.models.profiles import Constant, Table
 from tirecli.studies.base import StudyResult, builtin_config, builtin_config_names, common_fields, register_study
@@ -416,7 +417,7 @@ def run_fit(config: Config, progress=None) -> StudyResult:
         _require(s1, "sigma1", data, mm)
         p_fit = replace(p_fit, sigma1=s1.estimate["sigma1"])
         transient = pd.DataFrame({"t": tt, "v": vv, "s": ss, "mu": mm,
-                                  "mu_model": p_fit.sigma0 * z + p_fit.sigma1 * zd + p_fit.sigma2 * vr,
+                                  "mu_model": mu_of_deflection(z, zd, vr, p_fit),
                                   "mu_steady": mu_model[wm], "z": z, "zdot": zd})
         transient["residual"] = transient["mu_model"] - transient["mu"]
         frames["transient"] = transient

@@ -9,6 +9,12 @@ where ``du`` is the velocity [m/s] (or, for the exact steps, the displacement [m
 base relative to the road, in slider-frame components. The road's reaction on the tire is
 ``-f``, ``-m``; the tire forces of :mod:`tirecli.models.mcps.tire` are road on tire (ISO-W).
 
+**Model shape** (python-control): :func:`rhs` and :func:`outputs` with the state
+``x = (F^1_x, F^1_y, .., M^1, ..)`` [N, N m] (:func:`split_state`), the input
+``u = (du_x, du_y, dpsi, omega)`` (:class:`LawInput`) and the parameters ``p`` a :class:`DahlLaw`; the
+kernels (:func:`step`, :mod:`tirecli.numerics.mcps_transient`) keep the states as ``F (..., nb, 2)``,
+``M (..., nbz)`` and :func:`output`.
+
 A *law* holds, per branch ``k`` of the state and per component ``j`` (x, y):
 
     dF^k_j/dt = h^k_j du_j - |F_k du| g^k_j F^k_j  (- Omega_s (Omega_2 F^k)_j with the frame term)
@@ -30,6 +36,7 @@ the rates (rate independence), so a step depends on the increments only, never o
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import NamedTuple
 
 import numpy as np
 
@@ -124,7 +131,19 @@ def second_order(K, Fk, alpha, beta, Sz, Mkz, alpha_z, beta_z) -> DahlLaw:
 
 def first_order(K, Fk, Sz, Mkz) -> DahlLaw:
     """The first-order 2-D Dahl law (MCPS eq. 4): ``K^-1 df/dt + |F_k du| F_k^-2 f = du``, with a
-    first-order torsion of the same type."""
+    first-order torsion of the same type (``S_z^-1 dm/dt + |dpsi| M_kz^-1 m = dpsi``).
+
+    Parameters
+    ----------
+    K : array_like, shape (2,)
+        Small-deformation stiffness along x, y [N/m] (per length [N/m^2]).
+    Fk : array_like, shape (2,)
+        Coulomb levels along x, y [N] (per length [N/m]).
+    Sz : float
+        Torsional stiffness [N m/rad] (per length [N m/(rad m)]).
+    Mkz : float
+        Torsional sliding torque [N m] (per length [N m/m]).
+    """
     K = np.asarray(K, dtype=float)
     Fk = np.asarray(Fk, dtype=float)
     return DahlLaw(h=K[None, :], g=(K / Fk**2)[None, :], sigma=np.array([1.0]), Fk=Fk,
@@ -142,6 +161,7 @@ def coulomb(du, Fk):
     Parameters
     ----------
     du : array_like, shape (..., 2)
+        Sliding velocity of the slider relative to the road [m/s].
     Fk : array_like, shape (2,)
         Friction levels along x and y [N].
     """
@@ -154,50 +174,137 @@ def coulomb(du, Fk):
 
 
 def output(F, M, law: DahlLaw):
-    """Friction force ``f`` [N] (shape ``(..., 2)``) and torque ``m`` [N m] of states ``F``
-    (``(..., nb, 2)``) and ``M`` (``(..., nbz)``): ``f = C_xy F``, ``m = C_z M`` (MCPS eqs. 5, 7)."""
+    """Friction force ``f`` [N] (shape ``(..., 2)``) and torque ``m`` [N m]: ``f = C_xy F``, ``m = C_z M`` (MCPS eqs. 5, 7).
+
+    :func:`outputs` in the kernels' layout of the states (:func:`split_state`).
+
+    Parameters
+    ----------
+    F : array_like, shape (..., nb, 2)
+        Force states [N].
+    M : array_like, shape (..., nbz)
+        Torque states [N m].
+    law : DahlLaw
+        The friction law (gains, levels; per unit patch length for a patch).
+    """
     f = np.einsum("k,...kj->...j", law.sigma, F)
     m = np.einsum("k,...k->...", law.sigz, M)
     return f, m
 
 
 def sliding_measure(du, Fk):
-    """``|F_k du|`` [N m/s] (or [N m] for a displacement), the rate that drives relaxation."""
+    """``|F_k du|`` [N m/s] (or [N m] for a displacement), the rate that drives relaxation (MCPS eqs. 4-9).
+
+    Parameters
+    ----------
+    du : array_like, shape (..., 2)
+        Slider base velocity relative to the road [m/s] (or displacement [m]).
+    Fk : array_like, shape (2,)
+        Coulomb levels along x, y [N].
+    """
     du = np.asarray(du, dtype=float)
     return np.hypot(Fk[0] * du[..., 0], Fk[1] * du[..., 1])
 
 
-def rates(F, M, du, dpsi, omega, law: DahlLaw, frame_term: bool = True):
-    """Time derivatives of the law's states (MCPS eq. 9 with the frame-rotation term).
+class LawInput(NamedTuple):
+    """Input of a friction law (:func:`rhs`).
+
+    Attributes
+    ----------
+    du_x, du_y : array_like
+        Velocity of the slider base relative to the road, slider-frame components [m/s] (for the exact
+        :func:`step`: the displacement over the step [m]).
+    dpsi : array_like
+        Slider spin [rad/s] (drives the torsion).
+    omega : array_like
+        Rotation rate of the slider frame relative to the road [rad/s]: the frame term
+        ``-Omega_s Omega_hat F`` (docs/models/mcps_tire.md §4); 0 leaves it out.
+    """
+
+    du_x: object
+    du_y: object
+    dpsi: object
+    omega: object = 0.0
+
+
+def split_state(x, law: DahlLaw):
+    """The law's state ``x`` in the layout of the kernels (MCPS eq. 9's states ``F^k``, ``M^k``).
+
+    ``x`` (shape ``(2 nb + nbz, ...)``: ``F^1_x, F^1_y, .., F^nb_x, F^nb_y, M^1 .. M^nbz``) becomes ``F`` [N],
+    shape ``(..., nb, 2)``, and ``M`` [N m], shape ``(..., nbz)``.
 
     Parameters
     ----------
-    F : ndarray, shape (..., nb, 2)
+    x : array_like, shape (2 nb + nbz, ...)
+        Force states [N] then torque states [N m].
+    law : DahlLaw
+        The friction law (gains, levels; per unit patch length for a patch).
+    """
+    x = np.asarray(x, dtype=float)
+    nb = law.nb
+    F = np.moveaxis(x[:2 * nb].reshape((nb, 2) + x.shape[1:]), (0, 1), (-2, -1))
+    return F, np.moveaxis(x[2 * nb:], 0, -1)
+
+
+def join_state(F, M) -> np.ndarray:
+    """The inverse of :func:`split_state`: ``x`` of shape ``(2 nb + nbz, ...)`` (MCPS eq. 9's states).
+
+    Parameters
+    ----------
+    F : array_like, shape (..., nb, 2)
         Force states [N].
-    M : ndarray, shape (..., nbz)
+    M : array_like, shape (..., nbz)
         Torque states [N m].
-    du : array_like, shape (..., 2)
-        Slider base velocity relative to the road, slider frame [m/s].
-    dpsi : array_like, shape (...)
-        Slider spin [rad/s] (drives the torsion).
-    omega : array_like, shape (...)
-        Rotation rate of the slider frame relative to the road [rad/s] (frame term, docs/models/mcps_tire.md §4).
-    frame_term : bool
-        Include ``-Omega_s Omega_hat X``.
+    """
+    F, M = np.asarray(F, dtype=float), np.asarray(M, dtype=float)
+    lead = F.shape[:-2]
+    return np.concatenate([np.moveaxis(F, (-2, -1), (0, 1)).reshape((-1,) + lead), np.moveaxis(M, -1, 0)])
+
+
+def rhs(t, x, u, p: DahlLaw):
+    """Time derivative of the law's states (MCPS eq. 9 with the frame-rotation term; module doc).
+
+    ``dF^k/dt = h^k du - |F_k du| g^k F^k - Omega_s (F^k_y, -F^k_x)`` per branch ``k`` (components
+    x, y), ``dM^k/dt = h_z^k dpsi - |dpsi| g_z^k M^k``. Rate independent: homogeneous of degree 1 in ``u``.
+
+    Parameters
+    ----------
+    t : float
+        Time [s] (unused: autonomous given ``u``).
+    x : array_like, shape (2 nb + nbz, ...)
+        Force states [N] then torque states [N m] (:func:`split_state`).
+    u : sequence
+        ``(du_x [m/s], du_y [m/s], dpsi [rad/s], omega [rad/s])`` (:class:`LawInput`).
+    p : DahlLaw
 
     Returns
     -------
-    dF, dM : ndarrays of the shapes of ``F``, ``M`` [N/s], [N m/s].
+    ndarray, shape (2 nb + nbz, ...)
+        ``dF/dt`` [N/s] and ``dM/dt`` [N m/s] in the layout of ``x``.
     """
-    du = np.asarray(du, dtype=float)
-    n = sliding_measure(du, law.Fk)[..., None, None]
-    dF = law.h * du[..., None, :] - n * law.g * F
-    if frame_term:
-        w = np.asarray(omega, dtype=float)[..., None]
+    F, M = split_state(x, p)
+    du = np.stack(np.broadcast_arrays(np.asarray(u[0], dtype=float), np.asarray(u[1], dtype=float)), axis=-1)
+    n = sliding_measure(du, p.Fk)[..., None, None]
+    dF = p.h * du[..., None, :] - n * p.g * F
+    w = np.asarray(u[3], dtype=float)
+    if np.any(w != 0.0):
+        w = w[..., None]
         dF = dF + np.stack([w * F[..., 1], -w * F[..., 0]], axis=-1)
-    dpsi = np.asarray(dpsi, dtype=float)[..., None]
-    dM = law.hz * dpsi - np.abs(dpsi) * law.gz * M
-    return dF, dM
+    dpsi = np.asarray(u[2], dtype=float)[..., None]
+    dM = p.hz * dpsi - np.abs(dpsi) * p.gz * M
+    return join_state(dF, dM)
+
+
+def outputs(t, x, u, p: DahlLaw) -> dict:
+    """Friction the slider transmits to the road at state ``x`` (arguments as :func:`rhs`; MCPS eqs. 5, 7).
+
+    Returns
+    -------
+    dict
+        ``f_x``, ``f_y`` [N]: ``f = sum_k sigma_k F^k``; ``m`` [N m]: ``sum_k sigma_z^k M^k``.
+    """
+    f, m = output(*split_state(x, p), p)
+    return {"f_x": f[..., 0], "f_y": f[..., 1], "m": m}
 
 
 def _exp_factors(m, d, w):
@@ -219,7 +326,9 @@ def _exp_factors(m, d, w):
 
 def step(F, M, du, dpsi, dtheta, law: DahlLaw):
     """Exact update of the states over one step with constant rates (MCPS eq. 9, frame term given
-    by its increment).
+    by its increment): the exact flow of :func:`rhs` over a unit time with the input
+    ``(du_x, du_y, dpsi, dtheta)`` (rate independence), in the kernels' layout (:func:`split_state`).
+    Parity with :func:`rhs` to 1e-12: tests/test_model_parity.py.
 
     Parameters
     ----------
@@ -235,6 +344,8 @@ def step(F, M, du, dpsi, dtheta, law: DahlLaw):
     dtheta : array_like, shape (...)
         Rotation of the slider frame relative to the road over the step [rad] (the frame term;
         0 switches it off).
+    law : DahlLaw
+        The friction law.
 
     Returns
     -------
@@ -278,8 +389,18 @@ def step(F, M, du, dpsi, dtheta, law: DahlLaw):
 
 
 def path_rates(alpha, beta, K, Fk):
-    """Decay rates [1/m] of the two branches along a monotone 1-D path (docs/models/mcps_tire.md §3.2):
-    ``a = beta K/(alpha F_k)``, ``b = (beta - 1) K/((alpha - 1) F_k)``."""
+    """Decay rates [1/m] of the two branches along a monotone 1-D path (MCPS eqs. 5-6; docs/models/mcps_tire.md §3.2):
+    ``a = beta K/(alpha F_k)``, ``b = (beta - 1) K/((alpha - 1) F_k)``.
+
+    Parameters
+    ----------
+    alpha, beta : float or array_like
+        Overshoot factors [-] (> 1).
+    K : float or array_like
+        Stiffness [N/m].
+    Fk : float or array_like
+        Coulomb level [N].
+    """
     return beta * K / (alpha * Fk), (beta - 1.0) * K / ((alpha - 1.0) * Fk)
 
 
@@ -306,7 +427,17 @@ def path_response(p, alpha, beta, K, Fk):
 
 def overshoot_peak(alpha, beta, K=1.0, Fk=1.0):
     """Peak of :func:`path_response`: ``(p*, g(p*))`` with ``p* = ln(beta/(beta-1))/(a - b)`` [m]
-    (docs/models/mcps_tire.md §3.2); ``(inf, 1)`` when there is no overshoot (``alpha <= beta``)."""
+    (MCPS eqs. 5-6; docs/models/mcps_tire.md §3.2); ``(inf, 1)`` when there is no overshoot (``alpha <= beta``).
+
+    Parameters
+    ----------
+    alpha, beta : float
+        Overshoot factors [-] (> 1).
+    K : float
+        Stiffness [N/m].
+    Fk : float
+        Coulomb level [N].
+    """
     if alpha <= beta:
         return float("inf"), 1.0
     a, b = path_rates(alpha, beta, K, Fk)
@@ -314,5 +445,5 @@ def overshoot_peak(alpha, beta, K=1.0, Fk=1.0):
     return float(p), float(path_response(p, alpha, beta, K, Fk))
 
 
-__all__ = ["DahlLaw", "second_order", "first_order", "coulomb", "output", "rates", "step",
-           "sliding_measure", "path_rates", "path_response", "overshoot_peak"]
+__all__ = ["DahlLaw", "LawInput", "second_order", "first_order", "coulomb", "rhs", "outputs", "output",
+           "split_state", "join_state", "step", "sliding_measure", "path_rates", "path_response", "overshoot_peak"]

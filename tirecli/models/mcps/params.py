@@ -102,7 +102,13 @@ class MCPSParams:
     U: float
 
     def with_values(self, **values) -> "MCPSParams":
-        """A copy with some values changed (e.g. calibrated rubber parameters)."""
+        """A copy with some values changed (e.g. calibrated rubber parameters; units as the attributes).
+
+        Parameters
+        ----------
+        **values : float
+            New values by attribute name [SI units of the attribute].
+        """
         return replace(self, **values)
 
     def with_patch_length(self, l_ref: float) -> "MCPSParams":
@@ -119,14 +125,26 @@ class MCPSParams:
         return replace(self, l_ref=float(l_ref), r_x=self.r_x / lam**2, r_y=self.r_y / lam**2, c_Mz=self.c_Mz / lam)
 
     def patch(self, fz: float) -> Patch:
-        """Patch geometry at load ``fz`` [N] (docs/models/mcps_tire.md §9: ``l = l_ref (fz/fz_ref)^l_exponent``, ``P = fz/(w l)``)."""
+        """Patch geometry at load ``fz`` (docs/models/mcps_tire.md §9: ``l = l_ref (fz/fz_ref)^l_exponent``, ``P = fz/(w l)``).
+
+        Parameters
+        ----------
+        fz : float
+            Vertical load [N].
+        """
         fz = float(fz)
         l = self.l_ref * (fz / self.fz_ref) ** self.l_exponent
         return Patch(fz=fz, l=l, w=self.w, P=fz / (self.w * l))
 
     def patch_law(self, fz: float) -> DahlLaw:
-        """Second-order law per unit patch length at load ``fz`` (docs/models/mcps_tire.md §5):
-        ``K' = w r``, ``F'_k = mu P w``, ``S'_z = c_Sz r_y w^3/12``, ``M'_kz = c_muz mu_y P w^2/4``."""
+        """Second-order law per unit patch length at load ``fz`` (MCPS eqs. 5-8; docs/models/mcps_tire.md §5):
+        ``K' = w r``, ``F'_k = mu P w``, ``S'_z = c_Sz r_y w^3/12``, ``M'_kz = c_muz mu_y P w^2/4``.
+
+        Parameters
+        ----------
+        fz : float
+            Vertical load [N].
+        """
         pa = self.patch(fz)
         w, P = pa.w, pa.P
         return second_order(
@@ -136,8 +154,14 @@ class MCPSParams:
             alpha_z=self.alpha_z, beta_z=self.beta_z)
 
     def slider_law(self, pressure: float) -> DahlLaw:
-        """Second-order law of one slider of area ``U`` under ``pressure`` [Pa] (MCPS §2.3, eqs. 7-8):
-        ``K = U r``, ``F_k = P U mu``, ``S_z = c_Sz U^2 r_y``, ``M_kz = c_muz P mu_y U^(3/2)``."""
+        """Second-order law of one slider of area ``U`` under ``pressure`` (MCPS §2.3, eqs. 7-8):
+        ``K = U r``, ``F_k = P U mu``, ``S_z = c_Sz U^2 r_y``, ``M_kz = c_muz P mu_y U^(3/2)``.
+
+        Parameters
+        ----------
+        pressure : float
+            Contact pressure ``P`` [Pa].
+        """
         U, P = self.U, float(pressure)
         return second_order(
             K=[U * self.r_x, U * self.r_y], Fk=[P * U * self.mu_x, P * U * self.mu_y],
@@ -157,6 +181,11 @@ class MCPSParams:
         - ``D_yphiF``, ``D_zphiF``: curvature stiffnesses with the twist (linear theory, docs/models/mcps_tire.md §7);
         - ``C_z`` [N m/rad]: small yaw stiffness at standstill, eq. (11), and ``C_zF`` with the twist;
         - ``Mz_inf`` [N m]: asymptotic sliding torque at standstill, eq. (12) (frame term off).
+
+        Parameters
+        ----------
+        fz : float
+            Vertical load [N].
         """
         pa = self.patch(fz)
         l, w = pa.l, pa.w

@@ -14,8 +14,9 @@ transport speed ``r omega``, never on the speed itself. The stationary patch (MC
 uniform slip is solved in closed form (:func:`stationary_uniform`); with a yaw rate the lateral
 slip varies linearly along the patch and :func:`stationary_linear` integrates (14) in ``d``
 (classical RK4 on each side of the point where the lateral slip vanishes, error checked in the
-tests). The complete model's belt (MCPS eqs. 16-17) is :func:`belt_velocities`,
-:func:`wheel_forces` and :func:`belt_rhs`.
+tests). The complete model's belt (MCPS eqs. 16-17) is :func:`belt_velocities`, :func:`wheel_forces`
+and the belt's dynamics :mod:`tirecli.models.mcps.belt`; the friction law's dynamics are
+:func:`tirecli.models.mcps.law.rhs`.
 """
 from __future__ import annotations
 
@@ -42,7 +43,14 @@ _F2Z = [((-1) ** j) * j / (2.0 * math.factorial(j + 2)) for j in range(1, 14)]  
 
 
 def f1z(z):
-    """``f1(z)/z`` with ``f1(z) = 1 - (1 - e^-z)/z`` (the patch mean of ``1 - e^{-z d/l}``); finite at 0 (1/2)."""
+    """``f1(z)/z`` [-] with ``f1(z) = 1 - (1 - e^-z)/z``: the patch mean of ``1 - e^{-z d/l}`` (MCPS eq. 14,
+    docs/models/mcps_tire.md §6); finite at 0 (1/2).
+
+    Parameters
+    ----------
+    z : array_like
+        ``z = |F_k s| g l`` [-], >= 0 (patch length over the relaxation length).
+    """
     z = np.asarray(z, dtype=float)
     small = z < SERIES_Z
     zs = np.where(small, 1.0, z)
@@ -51,8 +59,14 @@ def f1z(z):
 
 
 def f2z(z):
-    """``f2(z)/z`` with ``f2(z) = (1 - e^-z (1+z))/z^2 - (1 - e^-z)/(2z)`` (the first moment about
-    the patch centre, docs/models/mcps_tire.md §6); series ``sum (-1)^j j z^(j-1)/(2 (j+2)!)`` below ``SERIES_Z``."""
+    """``f2(z)/z`` [-] with ``f2(z) = (1 - e^-z (1+z))/z^2 - (1 - e^-z)/(2z)`` (MCPS eq. 14: the first moment about
+    the patch centre, docs/models/mcps_tire.md §6); series ``sum (-1)^j j z^(j-1)/(2 (j+2)!)`` below ``SERIES_Z``.
+
+    Parameters
+    ----------
+    z : array_like
+        ``z = |F_k s| g l`` [-], >= 0.
+    """
     z = np.asarray(z, dtype=float)
     small = z < SERIES_Z
     zs = np.where(small, 1.0, z)
@@ -103,6 +117,40 @@ def stationary_uniform(s, spin, law: DahlLaw, l: float):
     return f0, f1y, m0
 
 
+def stationary_rates(d, F, sx, sy0, phi, law: DahlLaw, l: float, frame_term: bool):
+    """``dF/dd`` [N/m per m] of the force states along the stationary patch (MCPS eq. 14) with a linear lateral
+    slip: the kernel :func:`stationary_linear` integrates.
+
+    :func:`tirecli.models.mcps.law.rhs` per unit rolled distance (rate independence: the rates divided by
+    ``r omega``) with the input ``(sx, sy0 + phi (l/2 - d), phi, phi if frame_term else 0)``; parity to 1e-12:
+    tests/test_model_parity.py.
+
+    Parameters
+    ----------
+    d : array_like, shape (P,)
+        Distance from the leading edge [m].
+    F : ndarray, shape (P, nb, 2)
+        Force states per unit length [N/m].
+    sx, sy0, phi : ndarray, shape (P,)
+        Slip ``du_x/(r omega)`` [-], lateral slip at the centre [-] and ``Omega_s/(r omega)`` [1/m]
+        (:func:`stationary_linear`).
+    law : DahlLaw
+        The law per unit patch length.
+    l : float
+        Patch length [m].
+    frame_term : bool
+        Include the frame rotation.
+    """
+    syd = sy0 + phi * (l / 2.0 - d)
+    s = np.stack([sx, syd], axis=-1)                  # (P, 2)
+    n = np.hypot(law.Fk[0] * sx, law.Fk[1] * syd)[:, None, None]
+    dF = law.h * s[:, None, :] - n * law.g * F
+    if frame_term:
+        w = phi[:, None]
+        dF = dF + np.stack([w * F[..., 1], -w * F[..., 0]], axis=-1)
+    return dF
+
+
 def stationary_linear(sx, sy0, phi, law: DahlLaw, l: float, frame_term: bool = False, steps: int | None = None):
     """Patch integrals of the stationary states when the lateral slip varies linearly along the patch
     (a yaw rate: MCPS eq. 14 with ``du_y(xi) = du_y(0) + Omega xi``).
@@ -116,8 +164,14 @@ def stationary_linear(sx, sy0, phi, law: DahlLaw, l: float, frame_term: bool = F
     phi : array_like, shape (P,)
         ``Omega_s/(r omega)`` [1/m]: the lateral slip is ``sy0 + phi xi``; also the spin of the
         torsion and, with ``frame_term``, the rotation rate of the slider frame per unit rolled distance.
+    law : DahlLaw
+        The law per unit patch length (:meth:`MCPSParams.patch_law`).
+    l : float
+        Patch length [m].
+    frame_term : bool
+        Include the frame rotation (docs/models/mcps_tire.md §4).
     steps : int or None
-        RK4 steps on each side of the zero of the lateral slip (default: from the stiffness, at
+        RK4 steps [-] on each side of the zero of the lateral slip (default: from the stiffness, at
         least 64).
 
     Returns
@@ -127,7 +181,8 @@ def stationary_linear(sx, sy0, phi, law: DahlLaw, l: float, frame_term: bool = F
     Notes
     -----
     Integrated in ``d`` with the augmented state ``(F, int F, int (l/2-d) F)``, split where the
-    lateral slip vanishes (kink of ``|F_k s|``); the torsion is uniform and exact.
+    lateral slip vanishes (kink of ``|F_k s|``); the torsion is uniform and exact. The right-hand side
+    is :func:`stationary_rates`.
     """
     sx, sy0, phi = (np.atleast_1d(np.asarray(a, dtype=float)) for a in (sx, sy0, phi))
     P = sx.shape[0]
@@ -139,17 +194,9 @@ def stationary_linear(sx, sy0, phi, law: DahlLaw, l: float, frame_term: bool = F
     zmax = float(np.max(smax) * np.max(law.g) * l) if P else 0.0
     if steps is None:
         steps = int(min(4000, max(64, math.ceil(zmax / 0.05))))
-    h, g, Fk = law.h, law.g, law.Fk
 
     def rhs(d, F):
-        syd = sy0 + phi * (l / 2.0 - d)
-        s = np.stack([sx, syd], axis=-1)                  # (P, 2)
-        n = np.hypot(Fk[0] * sx, Fk[1] * syd)[:, None, None]
-        dF = h * s[:, None, :] - n * g * F
-        if frame_term:
-            w = phi[:, None]
-            dF = dF + np.stack([w * F[..., 1], -w * F[..., 0]], axis=-1)
-        return dF
+        return stationary_rates(d, F, sx, sy0, phi, law, l, frame_term)
 
     F = np.zeros((P, law.nb, 2))
     I0 = np.zeros_like(F)
@@ -181,7 +228,19 @@ def stationary_linear(sx, sy0, phi, law: DahlLaw, l: float, frame_term: bool = F
 
 def resultants(f0, f1y, m0, c_Mz: float):
     """Road-on-tire resultants about the patch centre from the patch integrals (MCPS eq. 10):
-    ``Fx, Fy = -int f`` [N], ``Mz = -(int m + c_Mz int xi f_y)`` [N m]."""
+    ``Fx, Fy = -int f`` [N], ``Mz = -(int m + c_Mz int xi f_y)`` [N m].
+
+    Parameters
+    ----------
+    f0 : array_like, shape (..., 2)
+        ``int f dd`` [N] (:func:`stationary_uniform`).
+    f1y : array_like
+        ``int (l/2 - d) f_y dd`` [N m].
+    m0 : array_like
+        ``int m dd`` [N m].
+    c_Mz : float
+        Weight of the lever-arm torque [-].
+    """
     f0 = np.asarray(f0)
     return -f0[..., 0], -f0[..., 1], -(np.asarray(m0) + c_Mz * np.asarray(f1y))
 
@@ -200,7 +259,7 @@ def belt_velocities(Vx, Vy, romega, yaw, q, qdot):
     q : array_like, shape (..., 3)
         Belt displacement ``(x, y, delta)`` relative to the rim [m, m, rad] (zeros: solid carcass).
     qdot : array_like, shape (..., 3)
-        Its rates.
+        Its rates [m/s, m/s, rad/s].
 
     Returns
     -------
@@ -243,33 +302,6 @@ def wheel_forces(FA, MA, q):
     return fx - de * fy, fy + de * fx, MA + x * fy - y * fx
 
 
-def belt_rhs(t, state, u, p):
-    """Belt dynamics on the rim (MCPS eq. 17), python-control shape ``rhs(t, x, u, p)``.
-
-    Parameters
-    ----------
-    t : float
-        Time [s] (unused: autonomous).
-    state : array_like, shape (6,)
-        ``(x, y, delta, xdot, ydot, delta_dot)`` [m, m, rad, m/s, m/s, rad/s].
-    u : array_like, shape (3,)
-        Wheel-frame patch load ``(FWx, FWy, MW)`` [N, N, N m] (eq. 16).
-    p : MCPSParams
-
-    Returns
-    -------
-    ndarray, shape (6,)
-        ``m_b xdd = -c_x xd - k_x x + FWx``, ``m_b ydd = -c_y yd - k_y y + FWy``,
-        ``J_b dd = -c_delta dd - k_delta delta + MW``.
-    """
-    x, y, de, xd, yd, dd = state
-    fx, fy, mz = u
-    return np.array([xd, yd, dd,
-                     (-p.c_x * xd - p.k_x * x + fx) / p.m_b,
-                     (-p.c_y * yd - p.k_y * y + fy) / p.m_b,
-                     (-p.c_delta * dd - p.k_delta * de + mz) / p.J_b])
-
-
 def pure_longitudinal_fx(kappa, p, fz):
     """Closed-form stationary ``Fx`` [N] of pure longitudinal slip (docs/models/mcps_tire.md §6; the same with and
     without the carcass): ``sgn(kappa) mu_x Fz [1 + (alpha_x-1)(1-e^{-bP})/(bP) - alpha_x (1-e^{-aP})/(aP)]``
@@ -297,4 +329,4 @@ def pure_longitudinal_fx(kappa, p, fz):
 
 
 __all__ = ["f1z", "f2z", "stationary_uniform", "stationary_linear", "resultants", "belt_velocities",
-           "wheel_forces", "belt_rhs", "pure_longitudinal_fx"]
+           "wheel_forces", "stationary_rates", "pure_longitudinal_fx"]
