@@ -120,6 +120,11 @@ class MCPSParams:
         docs/models/mcps_tire.md §6 unchanged), so these curves cannot determine ``l``: a calibration to
         them fits the trail factor ``c_Mz`` at a given ``l``. The curvature, standstill and relaxation
         responses do change with ``l``.
+
+        Parameters
+        ----------
+        l_ref : float
+            Patch length at ``fz_ref`` [m].
         """
         lam = float(l_ref) / self.l_ref
         return replace(self, l_ref=float(l_ref), r_x=self.r_x / lam**2, r_y=self.r_y / lam**2, c_Mz=self.c_Mz / lam)
