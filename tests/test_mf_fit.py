@@ -358,16 +358,17 @@ def test_robust_loss_resists_outliers(gen, start):
 
 def test_scipy_solver_agrees(gen, start):
     """scipy's least_squares (trf) on the same steps reaches an optimum of the same quality: RMS within
-    1 %, the same curves within 0.2 % of the peak, the well-determined coefficients (standard error below
-    10 % of the value) within half a standard error. PKX1-3, exactly determined by three loads, slide along
-    a valley (standard errors of 100 % and more) where each solver stops at its own point."""
+    1 %, the same curves within 0.5 % of the peak (half the noise), the well-determined coefficients
+    (standard error below 10 % of the value) within half a standard error. PKX2 and PKX3, nearly
+    interchangeable at three loads when PKX2 is near 0 (standard errors of 100 times their values and
+    more), lie in a flat valley where each solver stops at its own point."""
     df = sweeps(gen, start, cambers=(0.0,), noise=0.01, seed=2)
     a = fit_mf(df, start, FitOptions(parts=("longitudinal",)))
     b = fit_mf(df, start, FitOptions(parts=("longitudinal",), solver="scipy"))
     ra, rb = a.stages[0].rms_fit, b.stages[0].rms_fit
     assert abs(ra - rb) <= 0.01 * min(ra, rb)
     k = np.linspace(-0.3, 0.3, 61)
-    assert grid_gap(a.tire, b.tire, df, "fx", k, [0.0], [0.0]) <= 0.2
+    assert grid_gap(a.tire, b.tire, df, "fx", k, [0.0], [0.0]) <= 0.5
     compared = 0
     for ca, cb in zip(a.coefficients, b.coefficients):
         if ca.stderr is not None and ca.stderr <= 0.1 * abs(ca.value):
