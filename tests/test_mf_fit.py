@@ -458,3 +458,19 @@ def test_synthetic_label_and_seed(gen):
     assert a.equals(b) and a.attrs["label"].startswith("SYNTHETIC")
     assert not a.equals(rig_sweeps(gen, noise=0.01, seed=4))
     assert math.isclose(float(np.std(a.fx - rig_sweeps(gen).fx) / np.abs(rig_sweeps(gen).fx).max()), 0.01, rel_tol=0.1)
+
+
+def test_documented_example_runs():
+    """The Python example of docs/models/magic_formula_tyre.md §17.6 runs as written."""
+    import contextlib
+    import io
+    import re
+
+    from conftest import ROOT
+
+    text = (ROOT / "docs" / "models" / "magic_formula_tyre.md").read_text(encoding="utf-8")
+    code = re.search(r"## 17\..*?```python\n(.*?)```", text, re.S).group(1)
+    out = io.StringIO()
+    with contextlib.redirect_stdout(out):
+        exec(compile(code, "magic_formula_tyre.md §17.6", "exec"), {})
+    assert "fitted" in out.getvalue() and "rms_pct" in out.getvalue()
