@@ -74,7 +74,8 @@ def main():
             print(f"| stage {s.name}: {s.points} points | {s.seconds:.2f} s | - | {s.nfev} | RMS {s.rms_fit:.4g} "
                   f"({100 * s.rms_fit / s.peak:.2f} % of the peak) |")
     t = chk.table[chk.table.sweep == "all"].set_index("channel")
-    fit_text = ", ".join(f"{ch} RMS {t.rms_pct[ch]:.2f} % / largest {t.max_pct[ch]:.2f} % of the peak" for ch in t.index)
+    fit_text = ", ".join(f"{ch} RMS {t.rms_pct[ch]:.2f} % / largest {t.max_pct[ch]:.2f} % of the peak"
+                         for ch in t.index)
     print(f"| write fitted.tir, read it back, evaluate at every point | {t_check:.2f} s | - | 1 | {fit_text} |")
     print()
     ok = wall < N_GOAL_S

@@ -10,7 +10,8 @@ cost is ``C = 1/2 sum rho(r_i^2)`` with scipy's losses (``linear``: ``rho(z) = z
 left out of the step) on the normal equations, solved through the eigen-decomposition of the
 column-scaled ``J^T J`` (once per Jacobian, reused while the radius changes): with thousands of points
 and tens of coefficients every matrix it factors is p x p, where scipy's ``least_squares`` factors the
-n x p Jacobian (an SVD per iteration, slow with threaded BLAS on a busy machine). Robust losses scale the Jacobian and the residuals as scipy does (Triggs et al. 2000).
+n x p Jacobian (an SVD per iteration, slow with threaded BLAS on a busy machine). Robust losses scale
+the Jacobian and the residuals as scipy does (Triggs et al. 2000).
 ``solver="scipy"`` runs ``scipy.optimize.least_squares`` (``trf``) instead, for comparison. The
 Jacobian is a forward difference of the stage model (:func:`fd_jacobian`).
 
