@@ -24,7 +24,7 @@ from tirecli.numerics.mf_fit.result import (LOSSES, CoefficientFit, FitOptions, 
 from tirecli.numerics.mf_fit.stages import FIT_COEFFICIENTS, GROUPS, NEEDS, PARTS, STAGES, Stage, default_bounds
 
 #: Start values used instead of a start tyre's 0 where 0 leaves the coefficient (and those it multiplies)
-#: without any gradient: the moment-arm slopes are even in RBX2/RBY2/RVY4, S_Vyk vanishes with RVY5 or
+#: without any gradient: the weighting functions are even in RBX2/RBY2/RVY4, S_Vyk vanishes with RVY5 or
 #: RVY6, B_r with QBZ9 and QBZ10.
 SEEDS = {"RBX2": 5.0, "RBY2": 5.0, "RVY4": 20.0, "RVY5": 1.9, "RVY6": 10.0, "QBZ9": 10.0}
 
