@@ -461,7 +461,8 @@ def test_synthetic_label_and_seed(gen):
 
 
 def test_documented_example_runs():
-    """The Python example of docs/models/magic_formula_tyre.md §17.6 runs as written."""
+    """The Python example of docs/models/magic_formula_tyre.md, 'Fitting a .tir to measurements', runs as
+    written."""
     import contextlib
     import io
     import re
@@ -469,8 +470,8 @@ def test_documented_example_runs():
     from conftest import ROOT
 
     text = (ROOT / "docs" / "models" / "magic_formula_tyre.md").read_text(encoding="utf-8")
-    code = re.search(r"## 17\..*?```python\n(.*?)```", text, re.S).group(1)
+    code = re.search(r"## \d+\. Fitting a `\.tir` to measurements.*?```python\n(.*?)```", text, re.S).group(1)
     out = io.StringIO()
     with contextlib.redirect_stdout(out):
-        exec(compile(code, "magic_formula_tyre.md §17.6", "exec"), {})
+        exec(compile(code, "magic_formula_tyre.md (Fitting a .tir)", "exec"), {})
     assert "fitted" in out.getvalue() and "rms_pct" in out.getvalue()
