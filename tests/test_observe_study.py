@@ -153,7 +153,8 @@ def test_gain_study_frame():
     from tirecli.figures.registry import REGISTRY
 
     fig = REGISTRY["obs-gain-study"].draw(res)
-    assert fig.axes[1].get_xlabel() == "gamma [s/m]"
+    assert fig.axes[1].get_xlabel().endswith("gamma [s/m]")
+    assert [t.get_text() for t in fig.axes[0].get_legend().get_texts()][1:] == ["gamma = 1e5 s/m", "gamma = 4e5 s/m"]
 
 
 # --------------------------------------------------------------------------- command
