@@ -67,7 +67,7 @@ def _select(reg: dict, only) -> list:
 
 
 def build_report(out: str | Path, only=None, progress=None, campaigns=(), jobs: int | None = None,
-                 cache: str | Path | None = None, use_cache: bool = True, formats=("png",)) -> dict:
+                 cache: str | Path | None = None, use_cache: bool = True, formats=("png",), note=None) -> dict:
     """Build the report into ``out``; returns the summary (also written as ``summary.json``).
 
     A study that fails is shown as an error card and recorded as a failed check, so the report
@@ -76,11 +76,12 @@ def build_report(out: str | Path, only=None, progress=None, campaigns=(), jobs: 
     only their sections.
 
     ``jobs``: processes for the studies and figures (None: every core; 1: this process only).
-    ``cache``: folder of the study cache (:mod:`tirecli.io.cache`; None: ``out/.tirecli-cache``);
-    ``use_cache=False`` runs every study (and refreshes the cache). ``formats``: the figure files
-    (``png``, and ``svg`` if asked).
+    ``cache``: folder of the study cache (:mod:`tirecli.io.cache`; None: :func:`tirecli.io.cache.default_dir`,
+    outside the report); ``use_cache=False`` runs every study (and refreshes the cache). ``formats``: the
+    figure files (``png``, and ``svg`` if asked). ``note(text)`` is told what a user may wonder about (a
+    first run that builds matplotlib's font cache, a cache of an earlier version left in ``out``).
     """
-    from tirecli.io.cache import DEFAULT_NAME
+    from tirecli.io.cache import OLD_NAME, default_dir
 
     t_start = time.perf_counter()
     out = out_path(out)
@@ -94,10 +95,25 @@ def build_report(out: str | Path, only=None, progress=None, campaigns=(), jobs: 
             load_campaign(path)
     # a bad location fails before the studies run
     check_output_dir(out, files=("index.html", "summary.json"), dirs=("data", "figures"))
+    if cache is None:
+        cache = default_dir()
     settings = {"jobs": jobs or default_jobs(), "use_cache": use_cache, "formats": formats,
-                "cache": str(cache if cache is not None else out / DEFAULT_NAME)}
+                "cache": str(cache) if cache is not None else None, "note": note or (lambda text: None)}
+    if (out / OLD_NAME).is_dir() and (cache is None or Path(cache).resolve() != (out / OLD_NAME).resolve()):
+        settings["note"](f"{out / OLD_NAME} is the study cache of an earlier tirecli, no longer used (the cache is "
+                         f"now {cache if cache is not None else 'off'}): delete that folder to save its space")
     with staged_dir(out, marker="summary.json") as stage:
         return _write_report(stage, entries, t_start, progress, campaigns, settings)
+
+
+def _page_image(data: bytes, cache) -> str:
+    """The base64 text of the PNG the page embeds for a figure file's bytes (:func:`tirecli.report.cards.page_png`),
+    kept in the cache by the file's SHA-256."""
+    from tirecli.io.cache import memo_text, sha256
+    from tirecli.report.cards import PAGE_COLOURS, page_png
+
+    return memo_text(cache, {"page-png": sha256(data), "colours": PAGE_COLOURS},
+                     lambda: base64.b64encode(page_png(data)).decode("ascii"))
 
 
 class _Progress:
@@ -198,8 +214,8 @@ def _write_report(stage, entries: list, t_start: float, progress, campaigns=(), 
         card.update({k: v for k, v in res["cards"][f.id].items() if k not in ("id", "deps")})
         all_checks += card["checks"]
         png = next((p for p in card["files"] if p.endswith(".png")), None)
-        if png is not None:  # the page embeds the file written (or copied from the cache), not a new rendering
-            card["image"] = base64.b64encode(read_bytes(out / png)).decode("ascii")
+        if png is not None:  # the page embeds the file written (or copied from the cache), in 256 colours
+            card["image"] = _page_image(read_bytes(out / png), settings["cache"])
         cards.append(card)
 
     for card in cards:  # the card's links (PNG, SVG, data CSVs, run record) and display size
