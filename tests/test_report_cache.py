@@ -447,3 +447,22 @@ def test_the_page_embeds_a_smaller_png_and_links_the_file(cli, tmp_path):
             assert diff.max() <= 20 and (diff == 0).mean() > 0.5, (href, diff.max(), (diff == 0).mean())
             assert (pa[pb.sum(axis=2) == 765] == 255).all(), href  # white stays white
 
+
+def test_the_first_report_says_once_that_it_builds_the_font_cache(tmp_path):
+    """matplotlib scans the system's fonts on its first use on a machine: the report says so, then never again."""
+    import subprocess
+    import sys
+
+    env = dict(os.environ, MPLCONFIGDIR=str(tmp_path / "mpl"), MPLBACKEND="Agg")
+    note = "note: building matplotlib's font cache (first run only)"
+
+    def report(*extra):
+        proc = subprocess.run([sys.executable, "-m", "tirecli", "report", "--out", str(tmp_path / "rep"),
+                               "--only", "fm-table1", "--jobs", "1", *extra], env=env, capture_output=True,
+                              text=True, timeout=300)
+        assert proc.returncode == 0, proc.stderr
+        return proc.stdout
+
+    assert report("--no-cache").count(note) == 1
+    assert list((tmp_path / "mpl").glob("fontlist-v*.json"))
+    assert note not in report("--no-cache")

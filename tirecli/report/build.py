@@ -176,6 +176,12 @@ def _write_report(stage, entries: list, t_start: float, progress, campaigns=(), 
                 bar("study-done", task["study"])
         for _ in [f for f in entries if f.study in errors] + list(errors):  # configs that did not load
             bar("study-done", "")
+        if todo:  # matplotlib's first use on this machine: said once, and done before the workers fork
+            from tirecli.io.fonts import build_font_cache, font_cache_missing
+
+            if font_cache_missing():
+                settings["note"]("building matplotlib's font cache (first run only)")
+                build_font_cache()
         earlier = read_timings(settings["cache"])
         # the slowest units (study and figures, as last measured; unknown ones) start first
         todo.sort(key=lambda t: -earlier.get(t["study"], float("inf")))
