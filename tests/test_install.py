@@ -16,6 +16,7 @@ from pathlib import Path
 import pytest
 
 from conftest import EXAMPLES, ROOT, block_module
+from doc_commands import shell_commands
 
 #: Import names of the distributions of pyproject's default dependencies (and of what those bring:
 #: jinja2 brings markupsafe, matplotlib brings Pillow, typer brings click and rich).
@@ -213,3 +214,16 @@ def test_the_readme_examples_are_extracted_for_ci():
     readme = (ROOT / "README.md").read_text()
     assert "pip install . && tirecli report" in readme
     assert ci.index("\npip install .\n") < ci.index("python3 tests/run_readme_examples.py") < ci.index("pip install '.[test]'")
+
+
+QUICK = ("tir", "params", "figures")
+
+
+@pytest.mark.parametrize("command", [c for c in shell_commands() if c.argv[0] in QUICK],
+                         ids=lambda c: c.id)
+def test_documented_quick_commands_exit_0(cli, command, monkeypatch):
+    """A CI job that copies a command of the docs passes: each ``tir``, ``params`` and ``figures`` command
+    shown exits 0 (``tirecli tir check chrono-185-80r14`` exits 1, so the docs show a tyre that passes)."""
+    monkeypatch.chdir(ROOT)
+    code, out, err = cli(*command.argv)
+    assert code == 0, f"{command.id}: exit {code}\n{err}"

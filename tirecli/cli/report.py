@@ -6,7 +6,8 @@ from typing import List, Optional
 
 import typer
 
-from tirecli.cli.common import JunitOpt, StrictOpt, echo, jobs_option, progress, result_line, strict_exit
+from tirecli.cli.common import (JunitOpt, StrictOpt, echo, failed_check_line, jobs_option, progress, result_line,
+                                strict_exit)
 
 
 def report(
@@ -53,7 +54,7 @@ def report(
         what += (" and " if what else "") + f"the campaign section of {campaign}"
     echo(f"{what}, {len(summary['checks'])} reference checks, {len(failed)} failed, {summary['wall_time_s']:.1f} s")
     for c in failed:
-        echo(f"check failed: {c['id']}: {c['value']} vs reference {c['reference']} (tolerance {c['tolerance']})")
+        echo(failed_check_line(c))
     result_line(f"wrote {Path(out) / 'index.html'}")
     if junit is not None:
         result_line(f"wrote {jx.write(junit, report_suites(summary), 'tirecli report', done=f'the report is in {out}', outputs=_report_outputs(out))}")
