@@ -36,7 +36,7 @@ PHONE = r"""(() => {
     const cells = [...t.querySelectorAll('td')].filter(td => td.getBoundingClientRect().height > 0);
     return {card: (t.closest('article') || {}).id || '', summary: t.classList.contains('summary'),
             stacked: getComputedStyle(t).display === 'block', right: t.getBoundingClientRect().right,
-            unlabelled: cells.filter(td => !td.dataset.label).length,
+            unlabelled: cells.filter(td => ['none', 'normal', '""'].includes(getComputedStyle(td, '::before').content)).length,
             tallest: Math.max(0, ...cells.map(lines))};
   });
   const wide = [...document.querySelectorAll('article.card.wide')].map(c => {

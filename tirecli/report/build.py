@@ -9,7 +9,6 @@ Writes ``DIR/index.html`` (self-contained: figures embedded as PNG, no network r
 """
 from __future__ import annotations
 
-import base64
 import threading
 import time
 import traceback
@@ -24,7 +23,7 @@ from tirecli.io.atomic import out_path, staged_dir
 from tirecli.io.cache import read_bytes, read_timings, write_timings
 from tirecli.io.files import check_output_dir
 from tirecli.numerics.pool import default_jobs
-from tirecli.report.cards import card_files
+from tirecli.report.cards import card_files, page_image
 from tirecli.report import work
 from tirecli.report.docs import card_doc, link_sources, write_docs
 from tirecli.studies.base import Check, builtin_config
@@ -104,16 +103,6 @@ def build_report(out: str | Path, only=None, progress=None, campaigns=(), jobs: 
                          f"now {cache if cache is not None else 'off'}): delete that folder to save its space")
     with staged_dir(out, marker="summary.json") as stage:
         return _write_report(stage, entries, t_start, progress, campaigns, settings)
-
-
-def _page_image(data: bytes, cache) -> str:
-    """The base64 text of the PNG the page embeds for a figure file's bytes (:func:`tirecli.report.cards.page_png`),
-    kept in the cache by the file's SHA-256."""
-    from tirecli.io.cache import memo_text, sha256
-    from tirecli.report.cards import PAGE_COLOURS, page_png
-
-    return memo_text(cache, {"page-png": sha256(data), "colours": PAGE_COLOURS},
-                     lambda: base64.b64encode(page_png(data)).decode("ascii"))
 
 
 class _Progress:
@@ -220,8 +209,8 @@ def _write_report(stage, entries: list, t_start: float, progress, campaigns=(), 
         card.update({k: v for k, v in res["cards"][f.id].items() if k not in ("id", "deps")})
         all_checks += card["checks"]
         png = next((p for p in card["files"] if p.endswith(".png")), None)
-        if png is not None:  # the page embeds the file written (or copied from the cache), in 256 colours
-            card["image"] = _page_image(read_bytes(out / png), settings["cache"])
+        if png is not None and not card.get("image"):  # made by the worker that drew it (kept in the cache)
+            card["image"] = page_image(read_bytes(out / png))
         cards.append(card)
 
     for card in cards:  # the card's links (PNG, SVG, data CSVs, run record) and display size

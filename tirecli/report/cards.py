@@ -47,6 +47,13 @@ def page_png(data: bytes) -> bytes:
     return buf.getvalue() if buf.tell() < len(data) else data
 
 
+def page_image(data: bytes) -> str:
+    """The base64 text of :func:`page_png` of a PNG file's bytes (what the page's ``<img>`` holds)."""
+    import base64
+
+    return base64.b64encode(page_png(data)).decode("ascii")
+
+
 def image_size(path: str | Path) -> tuple[int, int, float] | None:
     """(width px, height px, dots per inch) of a PNG file, from its IHDR and pHYs chunks; None if
     the file is not a PNG. The resolution defaults to 150 dpi when the file does not record one."""
