@@ -141,36 +141,27 @@ def _one_line_hint(err: str, library: str) -> None:
     assert f"needs {library}, which is not installed" in err and "internal error" not in err, err
 
 
-def test_saltelli_without_salib_is_one_line_before_any_point(cli, tmp_path, monkeypatch):
-    block_module(monkeypatch, "SALib")
-    calls = _count_point_checks(monkeypatch)
-    code, out, err = cli("campaign", EXAMPLES / "campaign-mf-fy.yaml", "--out", tmp_path / "c", "--jobs", "1")
-    assert code == 2, err
-    _one_line_hint(err, "SALib")
-    assert "method: saltelli" in err and "pip install 'SALib" in err
-    assert not calls and not (tmp_path / "c").exists()
-
-
-def test_campaign_without_pyarrow_is_one_line_before_any_point(cli, tmp_path, monkeypatch):
-    """campaign-fm-fig4-mc asked for pyarrow only after checking its 1000 points."""
-    block_module(monkeypatch, "pyarrow")
-    calls = _count_point_checks(monkeypatch)
-    code, out, err = cli("campaign", EXAMPLES / "campaign-fm-fig4-mc.yaml", "--out", tmp_path / "c", "--jobs", "1")
-    assert code == 2, err
-    _one_line_hint(err, "pyarrow")
-    assert not calls and "points" not in out and not (tmp_path / "c").exists()
-
-
-def test_scheduler_without_dask_is_one_line_before_any_point(cli, tmp_path, monkeypatch):
-    block_module(monkeypatch, "distributed", "dask")
-    calls = _count_point_checks(monkeypatch)
-    code, out, err = cli("campaign", EXAMPLES / "campaign-obs-convergence.yaml", "--out", tmp_path / "c",
-                         "--scheduler", "local", "--jobs", "1")
-    assert code == 2, err
-    _one_line_hint(err, "dask")
+#: (libraries made missing, campaign example, more options, the library named, texts of the message)
+MISSING = [
+    (("SALib",), "campaign-mf-fy.yaml", (), "SALib", ("method: saltelli", "pip install 'SALib")),
+    # campaign-fm-fig4-mc asked for pyarrow only after checking its 1000 points
+    (("pyarrow",), "campaign-fm-fig4-mc.yaml", (), "pyarrow", ("a campaign", "pip install 'pyarrow")),
     # the hint works in a checkout (the README's install is from one) and names the package's extra too
-    assert "--scheduler needs dask" in err and "pip install '.[campaign]'" in err and "'tirecli[campaign]'" in err
-    assert not calls and not (tmp_path / "c").exists()
+    (("distributed", "dask"), "campaign-obs-convergence.yaml", ("--scheduler", "local"), "dask",
+     ("--scheduler needs dask", "pip install '.[campaign]'", "'tirecli[campaign]'")),
+]
+
+
+@pytest.mark.parametrize("blocked, example, options, library, texts", MISSING, ids=[m[3] for m in MISSING])
+def test_a_missing_library_is_one_line_before_any_point(cli, tmp_path, monkeypatch, blocked, example, options,
+                                                        library, texts):
+    block_module(monkeypatch, *blocked)
+    calls = _count_point_checks(monkeypatch)
+    code, out, err = cli("campaign", EXAMPLES / example, "--out", tmp_path / "c", "--jobs", "1", *options)
+    assert code == 2, err
+    _one_line_hint(err, library)
+    assert all(t in err for t in texts), err
+    assert not calls and "points" not in out and not (tmp_path / "c").exists()
 
 
 @pytest.mark.parametrize("name", ["pyarrow.parquet", "dask", "SALib.analyze"])
