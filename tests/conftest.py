@@ -20,10 +20,10 @@ def _study_cache_session(tmp_path_factory):
 
 
 @pytest.fixture(autouse=True)
-def _study_cache(tmp_path, monkeypatch):
-    """Each test's reports share a study cache of their own (a new temporary folder per test), as each
-    report folder once had: a test starts without cached studies."""
-    monkeypatch.setenv("TIRECLI_CACHE_DIR", str(tmp_path / "tirecli-cache"))
+def _study_cache(tmp_path_factory, monkeypatch):
+    """Each test's reports share a study cache of their own (a new temporary folder per test, beside the
+    test's tmp_path, not in it), as each report folder once had: a test starts without cached studies."""
+    monkeypatch.setenv("TIRECLI_CACHE_DIR", str(tmp_path_factory.mktemp("tirecli-cache")))
 
 
 @pytest.fixture
