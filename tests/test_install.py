@@ -24,7 +24,7 @@ IMPORT_NAMES = {"typer": {"typer", "click"}, "numpy": {"numpy"}, "scipy": {"scip
                 "matplotlib": {"matplotlib", "mpl_toolkits", "PIL"}, "jinja2": {"jinja2", "markupsafe"},
                 "pyyaml": {"yaml"}, "pyarrow": {"pyarrow"}, "salib": {"SALib"}}
 #: Calls that check an optional library before it is imported (:func:`tirecli.errors.require`).
-REQUIRE_CALLS = {"require", "require_pyarrow", "require_scheduler"}
+REQUIRE_CALLS = {"require", "require_pyarrow", "require_scheduler", "require_asammdf"}
 
 
 def _default_dependencies() -> set[str]:

@@ -145,6 +145,7 @@ OPTIONAL = {
     "distributed": ("dask[distributed]", "campaign"),
     "pyarrow": ("pyarrow", None),
     "SALib": ("SALib", None),
+    "asammdf": ("asammdf", "mdf"),
 }
 
 
