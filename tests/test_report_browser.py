@@ -73,7 +73,8 @@ def _build(out: Path, only=(), drift: bool = False) -> Path:
     if drift:  # one drifted reference: the summary then lists a failing check with its link
         from tirecli.figures import steady
 
-        args.append("--no-cache")  # the session's cache may hold the study's cards with the real reference
+        # a cache of its own: the session's may hold the card with the real reference, and must not get the drifted one
+        args += ["--cache", str(out.parent / "drift-cache")]
 
         with pytest.MonkeyPatch.context() as mp:
             mp.setitem(steady._REF_SPEEDS, 20, (1.20, 0.212, 0.6451, 0.8717))
