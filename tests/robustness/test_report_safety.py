@@ -17,7 +17,7 @@ ONLY = ["--only", "fm-fig1-left", "--only", "fm-fig4", "--only", "fm-fig7"]
 
 
 def _report_files(out: Path) -> dict:
-    return {k: v for k, v in snapshot(out).items() if not k.startswith(".tirecli-cache/")}
+    return snapshot(out)
 
 
 def _children(pid: int) -> list[int]:

@@ -140,6 +140,18 @@ def results_frame(campaign: Campaign, ids: list, records: dict) -> pd.DataFrame:
     return frame
 
 
+def _require_libraries(scheduler: str | None) -> None:
+    """UsageError (exit 2, how to install it) for a library the campaign needs and does not have:
+    pyarrow (the point store and results.parquet), Dask with ``--scheduler``."""
+    from tirecli.io.output import require_pyarrow
+
+    require_pyarrow("a campaign (its points and results are Parquet files)")
+    if scheduler:
+        from tirecli.campaign.execute import require_scheduler
+
+        require_scheduler()
+
+
 def run_campaign(path: str | Path, out=None, jobs: int | None = None, scheduler: str | None = None,
                  progress=None, note=None) -> CampaignSummary:
     """Run the campaign file ``path`` into ``out`` (module doc). ``note(text)`` reports what happens
@@ -152,6 +164,7 @@ def run_campaign(path: str | Path, out=None, jobs: int | None = None, scheduler:
     t0 = time.perf_counter()
     out = out_path(out) if out is not None else None
     campaign = load_campaign(path)
+    _require_libraries(scheduler)  # a missing library fails before the points are checked
     jobs = jobs or default_jobs()
     ids, study = check_points(campaign, jobs if not scheduler else min(jobs, default_jobs()))
     out = out or default_out(path)

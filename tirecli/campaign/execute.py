@@ -153,14 +153,20 @@ def _stop_pool(pool) -> None:
         p.join(timeout=2)
 
 
+def require_scheduler() -> None:
+    """UsageError (one line, how to install it) when Dask's distributed is not installed: checked
+    before a campaign with ``--scheduler`` does any work."""
+    from tirecli.errors import require
+
+    require("distributed", "--scheduler")
+
+
 def dask_client(scheduler: str, jobs: int):
     """A Dask client: ``local`` starts a LocalCluster of ``jobs`` single-threaded workers, an address
     connects to that scheduler. UsageError when dask.distributed is not installed or the scheduler
     cannot be reached."""
-    try:
-        from distributed import Client, LocalCluster
-    except ImportError:
-        raise UsageError("--scheduler needs Dask: pip install 'tirecli[campaign]' (dask[distributed])") from None
+    require_scheduler()
+    from distributed import Client, LocalCluster
     import logging
 
     if scheduler == "local":

@@ -371,6 +371,9 @@ def unit_sample(method: str, n: int, d: int, seed: int, names=None) -> np.ndarra
         return qmc.LatinHypercube(d=d, rng=rng).random(n)
     import warnings
 
+    from tirecli.errors import require
+
+    require("SALib", "method: saltelli")  # before any point is made
     from SALib.sample import sobol
 
     problem = {"num_vars": d, "names": list(names or [f"x{i}" for i in range(d)]), "bounds": [[0.0, 1.0]] * d}

@@ -215,6 +215,15 @@ def strict_exit(records: list[dict], strict: bool) -> None:
         raise RunError(f"{failed} of {len(records)} reference check(s) failed (--strict)")
 
 
+def failed_check_line(rec: dict) -> str:
+    """``check failed: ID: DESCRIPTION: VALUE vs reference R (tolerance T)`` (``upper bound`` or ``lower
+    bound`` for a check that bounds the value) of a check record (:meth:`tirecli.studies.base.Check.record`)."""
+    word = {"max": "upper bound", "min": "lower bound"}.get(rec.get("bound"), "reference")
+    value = "n/a" if rec.get("value") is None else f"{rec['value']:.6g}"
+    return (f"check failed: {rec['id']}: {rec.get('description') or ''}: {value} vs {word} {rec['reference']:.6g} "
+            f"(tolerance {rec['tolerance']:g})")
+
+
 def report_run(summary, what: str, overridden: bool = False) -> None:
     """The closing lines of a run command: where outputs are, and failed checks.
 
@@ -238,6 +247,5 @@ def report_run(summary, what: str, overridden: bool = False) -> None:
                     f"(the checks hold the paper's scenario; --set overrides change it): see checks in {out / 'run.json'}")
     else:
         for c in failed:
-            result_line(f"check failed: {c.id}: {c.value:.6g} vs reference {c.reference:.6g} "
-                        f"(tolerance {c.tolerance:g})")
+            result_line(failed_check_line(c.record()))
     result_line(f"wrote {out / 'run.json'}")

@@ -205,6 +205,17 @@ def main(argv: list[str] | None = None) -> int:
             code = 2
             if common.STATE["debug"]:
                 traceback.print_exc()
+    except ModuleNotFoundError as exc:  # an optional library that a code path imported without asking first
+        from tirecli.errors import OPTIONAL, missing_dependency
+
+        if (exc.name or "").split(".")[0] not in OPTIONAL:
+            _internal(exc)
+            code = 1
+        else:
+            _error(missing_dependency(exc.name, "this command"))
+            code = 2
+            if common.STATE["debug"]:
+                traceback.print_exc()
     except Exception as exc:  # noqa: BLE001 - the one place internal errors become exit code 1
         _internal(exc)
         code = 1

@@ -10,7 +10,7 @@ from tirecli.cli.common import ConfigArg, JunitOpt, MaxSamplesOpt, OutOpt, SetOp
 
 FormatOpt = typer.Option("csv", "--format", metavar="csv|parquet",
                          help="Format of the data files: csv (data/NAME.csv) or parquet (data/NAME.parquet, "
-                              "smaller and faster for large sweeps; needs pyarrow: pip install 'tirecli[campaign]').")
+                              "smaller and faster for large sweeps; pyarrow, in the default install).")
 
 
 def sweep(config: Path = ConfigArg, out: Optional[str] = OutOpt, set_: Optional[List[str]] = SetOpt,

@@ -1,9 +1,10 @@
 """The report's study cache: the outputs of a built-in study and of its figures, kept between reports.
 
 ``tirecli report`` keeps what each study and figure wrote (data CSVs, the study's run record, the
-figure files and the card's facts: caption, parameters, check records) under a cache directory,
-by default ``DIR/.tirecli-cache`` (``--cache`` chooses another). A later report whose study has
-the same key copies those files instead of running the study and drawing its figures again.
+figure files and the card's facts: caption, parameters, check records) under a cache directory
+outside the report (:func:`default_dir`: ``$TIRECLI_CACHE_DIR``, else ``$XDG_CACHE_HOME/tirecli``,
+else ``~/.cache/tirecli``; ``--cache`` chooses another). A later report whose study has the same key
+copies those files instead of running the study and drawing its figures again.
 
 Only plain files are kept (CSV, JSON, PNG, SVG): nothing is unpickled or executed, so a cache
 entry can at worst be wrong, never run code. An entry records the SHA-256 of each of its files and
@@ -41,8 +42,27 @@ from tirecli.io.atomic import TMP, atomic_write
 FORMAT = 1
 #: Entries kept per study (the newest; older ones are of earlier code, configs or parameters).
 KEEP = 3
-#: Default cache folder inside the report's directory (not a report output: a report never removes it).
-DEFAULT_NAME = ".tirecli-cache"
+#: The environment variable that names the cache folder (``--cache`` takes precedence).
+ENV = "TIRECLI_CACHE_DIR"
+#: The cache folder that earlier versions kept inside the report's folder (the report now names one it
+#: finds there, and never removes it).
+OLD_NAME = ".tirecli-cache"
+
+
+def default_dir() -> Path | None:
+    """The study cache's folder when ``--cache`` is not given: ``$TIRECLI_CACHE_DIR``, else
+    ``$XDG_CACHE_HOME/tirecli`` (an absolute path), else ``~/.cache/tirecli``; None when there is no
+    home directory (the report then runs without a cache)."""
+    env = os.environ.get(ENV, "").strip()
+    if env:
+        return Path(env)
+    xdg = os.environ.get("XDG_CACHE_HOME", "").strip()
+    if xdg and os.path.isabs(xdg):
+        return Path(xdg) / "tirecli"
+    try:
+        return Path.home() / ".cache" / "tirecli"
+    except (RuntimeError, KeyError, OSError):
+        return None
 
 
 def sha256(data: bytes) -> str:
@@ -248,13 +268,19 @@ def _write(path: Path, data: bytes | str) -> None:
 
 
 def read_timings(root: str | Path) -> dict:
-    """Seconds each study (with its figures) took when it last ran (study -> seconds); empty when unknown."""
+    """Seconds each study (with its figures) took when it last ran (study -> seconds); empty when unknown
+    (or ``root`` is None: no cache)."""
+    if root is None:
+        return {}
     data = _read_json(Path(root) / f"v{FORMAT}" / "timings.json")
     return {k: float(v) for k, v in data.items() if isinstance(v, (int, float))} if isinstance(data, dict) else {}
 
 
 def write_timings(root: str | Path, timings: dict) -> None:
-    """Record the seconds of the studies that ran (merged with the earlier record); errors ignored."""
+    """Record the seconds of the studies that ran (merged with the earlier record); errors ignored;
+    nothing without a cache (``root`` None)."""
+    if root is None:
+        return
     with contextlib.suppress(OSError):
         path = Path(root) / f"v{FORMAT}" / "timings.json"
         merged = dict(read_timings(root), **{k: round(float(v), 3) for k, v in timings.items()})

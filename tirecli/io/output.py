@@ -320,13 +320,11 @@ def check_data_format(data_format: str) -> None:
 
 
 def require_pyarrow(what: str):
-    """The pyarrow module (the Parquet library of the ``campaign`` extra), or a one-line UsageError
-    ``WHAT needs pyarrow: pip install ...`` where it cannot be imported."""
-    try:
-        import pyarrow
-    except ImportError:
-        raise UsageError(f"{what} needs pyarrow: pip install 'tirecli[campaign]'") from None
-    return pyarrow
+    """The pyarrow module (the Parquet library), or a one-line UsageError ``WHAT needs pyarrow, which is
+    not installed: ...`` (:func:`tirecli.errors.require`) where it cannot be imported."""
+    from tirecli.errors import require
+
+    return require("pyarrow", what)
 
 
 def write_parquet(path: str | Path, frame, comments: list[str] | tuple = ()) -> Path:

@@ -136,8 +136,9 @@ def run_unit(task: dict, note=None) -> dict:
     """Run the unit's study, write its data, run record and figures into the staging folder, keep
     them in the cache; returns its facts (see :func:`probe`)."""
     from tirecli.figures.registry import load_all
-    from tirecli.io.cache import StudyCache
+    from tirecli.io.cache import StudyCache, read_bytes
     from tirecli.parameters import sets
+    from tirecli.report.cards import page_image
     from tirecli.studies.base import run_study
 
     note = note or (lambda kind, name: None)
@@ -170,6 +171,8 @@ def run_unit(task: dict, note=None) -> dict:
         note("figure", fid)
         sets.BUILTINS_READ.clear()
         cards[fid] = _plain(_draw_card(reg[fid], res, root, task["formats"]))
+        png = next((p for p in cards[fid]["files"] if p.endswith(".png")), None)  # the page's copy, made here
+        cards[fid]["image"] = page_image(read_bytes(root / png)) if png else None
         # the card holds for the built-in sets read by the study and by this figure and its checks
         cards[fid]["deps"] = {n: set_digest(n) for n in sorted(study_reads | sets.BUILTINS_READ)}
         note("figure-done", fid)
