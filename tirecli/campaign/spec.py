@@ -382,12 +382,14 @@ def unit_sample(method: str, n: int, d: int, seed: int, names=None) -> np.ndarra
 def load_campaign(path: str | Path) -> Campaign:
     """Read and check a campaign file (the design too, not the points: :func:`check_points`)."""
     from tirecli.config.loader import TIR_USE
-    from tirecli.io.yamlio import load_yaml_document
+    from tirecli.io.yamlio import load_yaml_document, require_kind
 
     path = Path(path)
     data, origins = load_yaml_document(path, "a campaign file", TIR_USE)
     if not isinstance(data, dict):
         raise ConfigError(Problem(str(path), 1, "", "expected a YAML mapping of keys at the top level"))
+    require_kind(data, origins, "a campaign file", {*SPEC.fields, "study"},
+                 "a campaign key (campaign, base, vary, sample, outputs, ...)")
     if "campaign" not in data and "study" in data:
         raise ConfigError(origins.problem(("study",), f"a study config, not a campaign (run it with 'tirecli "
                                           f"{data.get('study')}', or name it as base: of a campaign file)"))
