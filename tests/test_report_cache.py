@@ -198,14 +198,16 @@ def test_a_cache_hit_reads_each_cached_file_once(cli, tmp_path, monkeypatch):
     out = tmp_path / "rep"
     _report(cli, out, "--jobs", "1")
     cache = (out / ".tirecli-cache").resolve()
-    reads, real = [], Path.read_bytes
+    from tirecli.io import cache as cache_io
 
-    def read_bytes(self):
-        if cache in self.resolve().parents and self.name != "manifest.json" and self.name != "card.json":
-            reads.append(str(self))
-        return real(self)
+    reads, real = [], cache_io._read
 
-    monkeypatch.setattr(Path, "read_bytes", read_bytes)
+    def read(path, root):  # every read of a cached file goes through the cache's gate
+        if cache in Path(path).resolve().parents and path.name != "manifest.json" and path.name != "card.json":
+            reads.append(str(path))
+        return real(path, root)
+
+    monkeypatch.setattr(cache_io, "_read", read)
     before = {**_files(out, "data/*/*.csv"), **_files(out, "figures/*")}
     summary = _report(cli, out, "--jobs", "1")
     assert summary["study_cached"] == dict.fromkeys(STUDIES, True)

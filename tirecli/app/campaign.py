@@ -270,13 +270,12 @@ def results_full(results: pd.DataFrame, n: int) -> pd.DataFrame:
 
 
 def _previous_outputs(root: Path) -> set:
-    import json
+    from tirecli.io.atomic import read_record
 
-    try:
-        rec = json.loads((root / "summary.json").read_text(encoding="utf-8"))
-        return {str(x) for x in rec.get("outputs", [])} if rec.get("kind") == "campaign" else set()
-    except (OSError, ValueError):
+    rec = read_record(root / "summary.json", root)
+    if not isinstance(rec, dict) or rec.get("kind") != "campaign" or not isinstance(rec.get("outputs"), list):
         return set()
+    return {str(x) for x in rec["outputs"]}
 
 
 def _write_figures(campaign, study: str, results, ana, root: Path) -> list:

@@ -431,13 +431,14 @@ def inputs_digest(paths, exclude=()) -> str:
     """SHA-256 over the contents of the files ``paths`` (sorted), except ``exclude``."""
     import os
 
+    from tirecli import limits
+    from tirecli.io.files import read_own_file
+
     skip = {os.path.realpath(p) for p in exclude}
     h = hashlib.sha256()
-    for p in sorted(set(paths) - skip):
-        try:
-            h.update(Path(p).read_bytes())
-        except OSError:
-            h.update(b"?")
+    for p in sorted(set(paths) - skip):  # read as they were (a FIFO or a device swapped in since hashes as unreadable)
+        data = read_own_file(p, limits.csv_max_bytes(), follow=True)
+        h.update(b"?" if data is None else data)
     return h.hexdigest()
 
 

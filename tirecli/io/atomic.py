@@ -47,7 +47,7 @@ import time
 from pathlib import Path
 
 from tirecli.errors import Interrupted, UsageError
-from tirecli.io.files import inputs_read
+from tirecli.io.files import inputs_read, read_own_file
 
 LOCK = "tirecli-lock"
 TMP = "tirecli-tmp-"
@@ -321,15 +321,30 @@ def _inside(real: Path, rel: str) -> bool:
     return os.path.commonpath([full, str(real)]) == str(real)
 
 
+def _record_cap() -> int:
+    """Largest run record read back [bytes] (a commit marker, a campaign's summary): a data CSV's cap."""
+    from tirecli.limits import csv_max_bytes
+
+    return csv_max_bytes()
+
+
+def read_record(path: Path, within: Path):
+    """The JSON of a run record tirecli wrote (a commit marker, a campaign's ``summary.json``), read through
+    the input gate (:func:`tirecli.io.files.read_own_file`: a regular file inside ``within``); None when it
+    is absent, not a regular file or not JSON."""
+    data = read_own_file(path, _record_cap(), within=within)
+    try:
+        return json.loads(data.decode("utf-8")) if data is not None else None
+    except (ValueError, UnicodeDecodeError):
+        return None
+
+
 def listed_outputs(real: Path) -> set[str]:
     """The files the earlier tirecli run in ``real`` listed in its commit marker(s), with the
     markers themselves (paths relative to ``real``)."""
     listed = set()
     for marker in MARKERS:
-        try:
-            record = json.loads((real / marker).read_text(encoding="utf-8"))
-        except (OSError, ValueError):
-            continue
+        record = read_record(real / marker, real)
         if not isinstance(record, dict) or record.get("tool") != "tirecli":
             continue
         listed.add(marker)
