@@ -29,12 +29,49 @@ MaxSamplesOpt = typer.Option(None, "--max-samples", metavar="N",
 def echo(msg: str = "") -> None:
     """Print to stdout unless --quiet."""
     if not STATE["quiet"]:
-        typer.echo(msg)
+        _print(msg)
 
 
 def result_line(msg: str) -> None:
     """Print a result line (always, even with --quiet: it is the command's answer)."""
-    typer.echo(msg)
+    _print(msg)
+
+
+def _print(msg: str) -> None:
+    """Print a line to stdout. When its reader has gone (``tirecli params list | head -1``), the rest of
+    the output is dropped quietly and the command goes on (a run still writes its results): the exit
+    code is the command's own, as if the reader had read everything (see :func:`tirecli.cli.main.main`)."""
+    if STATE.get("stdout_closed"):
+        return
+    try:
+        typer.echo(msg)
+    except BrokenPipeError:
+        stdout_closed()
+
+
+def stdout_closed() -> None:
+    """Stdout's reader has gone: send what remains (the interpreter's final flush included) to the null device."""
+    import os
+
+    STATE["stdout_closed"] = True
+    try:
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(devnull, sys.stdout.fileno())
+        os.close(devnull)
+    except (OSError, ValueError, AttributeError):
+        pass
+
+
+def stdout_reader_gone() -> bool:
+    """Whether stdout is a pipe whose reading end is closed (poll reports an error on the write end)."""
+    import select
+
+    try:
+        poller = select.poll()
+        poller.register(sys.stdout.fileno(), select.POLLOUT)
+        return any(ev & select.POLLERR for _, ev in poller.poll(0))
+    except (OSError, ValueError, AttributeError):
+        return False
 
 
 def table(rows: list[tuple]) -> list[str]:
