@@ -29,6 +29,16 @@ def default_jobs() -> int:
         return max(os.cpu_count() or 1, 1)
 
 
+#: Worker processes per core a report or a campaign may be given (``--jobs``): more only adds memory.
+JOBS_PER_CORE = 4
+
+
+def max_jobs() -> int:
+    """The most worker processes ``--jobs`` may ask for: :data:`JOBS_PER_CORE` per core of :func:`default_jobs`
+    (at least 8)."""
+    return max(8, JOBS_PER_CORE * default_jobs())
+
+
 def helper_process_ok() -> bool:
     """Whether this process may hand work to a forked helper process and go on meanwhile: on Linux
     (``fork``), with more than one core (:func:`default_jobs`), and only in the command's own process:

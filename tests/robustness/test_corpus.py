@@ -55,6 +55,9 @@ citation: none
 values: {sigma0: 181.54, sigma1: 1.0, sigma2: 0.0018, mu_c: 0.8, mu_s: 1.55, v_s: 6.57, L: 0.2, alpha: 1.0}
 """
 LONG = "x" * 300
+#: A small campaign over a built-in config (two points of the observer's convergence).
+CAMPAIGN = (EX / "campaign-obs-convergence.yaml").read_text(encoding="utf-8").replace(
+    "base: obs-gain-study.yaml", "base: obs-gain-study")
 
 
 class Fifo:
@@ -297,6 +300,27 @@ CASES = [
          r"passwd\.tdx: not a TYDEX file", {"passwd.tdx": PASSWD}, forbid=SHADOW_TEXT),
     Case("data-show-shadow-mf4", ["data", "show", "shadow.mf4"], 2, r"shadow\.mf4: not an MDF file",
          {"shadow.mf4": SHADOW}, forbid=SHADOW_TEXT),
+    # ---------------------------------------------------------------- options never silently ignored
+    Case("campaign-scheduler-refused-port", ["campaign", "c.yaml", "--out", "prev/c", "--scheduler", "tcp://127.0.0.1:1"], 2,
+         r"--scheduler 'tcp://127\.0\.0\.1:1': cannot connect \(connection refused\)", {"c.yaml": CAMPAIGN}),
+    Case("campaign-scheduler-word", ["campaign", "c.yaml", "--out", "prev/c", "--scheduler", "foo"], 2,
+         r"--scheduler 'foo': expected 'local' or a Dask scheduler's address", {"c.yaml": CAMPAIGN}),
+    Case("campaign-scheduler-empty", ["campaign", "c.yaml", "--out", "prev/c", "--scheduler", ""], 2,
+         r"--scheduler '': empty", {"c.yaml": CAMPAIGN}),
+    Case("campaign-scheduler-http", ["campaign", "c.yaml", "--out", "prev/c", "--scheduler", "http://127.0.0.1:1"], 2,
+         r"--scheduler 'http://127\.0\.0\.1:1': http is not a Dask address scheme", {"c.yaml": CAMPAIGN}),
+    Case("campaign-scheduler-bad-port", ["campaign", "c.yaml", "--out", "prev/c", "--scheduler", "tcp://127.0.0.1:99999"], 2,
+         r"--scheduler 'tcp://127\.0\.0\.1:99999': cannot read the address", {"c.yaml": CAMPAIGN}),
+    Case("campaign-jobs-absurd", ["campaign", "c.yaml", "--out", "prev/c", "--jobs", "99999999999999999999"], 2,
+         r"--jobs 9{20}: more processes than this machine can use \(at most \d+", {"c.yaml": CAMPAIGN}),
+    Case("report-jobs-absurd", ["report", "--only", "fm-fig1-left", "--out", "prev", "--jobs", "99999999999999999999"], 2,
+         r"--jobs 9{20}: more processes than this machine can use"),
+    Case("campaign-check-not-an-output", ["campaign", "c.yaml", "--out", "prev/c"], 2,
+         r"c\.yaml:14: checks\[0\]\.output: 'converge_time' is not one of the campaign's outputs \(convergence_time, ",
+         {"c.yaml": CAMPAIGN.replace("{output: convergence_time,", "{output: converge_time,")}),
+    Case("params-validate-check-not-an-output", ["params", "validate", "c.yaml"], 2,
+         r"c\.yaml:14: checks\[0\]\.output: 'converge_time' is not one of the campaign's outputs",
+         {"c.yaml": CAMPAIGN.replace("{output: convergence_time,", "{output: converge_time,")}),
     # ---------------------------------------------------------------- output locations of runs
     Case("out-is-file", ["sweep", "c.yaml", "--out", "prev/run.json"], 2, r"--out prev/run\.json: exists and is not a directory",
          {"c.yaml": FIG1}),

@@ -144,13 +144,14 @@ def run_campaign(path: str | Path, out=None, jobs: int | None = None, scheduler:
                  progress=None, note=None) -> CampaignSummary:
     """Run the campaign file ``path`` into ``out`` (module doc). ``note(text)`` reports what happens
     (points to run, resumed)."""
-    from tirecli.campaign.execute import batch_size, run_batches
+    from tirecli.campaign.execute import batch_size, check_scheduler, run_batches
     from tirecli.parallel import default_jobs
     from tirecli.io.atomic import locked_dir, out_path
     from tirecli.io.campaign import PointStore
 
     t0 = time.perf_counter()
     out = out_path(out) if out is not None else None
+    scheduler = check_scheduler(scheduler)  # an address that is no Dask scheduler fails before anything runs
     campaign = load_campaign(path)
     jobs = jobs or default_jobs()
     ids, study = check_points(campaign, jobs if not scheduler else min(jobs, default_jobs()))

@@ -40,7 +40,7 @@ import numpy as np
 
 from tirecli.config.loader import Config, load_config, parse_key_path, set_value
 from tirecli.config.schema import MISSING, Bool, Context, Grid, ListOf, Map, Nullable, Num, Raw, Spec, Str
-from tirecli.errors import ConfigError, Problem, UsageError
+from tirecli.errors import ConfigError, Problem, UsageError, token
 from tirecli.io.yamlio import Origins, format_key
 
 METHODS = ("random", "latin-hypercube", "saltelli")
@@ -379,6 +379,19 @@ def unit_sample(method: str, n: int, d: int, seed: int, names=None) -> np.ndarra
         return np.asarray(sobol.sample(problem, n, calc_second_order=False, seed=seed), dtype=float)
 
 
+def _check_outputs_checked(doc: dict, ctx: Context) -> None:
+    """Each campaign check names one of the outputs: a check on an output the campaign does not compute
+    would have no value to check (and pass)."""
+    outputs, checks = doc.get("outputs"), doc.get("checks")
+    if not isinstance(outputs, list) or not isinstance(checks, list):
+        return
+    for j, check in enumerate(checks):
+        name = check.get("output") if isinstance(check, dict) else MISSING
+        if isinstance(name, str) and name not in outputs:
+            ctx.fail(("checks", j, "output"), f"{token(name)} is not one of the campaign's outputs "
+                                              f"({', '.join(map(str, outputs))}): add it to outputs: or check another")
+
+
 def load_campaign(path: str | Path) -> Campaign:
     """Read and check a campaign file (the design too, not the points: :func:`check_points`)."""
     from tirecli.config.loader import TIR_USE
@@ -395,6 +408,7 @@ def load_campaign(path: str | Path) -> Campaign:
                                           f"{data.get('study')}', or name it as base: of a campaign file)"))
     ctx = Context(origins)
     doc = SPEC.check(data, (), ctx)
+    _check_outputs_checked(doc, ctx)
     ctx.raise_if_any()
     base = _load_base(doc["base"], origins, path.parent, str(path))
     design = _design(doc, origins, Context(origins))

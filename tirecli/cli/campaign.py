@@ -37,7 +37,7 @@ def campaign(
 
         # a bad --junit fails before the campaign runs
         jx.target(junit, inputs=[config], outputs=_campaign_outputs(out or default_out(config)))
-    summary = run_campaign(config, out, jobs_option(jobs), scheduler, progress(), note=echo)
+    summary = run_campaign(config, out, jobs_option(jobs, scheduler), scheduler, progress(), note=echo)
     rec = summary.record
     pts = rec["points"]
     echo(f"campaign {rec['campaign']}: {pts['ok']} ok, {pts['failed']} failed of {pts['total']} points "
