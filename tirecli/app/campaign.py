@@ -141,18 +141,28 @@ def results_frame(campaign: Campaign, ids: list, records: dict) -> pd.DataFrame:
 
 
 def run_campaign(path: str | Path, out=None, jobs: int | None = None, scheduler: str | None = None,
-                 progress=None, note=None) -> CampaignSummary:
+                 progress=None, note=None, max_samples: int | None = None) -> CampaignSummary:
     """Run the campaign file ``path`` into ``out`` (module doc). ``note(text)`` reports what happens
-    (points to run, resumed)."""
-    from tirecli.campaign.execute import batch_size, check_scheduler, run_batches
-    from tirecli.parallel import default_jobs
-    from tirecli.io.atomic import locked_dir, out_path
-    from tirecli.io.campaign import PointStore
+    (points to run, resumed). ``max_samples``: the sample budget of the campaign and of each of its runs
+    (``--max-samples``; default: the file's ``run.max_samples``, else :data:`tirecli.limits.DEFAULT_MAX_SAMPLES`)."""
+    from tirecli import limits
+    from tirecli.campaign.execute import check_scheduler
+    from tirecli.io.atomic import out_path
 
     t0 = time.perf_counter()
     out = out_path(out) if out is not None else None
     scheduler = check_scheduler(scheduler)  # an address that is no Dask scheduler fails before anything runs
-    campaign = load_campaign(path)
+    campaign = load_campaign(path, max_samples)
+    with limits.budget(campaign.max_samples):
+        return _run_loaded(campaign, path, out, jobs, scheduler, progress, note, t0)
+
+
+def _run_loaded(campaign: Campaign, path, out, jobs, scheduler, progress, note, t0) -> CampaignSummary:
+    from tirecli.campaign.execute import batch_size, run_batches
+    from tirecli.io.atomic import locked_dir
+    from tirecli.io.campaign import PointStore
+    from tirecli.parallel import default_jobs
+
     jobs = jobs or default_jobs()
     ids, study = check_points(campaign, jobs if not scheduler else min(jobs, default_jobs()))
     out = out or default_out(path)
@@ -162,7 +172,7 @@ def run_campaign(path: str | Path, out=None, jobs: int | None = None, scheduler:
     check_output_dir(out, files=("results.parquet", "results.csv", "summary.json"), dirs=("figures", "points", "timeseries"))
     keep = campaign.keep == "timeseries"
     payload = {"base": campaign.base, "fixed": campaign.fixed, "outputs": campaign.outputs, "keep": keep,
-               "timeout": campaign.timeout}
+               "timeout": campaign.timeout, "max_samples": campaign.max_samples}
     with locked_dir(out) as (target, root):
         store = PointStore(root)
         stored = store.load()

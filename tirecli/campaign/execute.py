@@ -94,9 +94,13 @@ def _pool_batch(batch):
 
 
 def _dask_batch(payload, batch):
-    """A batch on a Dask worker (its threads pinned once: :func:`pin_threads`)."""
+    """A batch on a Dask worker (its threads pinned once: :func:`pin_threads`), under the campaign's sample
+    budget (a Dask worker is no fork of this process: the budget travels with the payload)."""
+    from tirecli import limits
+
     pin_threads()
-    return run_batch(payload, batch)
+    with limits.budget(payload.get("max_samples")):
+        return run_batch(payload, batch)
 
 
 def _mp_context():
