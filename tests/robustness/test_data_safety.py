@@ -276,6 +276,29 @@ def test_inputs_inside_out_are_never_removed_or_overwritten(configs, previous):
     assert_unchanged(before, previous)
 
 
+#: A campaign of two sweeps over the base config ``BASE`` (figures off: it is quick).
+CAMPAIGN = "campaign: c\nbase: BASE\nvary: {tire.mu_s: [1.4, 1.5]}\noutputs: ['mu_peak[0]']\nfigures: false\n"
+
+
+@pytest.mark.parametrize("campaign_name, base_name, overwritten", [
+    ("c.yaml", "results.csv", "results.csv"),         # the base config named like the results
+    ("summary.json", "base.yaml", "summary.json"),    # the campaign file named like its summary
+    ("points/c.yaml", "base.yaml", "points/c.yaml"),  # in the folder of stored points (pruned by the campaign)
+])
+def test_a_campaign_never_overwrites_its_inputs(configs, tmp_path, campaign_name, base_name, overwritten):
+    """As every other command: a campaign whose outputs in --out would overwrite its campaign file or its base
+    config is refused before it runs, naming the input, and nothing in --out changes."""
+    out = tmp_path / "o"
+    (out / "points").mkdir(parents=True)
+    shutil.copyfile(configs["first"], out / base_name)
+    base = os.path.relpath(out / base_name, (out / campaign_name).parent)
+    (out / campaign_name).write_text(CAMPAIGN.replace("BASE", base))
+    before = snapshot(out)
+    r = run(["campaign", out / campaign_name, "--out", out], cwd=tmp_path, timeout=60)
+    assert_clean_error(r, 2, rf"--out .*o: the run would overwrite its input .*o/{re.escape(overwritten)}\b.*choose another --out")
+    assert_unchanged(before, out)
+
+
 @pytest.mark.parametrize("args", [
     ["mf", "eval", TYRE, "--points", "r.csv", "--out", "r.csv"],
     ["tir", "convert", "my.tir", "--to", "tir", "--out", "my.tir"],

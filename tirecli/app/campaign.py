@@ -29,6 +29,9 @@ from tirecli.errors import ConfigError, Interrupted
 
 #: Seconds between writes of finished points.
 FLUSH_SECONDS = 2.0
+#: What a campaign writes in its folder: files, and folders whose files it writes and removes.
+OUTPUT_FILES = ("results.parquet", "results.csv", "summary.json")
+OUTPUT_DIRS = ("figures", "points", "timeseries")
 
 
 @dataclass
@@ -159,7 +162,7 @@ def run_campaign(path: str | Path, out=None, jobs: int | None = None, scheduler:
 
 def _run_loaded(campaign: Campaign, path, out, jobs, scheduler, progress, note, t0) -> CampaignSummary:
     from tirecli.campaign.execute import batch_size, run_batches
-    from tirecli.io.atomic import locked_dir
+    from tirecli.io.atomic import keep_inputs, locked_dir
     from tirecli.io.campaign import PointStore
     from tirecli.parallel import default_jobs
 
@@ -168,8 +171,9 @@ def _run_loaded(campaign: Campaign, path, out, jobs, scheduler, progress, note, 
     out = out or default_out(path)
     from tirecli.io.files import check_output_dir
 
-    # a bad location fails before the runs
-    check_output_dir(out, files=("results.parquet", "results.csv", "summary.json"), dirs=("figures", "points", "timeseries"))
+    # a bad location, or outputs that would overwrite the campaign's inputs, fail before the runs
+    check_output_dir(out, files=OUTPUT_FILES, dirs=OUTPUT_DIRS)
+    keep_inputs(out, OUTPUT_FILES, OUTPUT_DIRS)
     keep = campaign.keep == "timeseries"
     payload = {"base": campaign.base, "fixed": campaign.fixed, "outputs": campaign.outputs, "keep": keep,
                "timeout": campaign.timeout, "max_samples": campaign.max_samples}

@@ -10,6 +10,7 @@ import numpy as np
 
 from tirecli.campaign.spec import Campaign, document_hash, inputs_digest, point_config, point_id
 from tirecli.errors import ConfigError, Problem, UsageError
+from tirecli.io.files import note_input
 
 
 #: A campaign with at least this many points is checked on ``jobs`` processes.
@@ -59,6 +60,8 @@ def check_points(campaign: Campaign, jobs: int = 1) -> tuple[list, str]:
         raise ConfigError(problems)
     if len(studies) > 1:
         raise ConfigError(campaign.origins.problem(("base",), f"the points run different studies: {', '.join(sorted(studies))}"))
+    for path in read:  # also those read by the workers that checked: no output may overwrite them
+        note_input(path)
     digest = inputs_digest(read, exclude={campaign.label})
     return [point_id(h, digest) for h in hashes], studies.pop()
 

@@ -421,16 +421,33 @@ class Stage:
     def _check(self, files: list[str], inputs: frozenset) -> None:
         """Refuse, before anything moves, a commit that would overwrite an input of this run or a
         directory, or needs a directory where a file is."""
+        keep_inputs(self.target, files, inputs=inputs)
         for rel in files:
             dst = self.real / rel
             for up in reversed(Path(rel).parents[:-1]):
                 if (self.real / up).exists() and not (self.real / up).is_dir():
                     raise UsageError(f"--out {self.target}: {self.target / up} is not a directory")
-            if os.path.realpath(dst) in inputs:
-                raise UsageError(f"--out {self.target}: the run would overwrite its input {self.target / rel}; "
-                                 "choose another --out")
             if dst.is_dir() and not dst.is_symlink():
                 raise UsageError(f"--out {self.target}: {self.target / rel} is a directory")
+
+
+def keep_inputs(out, files=(), dirs=(), inputs: frozenset | None = None) -> None:
+    """Refuse (UsageError, before anything is written) a run whose outputs in ``out`` would overwrite one of its
+    inputs (:func:`tirecli.io.files.inputs_read`, or ``inputs``): a file of ``files`` (relative to ``out``)
+    that is an input, or an input inside one of the folders ``dirs`` the run writes and prunes."""
+    inputs = inputs_read() if inputs is None else inputs
+    target = Path(out)
+    real = Path(os.path.realpath(target))
+    for rel in files:
+        if os.path.realpath(real / rel) in inputs:
+            raise UsageError(f"--out {target}: the run would overwrite its input {target / rel}; choose another --out")
+    for rel in dirs:
+        top = os.path.realpath(real / rel)
+        for path in sorted(inputs):
+            if os.path.commonpath([path, top]) == top:
+                shown = target / rel / os.path.relpath(path, top)
+                raise UsageError(f"--out {target}: the run would overwrite its input {shown} (it writes {target / rel}); "
+                                 "choose another --out")
 
 
 def _move(src: Path, dst: Path) -> None:
