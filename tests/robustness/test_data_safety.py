@@ -251,6 +251,76 @@ def test_a_stale_lock_and_staging_are_taken_over(configs, previous, tmp_path):
     assert os.listdir(tmp_path) == ["o"]
 
 
+# --------------------------------------------------------------------------- SIGKILL at the commit
+
+#: ``tirecli ARGS`` that kills itself (SIGKILL: no handler, no cleanup) as it moves a file of its commit into
+#: place: before the ``KILL_AT_MOVE``-th move, or before the move of the file named ``KILL_AT_NAME``.
+KILLED_AT_COMMIT = """
+import os, signal, sys
+import tirecli.io.atomic as atomic
+real, moves = atomic._move, [0]
+def move(src, dst):
+    moves[0] += 1
+    if moves[0] == int(os.environ.get("KILL_AT_MOVE", "0")) or os.path.basename(dst) == os.environ.get("KILL_AT_NAME"):
+        os.kill(os.getpid(), signal.SIGKILL)
+    real(src, dst)
+atomic._move = move
+from tirecli.cli.main import main
+main(sys.argv[1:])
+"""
+
+
+def _killed_at_commit(args, cwd, **where) -> subprocess.CompletedProcess:
+    env = dict(os.environ, MPLBACKEND="Agg", **{k: str(v) for k, v in where.items()})
+    p = subprocess.run([sys.executable, "-c", KILLED_AT_COMMIT, *map(str, args)], cwd=cwd, env=env, capture_output=True,
+                       text=True, timeout=120)
+    assert p.returncode == -signal.SIGKILL, (p.returncode, p.stderr[-800:])
+    return p
+
+
+@pytest.mark.parametrize("where", [{"KILL_AT_MOVE": 2}, {"KILL_AT_NAME": "run.json"}], ids=["after-one-move", "before-the-marker"])
+def test_a_sweep_killed_while_it_commits_is_completed_by_the_next_run(configs, previous, tmp_path, where):
+    """SIGKILL at any instant of the commit (the earlier run's marker already removed, some files moved): the
+    next run into the folder completes the killed run's commit from its staging, says so, and the folder then
+    holds that run's complete results; nothing of either run is left over."""
+    _killed_at_commit(["sweep", configs["second"], "--out", previous, "--quiet"], tmp_path, **where)
+    assert not (previous / "run.json").exists() or where.get("KILL_AT_NAME") is None
+    from tirecli.io import atomic
+
+    with atomic._claimed(previous, is_dir=True):  # what the next run finds when it takes the folder
+        pass
+    assert json.loads((previous / "run.json").read_text())["title"] == "second"
+    assert _files(previous) == _listed(previous)
+    assert sorted(os.listdir(tmp_path)) == ["o"]  # no staging, journal or lock left
+
+    _killed_at_commit(["sweep", configs["first"], "--out", previous, "--quiet"], tmp_path, **where)
+    r = run(["sweep", configs["second"], "--out", previous, "--quiet"], timeout=60)
+    assert r.code == 0, r.err
+    assert re.fullmatch(rf"note: --out {re.escape(str(previous))}: a run \(pid \d+, started [-\d: ]+: tirecli sweep .*first\.yaml"
+                        r".*\) was killed while moving its results into place; its move was completed, so .* held that "
+                        r"run's complete results\n", r.err), r.err
+    assert json.loads((previous / "run.json").read_text())["title"] == "second"
+    assert _files(previous) == _listed(previous)
+    assert sorted(os.listdir(tmp_path)) == ["o"]
+
+
+def test_a_report_killed_while_it_commits_is_completed_by_the_next_run(tmp_path):
+    out = tmp_path / "rep"
+    args = ["report", "--out", out, "--quiet", "--jobs", "1", "--cache", tmp_path / "cache"]
+    r = run([*args, "--only", "fm-table1"], timeout=120)
+    assert r.code == 0, r.err
+    _killed_at_commit([*args, "--only", "fm-fig1-left"], tmp_path, KILL_AT_NAME="summary.json")
+    assert not (out / "summary.json").exists()
+    from tirecli.io import atomic
+
+    with atomic._claimed(out, is_dir=True):
+        pass
+    summary = json.loads((out / "summary.json").read_text())
+    assert [c["id"].split("/")[0] for c in summary["checks"]] == ["fm-fig1-left"] * len(summary["checks"])
+    assert {str(p.relative_to(out)) for p in out.rglob("*") if p.is_file()} == atomic.listed_outputs(out)
+    assert sorted(os.listdir(tmp_path)) == ["cache", "rep"]
+
+
 # --------------------------------------------------------------------------- inputs inside --out
 
 

@@ -13,6 +13,14 @@ directory never mixes two runs.
   parameter set, a data file: :func:`tirecli.io.files.inputs_read`) is never removed or
   overwritten (a run that would overwrite one is refused before anything moves), and files no
   tirecli run listed are never touched.
+* A commit is journaled: before the first file moves, ``.DIR.tirecli-commit`` (beside the lock) records
+  what the commit will do (the staging directory, the markers and files of the earlier run it removes).
+  A run killed in the middle of its commit (SIGKILL, a power cut) leaves a folder without a marker and
+  the rest of its files staged; the next run into ``DIR`` completes that commit first (every step of it
+  can be done again), says so on stderr (``note: --out DIR: a run (pid N, ...) was killed while moving
+  its results into place; its move was completed ...``) and goes on from there. So after a kill at any
+  instant ``DIR`` holds the previous complete run, the new complete run, or a state the next run
+  completes.
 * :func:`staged_file` does the same for a single output file (``mf eval``, ``tir convert``).
 * Both hold a lock file ``.NAME.tirecli-lock`` beside the target for the whole run: a second run
   into the same target is refused naming the process that holds it. The lock is an advisory
@@ -35,6 +43,7 @@ import contextlib
 import errno
 import functools
 import json
+import logging
 import os
 import re
 import shutil
@@ -51,6 +60,9 @@ from tirecli.io.files import inputs_read, read_own_file
 
 LOCK = "tirecli-lock"
 TMP = "tirecli-tmp-"
+#: The journal of a commit in progress (``.DIR.tirecli-commit`` beside the lock): what a run killed while moving
+#: its files into place left to do, so that the next run completes it.
+JOURNAL = "tirecli-commit"
 #: Commit markers: the JSON record a run writes last, listing its outputs (``outputs``).
 MARKERS = ("run.json", "summary.json")
 
@@ -253,7 +265,7 @@ def _clean_leftovers(home: Path, prefix: str) -> None:
 
 def _has_content(real: Path) -> bool:
     """Whether the output directory holds anything (besides a lock and staging of tirecli's own)."""
-    own = ("." + LOCK, "." + TMP)
+    own = ("." + LOCK, "." + TMP, "." + JOURNAL)
     return real.is_dir() and any(not name.startswith(own) for name in os.listdir(real))
 
 
@@ -272,6 +284,7 @@ def _claimed(out, is_dir: bool):
         raise UsageError(f"--out {target}: cannot create it ({exc.strerror or exc})") from None
     try:
         with _Lock(home / (prefix + LOCK), target):
+            _recover(home, prefix, real, target)
             _clean_leftovers(home, prefix)
             yield target, real, home, prefix
     finally:
@@ -368,8 +381,9 @@ class Stage:
         After the commit: files of the earlier run removed, and those kept as inputs of this run.
     """
 
-    def __init__(self, target: Path, real: Path, root: Path, marker: str):
+    def __init__(self, target: Path, real: Path, root: Path, marker: str, journal: Path | None = None):
         self.target, self.real, self.root, self.marker = target, real, root, marker
+        self.journal = journal
         self.removed: list[str] = []
         self.kept: list[str] = []
 
@@ -399,24 +413,13 @@ class Stage:
         for p in sorted(self.root.rglob("*")):
             if p.is_dir():
                 (self.real / p.relative_to(self.root)).mkdir(parents=True, exist_ok=True)
-        for rel in markers:  # from here until the new marker is in place, DIR says it is incomplete
-            self._unlink(rel, report=rel not in files)
-        for rel in files:
-            if rel != self.marker:
-                _move(self.root / rel, self.real / rel)
-        for rel in stale:
-            self._unlink(rel)
-        if self.marker in files:
-            _move(self.root / self.marker, self.real / self.marker)
-
-    def _unlink(self, rel: str, report: bool = True) -> None:
-        """Remove an earlier output (``report``: list it in :attr:`removed`) and directories it leaves empty."""
-        path = self.real / rel
-        if path.is_file() or path.is_symlink():
-            path.unlink()
-            if report:
-                self.removed.append(rel)
-            _prune(path.parent, self.real)
+        marker = self.marker if self.marker in files else None
+        if self.journal is not None:  # from here on, a run killed leaves what remains to do to the next run
+            _write_journal(self.journal, self.root, marker, markers, stale)
+        self.removed = _roll_forward(self.root, self.real, marker, markers, stale, files)
+        if self.journal is not None:
+            with contextlib.suppress(OSError):
+                os.unlink(self.journal)
 
     def _check(self, files: list[str], inputs: frozenset) -> None:
         """Refuse, before anything moves, a commit that would overwrite an input of this run or a
@@ -450,6 +453,89 @@ def keep_inputs(out, files=(), dirs=(), inputs: frozenset | None = None) -> None
                                  "choose another --out")
 
 
+def _unlink_output(real: Path, rel: str) -> bool:
+    """Remove an earlier output ``rel`` of ``real`` and the directories it leaves empty; whether it was there."""
+    path = real / rel
+    if path.is_file() or path.is_symlink():
+        path.unlink()
+        _prune(path.parent, real)
+        return True
+    return False
+
+
+def _roll_forward(root: Path, real: Path, marker: str | None, markers, stale, files=None) -> list[str]:
+    """The moves of a commit, in their order: the earlier run's ``markers`` removed (from here until the new
+    marker is in place, ``real`` says it is incomplete), the files staged under ``root`` moved in, the earlier
+    run's ``stale`` outputs removed, the new ``marker`` last. Each step can be done again (a file moved is no
+    longer staged, a file removed is gone), so a commit cut short is completed by running it again
+    (:func:`_recover`). Returns the earlier outputs removed (markers the run rewrites not counted)."""
+    files = sorted(str(p.relative_to(root)) for p in root.rglob("*") if p.is_file()) if files is None else files
+    removed = []
+    for rel in markers:
+        if _unlink_output(real, rel) and rel not in files:
+            removed.append(rel)
+    for rel in files:
+        if rel != marker and (root / rel).exists():
+            (real / rel).parent.mkdir(parents=True, exist_ok=True)
+            _move(root / rel, real / rel)
+    for rel in stale:
+        if _unlink_output(real, rel):
+            removed.append(rel)
+    if marker is not None:
+        _move(root / marker, real / marker)
+    return removed
+
+
+def _write_journal(path: Path, root: Path, marker: str | None, markers, stale) -> None:
+    record = {"tool": "tirecli", "staging": root.name, "marker": marker, "markers": list(markers),
+              "stale": list(stale), "pid": os.getpid(), "host": socket.gethostname(), "started": time.time(),
+              "command": "tirecli " + " ".join(sys.argv[1:])}
+    with atomic_write(path) as fh:
+        fh.write(json.dumps(record) + "\n")
+
+
+#: Where tirecli reports what it found and did on its own (the commit of a killed run completed); without a
+#: logging configuration the message goes to stderr as it is.
+_log = logging.getLogger("tirecli")
+
+
+def _recover(home: Path, prefix: str, real: Path, target: Path) -> None:
+    """Complete the commit of a run killed while moving its files into ``real`` (its journal is there; called
+    under the lock, so that run is dead): ``real`` then holds that run's complete results, and a note says so."""
+    journal = home / (prefix + JOURNAL)
+    if not os.path.lexists(journal):
+        return
+    record = read_record(journal, home)
+    own = re.compile(re.escape(prefix + TMP) + r"[a-z0-9_]{8}")
+    staging = str(record.get("staging", "")) if isinstance(record, dict) else ""
+    root = home / staging
+    who = _who(record)
+    marker = record.get("marker") if isinstance(record, dict) else None
+    if not own.fullmatch(staging) or not root.is_dir() or not isinstance(marker, (str, type(None))):
+        _log.warning(f"note: --out {target}: a run ({who}) was killed while moving its results into place, and "
+                     "what it left to do is gone: the folder may hold files of two runs until this run replaces them")
+    elif marker is not None and not (root / marker).exists():
+        pass  # it had finished: only its journal was left
+    else:
+        lists = [record.get(k) if isinstance(record.get(k), list) else [] for k in ("markers", "stale")]
+        markers, stale = ([rel for rel in rels if _inside(real, rel)] for rels in lists)
+        _roll_forward(root, real, marker if marker is None or _inside(real, marker) else None, markers, stale)
+        _log.warning(f"note: --out {target}: a run ({who}) was killed while moving its results into place; "
+                     f"its move was completed, so {target} held that run's complete results")
+    with contextlib.suppress(OSError):
+        os.unlink(journal)
+
+
+def _who(record) -> str:
+    """``pid N, started TIME: COMMAND`` of a journal's run."""
+    try:
+        started = time.strftime("%Y-%m-%d %H:%M:%S", time.localtime(float(record["started"])))
+        command = str(record.get("command", ""))
+        return f"pid {int(record['pid'])}, started {started}: {command if len(command) <= 80 else command[:77] + '...'}"
+    except (TypeError, ValueError, KeyError, OverflowError):
+        return "a run whose record cannot be read"
+
+
 def _move(src: Path, dst: Path) -> None:
     """``os.replace``, or a copy through a temporary file beside ``dst`` when ``dst`` lies on
     another file system (a mount point or symlink inside the output directory)."""
@@ -481,7 +567,7 @@ def staged_dir(out, marker: str = "run.json"):
         kept = f"previous results in {target} kept" if _has_content(real) else None
         root = Path(tempfile.mkdtemp(prefix=prefix + TMP, dir=home))
         os.chmod(root, _mode(0o777))
-        stage = Stage(target, real, root, marker)
+        stage = Stage(target, real, root, marker, journal=home / (prefix + JOURNAL))
         with _guarded(target, kept, lambda: _remove(root)) as state:
             yield stage
             with _stops_deferred():
