@@ -46,6 +46,10 @@ FIRST = "study: sweep\ntitle: first\ntire: canudas2003-table1\nsweep: {slip: {st
 SECOND = FIRST.replace("title: first", "title: second") + "figures: [fm-table1]\n"
 
 
+#: A campaign of two sweeps over the base config ``BASE`` (figures off: it is quick).
+CAMPAIGN = "campaign: c\nbase: BASE\nvary: {tire.mu_s: [1.4, 1.5]}\noutputs: ['mu_peak[0]']\nfigures: false\n"
+
+
 def _popen(args, cwd) -> subprocess.Popen:
     """``tirecli ARGS`` in the background, Ctrl-C handled as in a terminal (a SIGINT ignored by the
     test runner's parent would otherwise be inherited)."""
@@ -321,6 +325,49 @@ def test_a_report_killed_while_it_commits_is_completed_by_the_next_run(tmp_path)
     assert sorted(os.listdir(tmp_path)) == ["cache", "rep"]
 
 
+def _dead_pid() -> int:
+    dead = subprocess.Popen([sys.executable, "-c", "pass"])
+    dead.wait()
+    return dead.pid
+
+
+def test_temporary_files_of_killed_runs_are_removed_by_the_next_run(configs, previous, tmp_path):
+    """A run killed with SIGKILL leaves its staging, its journal's and its files' temporary copies: the next run
+    into the same folder removes those whose process is dead (a campaign's folder too, and the report's cache),
+    and leaves a live process's and anything that is not tirecli's."""
+    dead, live = _dead_pid(), os.getpid()
+    beside = [tmp_path / f".o.tirecli-tmp-{dead}-abcdefgh", tmp_path / f"..o.tirecli-commit.tirecli-tmp-{dead}-abcdefgh"]
+    inside = [previous / "data" / f".sweep.csv.tirecli-tmp-{dead}-abcdefgh"]
+    stays = [previous / "data" / f".sweep.csv.tirecli-tmp-{live}-abcdefgh", previous / f"mine.tirecli-tmp-{dead}-abcdefgh"]
+    beside[0].mkdir()
+    (beside[0] / "run.json").write_text("{}")
+    for path in beside[1:] + inside + stays:
+        path.write_text("partial")
+    r = run(["sweep", configs["second"], "--out", previous, "--quiet"], timeout=60)
+    assert r.code == 0, r.err
+    assert not any(p.exists() for p in beside + inside) and all(p.exists() for p in stays)
+
+    camp = tmp_path / "c"
+    (camp / "points").mkdir(parents=True)
+    (tmp_path / "c.yaml").write_text(CAMPAIGN.replace("BASE", str(configs["first"])))
+    left = [camp / f".results.csv.tirecli-tmp-{dead}-abcdefgh", camp / "points" / f".part-000001.parquet.tirecli-tmp-{dead}-a1b2c3d4"]
+    for path in left:
+        path.write_text("partial")
+    r = run(["campaign", tmp_path / "c.yaml", "--out", camp, "--quiet"], timeout=60)
+    assert r.code == 0, r.err
+    assert not any(p.exists() for p in left)
+
+    from tirecli.io.cache import write_timings
+
+    cache = tmp_path / "cache"
+    (cache / "v1" / "memo").mkdir(parents=True)
+    left = [cache / "v1" / "memo" / f".abc.txt.tirecli-tmp-{dead}-abcdefgh", cache / "v1" / f".timings.json.tirecli-tmp-{dead}-abcdefgh"]
+    for path in left:
+        path.write_text("partial")
+    write_timings(cache, {"sweep": 1.0})
+    assert not any(p.exists() for p in left) and (cache / "v1" / "timings.json").is_file()
+
+
 # --------------------------------------------------------------------------- inputs inside --out
 
 
@@ -344,10 +391,6 @@ def test_inputs_inside_out_are_never_removed_or_overwritten(configs, previous):
     r = run(["sweep", previous / "run.json", "--out", previous], timeout=60)
     assert_clean_error(r, 2, r"--out .*o: the run would overwrite its input .*o/run\.json; choose another --out")
     assert_unchanged(before, previous)
-
-
-#: A campaign of two sweeps over the base config ``BASE`` (figures off: it is quick).
-CAMPAIGN = "campaign: c\nbase: BASE\nvary: {tire.mu_s: [1.4, 1.5]}\noutputs: ['mu_peak[0]']\nfigures: false\n"
 
 
 @pytest.mark.parametrize("campaign_name, base_name, overwritten", [

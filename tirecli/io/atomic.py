@@ -32,6 +32,11 @@ directory never mixes two runs.
   in DIR kept``), a run failure carries the note that the previous results were kept. Ctrl-C is
   held back during the final renames (milliseconds), so the move into place is never cut in half.
 
+A run killed with SIGKILL leaves its lock file (stale: the next run takes it over and removes it at its
+end), its staging directory and the temporary files it was writing (named ``.NAME.tirecli-tmp-PID-XXXXXXXX``,
+PID the process that made them): the next run into the same target removes them when that process is dead
+(:func:`clean_temps`), the report's study cache when it next writes its timings.
+
 When the target's parent directory is not writable (``--out .`` below a read-only directory) or
 ``DIR`` is a mount point, the lock and the staging directory live inside ``DIR`` instead
 (``DIR/.tirecli-lock``, ``DIR/.tirecli-tmp-XXXXXXXX``); a file whose place inside ``DIR`` is on
@@ -96,13 +101,72 @@ def _prefix(name: str) -> str:
     return f".{name[:50]}."  # the name's head: the temporary names stay within NAME_MAX
 
 
+def temp_prefix(head: str) -> str:
+    """The prefix of a temporary name tirecli makes (``mkstemp``/``mkdtemp`` add 8 random characters):
+    ``HEAD`` + ``tirecli-tmp-`` + this process's id, so that a leftover of a killed run is known for
+    one, and known to be dead (:func:`clean_temps`)."""
+    return f"{head}{TMP}{os.getpid()}-"
+
+
+#: A temporary name of tirecli's (:func:`temp_prefix`): ``.NAME.tirecli-tmp-PID-XXXXXXXX`` (or, inside an output
+#: directory, ``.tirecli-tmp-PID-XXXXXXXX``).
+_TEMP = re.compile(r"\.(?:.*\.)?" + re.escape(TMP) + r"(\d+)-[a-z0-9_]{8}")
+
+
+def _alive(pid: int) -> bool:
+    """Whether process ``pid`` runs on this host (another user's process counts as running)."""
+    if pid == os.getpid():
+        return True
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return False
+    except (PermissionError, OverflowError, ValueError):
+        return pid > 0
+    return True
+
+
+#: How far :func:`clean_temps` looks below a directory: levels, and entries in all (an ``--out`` given as a
+#: large folder is not walked through; tirecli writes its outputs at most a few levels deep).
+CLEAN_DEPTH, CLEAN_ENTRIES = 4, 20_000
+
+
+def clean_temps(directory, recursive: bool = False, older_than: float = 0.0) -> list[str]:
+    """Remove the temporary files and directories tirecli left in ``directory`` (and below it, ``recursive``:
+    :data:`CLEAN_DEPTH` levels, :data:`CLEAN_ENTRIES` entries at most) when killed: only names of
+    :func:`temp_prefix`'s form whose process is dead (and, with ``older_than``, older than that many seconds).
+    Nothing else is touched, links are not followed. Returns what was removed."""
+    removed = []
+    stack, seen = [(Path(directory), 0)], 0
+    while stack and seen < CLEAN_ENTRIES:
+        d, depth = stack.pop()
+        try:
+            entries = list(os.scandir(d))
+        except OSError:
+            continue
+        seen += len(entries)
+        for entry in entries:
+            m = _TEMP.fullmatch(entry.name)
+            if m is not None and not _alive(int(m.group(1))):
+                try:
+                    if older_than and time.time() - entry.stat(follow_symlinks=False).st_mtime < older_than:
+                        continue
+                except OSError:
+                    continue
+                _remove(Path(entry.path))
+                removed.append(entry.path)
+            elif recursive and depth < CLEAN_DEPTH and entry.is_dir(follow_symlinks=False):
+                stack.append((Path(entry.path), depth + 1))
+    return removed
+
+
 @contextlib.contextmanager
 def atomic_write(path, mode: str = "w", encoding: str = "utf-8", errors: str | None = None, newline: str | None = None):
     """Open a unique temporary file beside ``path`` for writing (text, or bytes with ``mode='wb'``);
     when the block ends it replaces ``path`` (``os.replace``). On an error or Ctrl-C it is removed
     and ``path`` is untouched."""
     path = Path(path)
-    fd, tmp = tempfile.mkstemp(prefix=_prefix(path.name) + TMP, dir=path.parent)
+    fd, tmp = tempfile.mkstemp(prefix=temp_prefix(_prefix(path.name)), dir=path.parent)
     try:
         if "b" in mode:
             fh = os.fdopen(fd, "wb")
@@ -255,9 +319,11 @@ def _missing_parents(real: Path) -> list[Path]:
 
 
 def _clean_leftovers(home: Path, prefix: str) -> None:
-    """Remove the staging left by a run that was killed (called under the lock: no live run owns one;
-    only names exactly as ``mkdtemp``/``mkstemp`` make them)."""
-    own = re.compile(re.escape(prefix + TMP) + r"[a-z0-9_]{8}")
+    """Remove the staging (and the commit journal's temporary file) left by a run that was killed (called under
+    the lock: no live run owns one; only names exactly as :func:`temp_prefix` and ``mkdtemp``/``mkstemp`` make
+    them, of an earlier tirecli too, without the process id)."""
+    heads = (prefix, _prefix(prefix + JOURNAL))
+    own = re.compile("(?:" + "|".join(re.escape(h + TMP) for h in heads) + r")(?:\d+-)?[a-z0-9_]{8}")
     for name in os.listdir(home):
         if own.fullmatch(name):
             _remove(home / name)
@@ -286,6 +352,8 @@ def _claimed(out, is_dir: bool):
         with _Lock(home / (prefix + LOCK), target):
             _recover(home, prefix, real, target)
             _clean_leftovers(home, prefix)
+            if is_dir and real.is_dir():  # files a killed run was writing into the folder (a campaign's, a copy)
+                clean_temps(real, recursive=True)
             yield target, real, home, prefix
     finally:
         if not real.exists():
@@ -506,7 +574,7 @@ def _recover(home: Path, prefix: str, real: Path, target: Path) -> None:
     if not os.path.lexists(journal):
         return
     record = read_record(journal, home)
-    own = re.compile(re.escape(prefix + TMP) + r"[a-z0-9_]{8}")
+    own = re.compile(re.escape(prefix + TMP) + r"(?:\d+-)?[a-z0-9_]{8}")
     staging = str(record.get("staging", "")) if isinstance(record, dict) else ""
     root = home / staging
     who = _who(record)
@@ -565,7 +633,7 @@ def staged_dir(out, marker: str = "run.json"):
     left byte-identical (see the module docstring)."""
     with _claimed(out, is_dir=True) as (target, real, home, prefix):
         kept = f"previous results in {target} kept" if _has_content(real) else None
-        root = Path(tempfile.mkdtemp(prefix=prefix + TMP, dir=home))
+        root = Path(tempfile.mkdtemp(prefix=temp_prefix(prefix), dir=home))
         os.chmod(root, _mode(0o777))
         stage = Stage(target, real, root, marker, journal=home / (prefix + JOURNAL))
         with _guarded(target, kept, lambda: _remove(root)) as state:
@@ -583,7 +651,7 @@ def staged_file(out):
     it was. The run holds the lock of ``out`` throughout; an input of the run is never overwritten."""
     with _claimed(out, is_dir=False) as (target, real, home, prefix):
         kept = f"previous {target} kept" if real.exists() else None
-        fd, tmp = tempfile.mkstemp(prefix=prefix + TMP, dir=home)
+        fd, tmp = tempfile.mkstemp(prefix=temp_prefix(prefix), dir=home)
         os.close(fd)
         tmp = Path(tmp)
         with _guarded(target, kept, lambda: _remove(tmp)) as state:

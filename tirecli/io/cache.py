@@ -39,7 +39,7 @@ import tempfile
 from pathlib import Path
 
 from tirecli import limits
-from tirecli.io.atomic import TMP, atomic_write
+from tirecli.io.atomic import atomic_write, clean_temps, temp_prefix
 from tirecli.io.files import read_own_file
 
 #: Bumped when the layout or the meaning of an entry changes (older entries are then ignored).
@@ -238,7 +238,7 @@ class StudyCache:
     def _new_dir(self, target: Path):
         """A temporary directory beside ``target``, renamed to ``target`` (replacing an older entry)."""
         target.parent.mkdir(parents=True, exist_ok=True)
-        tmp = Path(tempfile.mkdtemp(prefix=f".{target.name[:40]}.{TMP}", dir=target.parent))
+        tmp = Path(tempfile.mkdtemp(prefix=temp_prefix(f".{target.name[:40]}."), dir=target.parent))
         try:
             yield tmp
             old = None
@@ -274,7 +274,9 @@ def read_timings(root: str | Path) -> dict:
 
 
 def write_timings(root: str | Path, timings: dict) -> None:
-    """Record the seconds of the studies that ran (merged with the earlier record); errors ignored."""
+    """Record the seconds of the studies that ran (merged with the earlier record); errors ignored. Temporary
+    files and entries of reports killed while writing into the cache (their process dead) are removed."""
+    clean_temps(Path(root) / f"v{FORMAT}", recursive=True)
     with contextlib.suppress(OSError):
         path = Path(root) / f"v{FORMAT}" / "timings.json"
         merged = dict(read_timings(root), **{k: round(float(v), 3) for k, v in timings.items()})
