@@ -300,7 +300,9 @@ def test_a_forked_worker_starts_its_own_thread_pool():
     assert _sum_on_threads() == 3  # the pool exists in this process
     ctx = multiprocessing.get_context("fork")
     q = ctx.Queue()
-    with ctx.Pool(1, initializer=work._init_worker, initargs=(q,)) as pool:
+    from tirecli.parallel import fork_point
+
+    with ctx.Pool(1, initializer=work._init_worker, initargs=(q, fork_point())) as pool:
         assert pool.apply_async(_sum_on_threads).get(timeout=60) == 3
 
 

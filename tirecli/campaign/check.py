@@ -32,13 +32,12 @@ def check_points(campaign: Campaign, jobs: int = 1) -> tuple[list, str]:
         import multiprocessing
         from concurrent.futures import ProcessPoolExecutor
 
-        from tirecli.campaign.execute import _init_worker
+        from tirecli.campaign.execute import pool_options
 
         bounds = np.linspace(0, n, 4 * jobs + 1).astype(int)
         _CHECKING = campaign  # inherited by the forked workers
         try:
-            with ProcessPoolExecutor(jobs, mp_context=multiprocessing.get_context("fork"), initializer=_init_worker,
-                                     initargs=(None,)) as pool:
+            with ProcessPoolExecutor(jobs, mp_context=multiprocessing.get_context("fork"), **pool_options(None)) as pool:
                 parts = list(pool.map(_check_range_global, zip(bounds[:-1], bounds[1:])))
         finally:
             _CHECKING = None

@@ -79,10 +79,23 @@ def pin_threads() -> None:
         pass
 
 
-def _init_worker(payload) -> None:
-    """A pool worker: Ctrl-C is the parent's to handle (it stops the pool), SIGTERM ends the worker;
-    one thread per evaluation (:func:`pin_threads`)."""
+def pool_options(payload) -> dict:
+    """The ``initializer`` and ``initargs`` of a campaign's process pool (:func:`_init_worker`), taken in the
+    process and thread that starts the workers."""
+    from tirecli.parallel import fork_point
+
+    return {"initializer": _init_worker, "initargs": (payload, fork_point())}
+
+
+def _init_worker(payload, point) -> None:
+    """A pool worker: it ends with the campaign's process however that ends
+    (:func:`tirecli.parallel.die_with_parent`: no worker computes on after a SIGKILL of the campaign); Ctrl-C
+    is the parent's to handle (it stops the pool), SIGTERM ends the worker; one thread per evaluation
+    (:func:`pin_threads`)."""
     global _PAYLOAD
+    from tirecli.parallel import die_with_parent
+
+    die_with_parent(point)
     signal.signal(signal.SIGINT, signal.SIG_IGN)
     signal.signal(signal.SIGTERM, signal.SIG_DFL)
     pin_threads()
@@ -127,8 +140,7 @@ def _run_pool(payload, batches, jobs, on_records) -> dict:
     from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
 
     workers = min(jobs, len(batches))
-    pool = ProcessPoolExecutor(max_workers=workers, mp_context=_mp_context(), initializer=_init_worker,
-                               initargs=(payload,))
+    pool = ProcessPoolExecutor(max_workers=workers, mp_context=_mp_context(), **pool_options(payload))
     todo = deque(batches)
     running = set()
     try:
