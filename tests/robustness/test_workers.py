@@ -96,6 +96,7 @@ def test_the_workers_of_a_killed_campaign_end(tmp_path):
     assert not left, f"worker(s) {left} outlived the campaign"
 
 
+@pytest.mark.slow  # a LocalCluster takes seconds to start; Dask ends its workers itself (a guard of that)
 def test_the_dask_workers_of_a_killed_campaign_end(tmp_path):
     pytest.importorskip("distributed")
     left = kill_and_watch(BASE_CMD + ["campaign", _campaign(tmp_path), "--out", "o", "--jobs", "2", "--scheduler",
