@@ -392,7 +392,7 @@ def test_campaign_workers_use_one_thread():
     from tirecli.campaign import execute
 
     ctx = multiprocessing.get_context("fork" if hasattr(__import__("os"), "fork") else "spawn")
-    with ctx.Pool(1, initializer=execute._init_worker, initargs=(None,)) as pool:
+    with ctx.Pool(1, **execute.pool_options(None)) as pool:
         limit, threads, env = pool.apply(_worker_threads)
     assert limit == 1 and threads == 1 and env == "1"
 

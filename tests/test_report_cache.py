@@ -204,14 +204,16 @@ def test_a_cache_hit_reads_each_cached_file_once(cli, tmp_path, monkeypatch):
     out = tmp_path / "rep"
     _report(cli, out, "--jobs", "1")
     cache = _cache().resolve()
-    reads, real = [], Path.read_bytes
+    from tirecli.io import cache as cache_io
 
-    def read_bytes(self):
-        if cache in self.resolve().parents and self.name != "manifest.json" and self.name != "card.json":
-            reads.append(str(self))
-        return real(self)
+    reads, real = [], cache_io._read
 
-    monkeypatch.setattr(Path, "read_bytes", read_bytes)
+    def read(path, root):  # every read of a cached file goes through the cache's gate
+        if cache in Path(path).resolve().parents and path.name != "manifest.json" and path.name != "card.json":
+            reads.append(str(path))
+        return real(path, root)
+
+    monkeypatch.setattr(cache_io, "_read", read)
     before = {**_files(out, "data/*/*.csv"), **_files(out, "figures/*")}
     summary = _report(cli, out, "--jobs", "1")
     assert summary["study_cached"] == dict.fromkeys(STUDIES, True)
@@ -304,7 +306,9 @@ def test_a_forked_worker_starts_its_own_thread_pool():
     assert _sum_on_threads() == 3  # the pool exists in this process
     ctx = multiprocessing.get_context("fork")
     q = ctx.Queue()
-    with ctx.Pool(1, initializer=work._init_worker, initargs=(q,)) as pool:
+    from tirecli.parallel import fork_point
+
+    with ctx.Pool(1, initializer=work._init_worker, initargs=(q, fork_point())) as pool:
         assert pool.apply_async(_sum_on_threads).get(timeout=60) == 3
 
 

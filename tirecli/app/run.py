@@ -203,8 +203,9 @@ def validate_file(path: str | Path, max_samples: int | None = None) -> str:
         from tirecli.campaign.check import check_points
         from tirecli.campaign.spec import load_campaign
 
-        campaign = load_campaign(path)
-        ids, study = check_points(campaign)
+        campaign = load_campaign(path, max_samples)
+        with limits.budget(campaign.max_samples):
+            ids, study = check_points(campaign)
         return f"{path}: valid campaign {campaign.name!r}: {len(ids)} points of the {study} study"
     if isinstance(data, dict) and "kind" in data and "study" not in data:
         ps = parse_set(data, origins, label=str(path))

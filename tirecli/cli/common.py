@@ -29,12 +29,49 @@ MaxSamplesOpt = typer.Option(None, "--max-samples", metavar="N",
 def echo(msg: str = "") -> None:
     """Print to stdout unless --quiet."""
     if not STATE["quiet"]:
-        typer.echo(msg)
+        _print(msg)
 
 
 def result_line(msg: str) -> None:
     """Print a result line (always, even with --quiet: it is the command's answer)."""
-    typer.echo(msg)
+    _print(msg)
+
+
+def _print(msg: str) -> None:
+    """Print a line to stdout. When its reader has gone (``tirecli params list | head -1``), the rest of
+    the output is dropped quietly and the command goes on (a run still writes its results): the exit
+    code is the command's own, as if the reader had read everything (see :func:`tirecli.cli.main.main`)."""
+    if STATE.get("stdout_closed"):
+        return
+    try:
+        typer.echo(msg)
+    except BrokenPipeError:
+        stdout_closed()
+
+
+def stdout_closed() -> None:
+    """Stdout's reader has gone: send what remains (the interpreter's final flush included) to the null device."""
+    import os
+
+    STATE["stdout_closed"] = True
+    try:
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(devnull, sys.stdout.fileno())
+        os.close(devnull)
+    except (OSError, ValueError, AttributeError):
+        pass
+
+
+def stdout_reader_gone() -> bool:
+    """Whether stdout is a pipe whose reading end is closed (poll reports an error on the write end)."""
+    import select
+
+    try:
+        poller = select.poll()
+        poller.register(sys.stdout.fileno(), select.POLLOUT)
+        return any(ev & select.POLLERR for _, ev in poller.poll(0))
+    except (OSError, ValueError, AttributeError):
+        return False
 
 
 def table(rows: list[tuple]) -> list[str]:
@@ -115,12 +152,29 @@ def overrides(values: Optional[List[str]]) -> list[str]:
     return list(values or [])
 
 
-def jobs_option(value: Optional[int]) -> Optional[int]:
-    """The value of ``--jobs`` (UsageError if it is below 1), for ``report`` and ``campaign`` alike."""
-    from tirecli.errors import UsageError
+#: The most workers ``--jobs`` may name for a campaign on a remote Dask cluster (its batches are sized for them).
+MAX_CLUSTER_JOBS = 100_000
 
-    if value is not None and value < 1:
-        raise UsageError(f"--jobs {value}: give a number of processes >= 1")
+
+def jobs_option(value: Optional[int], scheduler: Optional[str] = None) -> Optional[int]:
+    """The value of ``--jobs`` (UsageError if it is below 1, or more processes than
+    :func:`tirecli.parallel.max_jobs` start here), for ``report`` and ``campaign`` alike; with a remote
+    ``scheduler`` (a campaign's ``--scheduler`` other than ``local``) the workers are the cluster's, and
+    at most :data:`MAX_CLUSTER_JOBS`."""
+    from tirecli.errors import UsageError
+    from tirecli.parallel import JOBS_PER_CORE, default_jobs, max_jobs
+
+    if value is None:
+        return None
+    shown = str(value) if len(str(value)) <= 20 else f"{str(value)[:17]}..."
+    if value < 1:
+        raise UsageError(f"--jobs {shown}: give a number of processes >= 1")
+    if scheduler and scheduler.strip() and scheduler.strip() != "local":
+        if value > MAX_CLUSTER_JOBS:
+            raise UsageError(f"--jobs {shown}: more workers than a cluster has (at most {MAX_CLUSTER_JOBS:,})")
+    elif value > max_jobs():
+        raise UsageError(f"--jobs {shown}: more processes than this machine can use (at most {max_jobs()}: "
+                         f"{JOBS_PER_CORE} per core of the {default_jobs()} this process may use)")
     return value
 
 

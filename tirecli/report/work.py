@@ -226,12 +226,17 @@ def _draw_card(f, res, root: Path, formats) -> dict:
 _QUEUE = None
 
 
-def _init_worker(q) -> None:
-    """A pool worker: Ctrl-C is the parent's to handle (it ends the pool), SIGTERM ends the worker.
+def _init_worker(q, point) -> None:
+    """A pool worker: it ends with the report's process however that ends
+    (:func:`tirecli.parallel.die_with_parent`); Ctrl-C is the parent's to handle (it ends the pool), SIGTERM
+    ends the worker.
 
     A forked worker has none of the parent's threads: :mod:`tirecli.parallel` drops the parent's
     thread pool in every forked child (``os.register_at_fork``)."""
     global _QUEUE
+    from tirecli.parallel import die_with_parent
+
+    die_with_parent(point)
     _QUEUE = q
     signal.signal(signal.SIGINT, signal.SIG_IGN)
     signal.signal(signal.SIGTERM, signal.SIG_DFL)
@@ -281,11 +286,13 @@ def run_units(tasks: list[dict], jobs: int, note, meanwhile=None) -> list[dict]:
     from concurrent.futures.process import BrokenProcessPool
 
     from tirecli.errors import RunError
+    from tirecli.parallel import fork_point
 
     _preload(tasks)
     ctx = multiprocessing.get_context("fork")  # the workers start with this process's imports (and test patches)
     q = ctx.Queue()
-    pool = ProcessPoolExecutor(min(jobs, len(tasks)), mp_context=ctx, initializer=_init_worker, initargs=(q,))
+    pool = ProcessPoolExecutor(min(jobs, len(tasks)), mp_context=ctx, initializer=_init_worker,
+                               initargs=(q, fork_point()))
     try:
         groups: dict[str, list[int]] = {}
         for i, t in enumerate(tasks):  # a group starts where its first (slowest) unit would have

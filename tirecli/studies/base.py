@@ -16,6 +16,7 @@ from tirecli.config.budget import run_spec
 from tirecli.config.loader import Config, config_from_text
 from tirecli.config.schema import Context, Str
 from tirecli.errors import ConfigError, token
+from tirecli.io.yamlio import require_kind
 from tirecli.limits import MAX_TITLE_CHARS
 
 from tirecli.parameters.sets import ParameterSet
@@ -198,11 +199,8 @@ def register_study(name: str, check: Callable | None = None, spec=None):
 def study_name(config: Config, expected: str | None = None) -> str:
     """The ``study:`` of a config (checked against ``expected`` when the command implies one)."""
     raw = config.data.get("study", expected)
-    if "study" not in config.data and not set(map(str, config.data)) & {*common_fields(), "tire", "vehicle", str(expected)}:
-        # some other YAML file (a parameter set, a list of accounts, ...): say so once, without listing its keys
-        raise ConfigError(config.origins.problem((), f"not a study config: no 'study' key, and none of its "
-                                                     f"{len(config.data)} top-level key(s) is a config key "
-                                                     "(study, title, tire, figures, ...)"))
+    require_kind(config.data, config.origins, "a study config", {"study", *common_fields(), "tire", "vehicle", str(expected)},
+                 "a config key (study, title, tire, figures, ...)", also="no 'study' key, and ")
     if raw is None:
         raise ConfigError(config.origins.problem((), f"missing required key 'study' (one of: {', '.join(sorted(STUDY_MODULES))})"))
     ctx = Context(config.origins)
