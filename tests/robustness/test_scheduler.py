@@ -69,15 +69,14 @@ def test_a_dask_scheduler_passes_the_check():
 
 
 def test_without_dask_a_scheduler_is_one_line_naming_the_extra(monkeypatch):
-    import importlib.util
+    from conftest import block_module
 
     from tirecli.campaign.execute import check_scheduler
     from tirecli.errors import UsageError
 
-    real = importlib.util.find_spec
-    monkeypatch.setattr(importlib.util, "find_spec", lambda name, *a: None if name == "distributed" else real(name, *a))
+    block_module(monkeypatch, "distributed", "dask")
     for address in ("local", "tcp://127.0.0.1:1"):
-        with pytest.raises(UsageError, match=r"--scheduler needs Dask: pip install .*\[campaign\]"):
+        with pytest.raises(UsageError, match=r"--scheduler needs dask, which is not installed: pip install .*\[campaign\]"):
             check_scheduler(address)
     with pytest.raises(UsageError, match="expected 'local'"):  # the address is read first
         check_scheduler("foo")

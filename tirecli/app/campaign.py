@@ -164,8 +164,8 @@ def run_campaign(path: str | Path, out=None, jobs: int | None = None, scheduler:
     t0 = time.perf_counter()
     out = out_path(out) if out is not None else None
     scheduler = check_scheduler(scheduler)  # an address that is no Dask scheduler fails before anything runs
+    _require_libraries()  # a missing library fails before the points are checked (the budget checks one)
     campaign = load_campaign(path, max_samples)
-    _require_libraries()  # a missing library fails before the points are checked
     with limits.budget(campaign.max_samples):
         return _run_loaded(campaign, path, out, jobs, scheduler, progress, note, t0)
 

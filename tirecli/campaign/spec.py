@@ -42,7 +42,7 @@ from tirecli import limits
 from tirecli.config.budget import run_spec
 from tirecli.config.loader import Config, load_config, parse_key_path, set_value
 from tirecli.config.schema import MISSING, Bool, Context, Grid, ListOf, Map, Nullable, Num, Raw, Spec, Str
-from tirecli.errors import ConfigError, Problem, UsageError, token
+from tirecli.errors import ConfigError, Problem, UsageError, require, token
 from tirecli.io.yamlio import Origins, format_key
 
 METHODS = ("random", "latin-hypercube", "saltelli")
@@ -348,6 +348,8 @@ def _design(doc: dict, origins: Origins, ctx: Context, budget=None) -> Design:
     if total > MAX_POINTS:
         raise ConfigError(origins.problem(("vary",) if grid_keys else ("sample",),
                                           f"{total:,} points: more than {MAX_POINTS:,}"))
+    if sample_keys and sample["method"] == "saltelli":
+        require("SALib", "method: saltelli")  # before the budget checks a point's run
     if budget is not None:
         budget(total)
     cells = list(itertools.product(*[grid[k] for k in grid_keys])) if grid_keys else [()]
@@ -381,7 +383,6 @@ def unit_sample(method: str, n: int, d: int, seed: int, names=None) -> np.ndarra
         return qmc.LatinHypercube(d=d, rng=rng).random(n)
     import warnings
 
-    from tirecli.errors import require
 
     require("SALib", "method: saltelli")  # before any point is made
     from SALib.sample import sobol
