@@ -280,7 +280,7 @@ def point_id(doc_hash: str, inputs_digest: str = "") -> str:
 
 def _load_base(raw, origins: Origins, campaign_dir: Path, label: str) -> Config:
     from tirecli.config.loader import _finish
-    from tirecli.studies.base import builtin_config, builtin_config_names
+    from tirecli.studies.configs import builtin_config, builtin_config_names
 
     if isinstance(raw, dict):
         sub = Origins(default_file=origins.default_file)
