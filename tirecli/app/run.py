@@ -18,9 +18,9 @@ from typing import Callable
 from tirecli import limits
 from tirecli.app.draw import close_figures, draw
 from tirecli.app.results import write_result
+from tirecli.app.plan import plan_config
 from tirecli.config.budget import resolve_budget
 from tirecli.config.loader import Config, load_config
-from tirecli.app.plan import plan_config
 from tirecli.errors import UsageError
 from tirecli.io import output
 from tirecli.studies import registry as studies
@@ -117,9 +117,10 @@ def run_config(command: str, config_path: str | Path | Config, overrides=(), out
     out = out or default_out(config, command or "run")
     # before the run: a bad location fails in a second, not after it
     check_output_dir(out, files=("run.json",), dirs=("data", "figures"))
+    budget = resolve_budget(config, max_samples)  # a bad run.max_samples fails before the output is locked
     entry = []
     with staged_dir(out) as stage:
-        result = execute(config, command, progress, max_samples,
+        result = execute(config, command, progress, budget,
                          on_study=lambda s: (entry.append(s), on_study and on_study(out, s)))
         figs, checks = draw(result, progress=progress)
         wall = time.perf_counter() - t0
