@@ -44,14 +44,15 @@ def data_comments(result) -> list[str]:
     return [output.SYNTHETIC_NOTE] if result.synthetic else []
 
 
-def write_figure(directory, fid: str, fig, comments=(), dpi: int = 150, formats=("png", "svg")) -> list:
+def write_figure(directory, fid: str, fig, comments=(), **options) -> list:
     """Write a drawn figure into ``directory``: a :class:`~tirecli.figures.registry.Table` as ``ID.csv``, a
-    matplotlib figure as ``ID.png`` / ``ID.svg`` (``formats``); the paths written."""
+    matplotlib figure as ``ID.png`` and ``ID.svg`` (``options``: ``dpi``, ``formats`` of
+    :func:`tirecli.io.output.save_figure`); the paths written."""
     if isinstance(fig, Table):
         import pandas as pd
 
         return [output.write_csv(directory / f"{fid}.csv", pd.DataFrame(fig.rows, columns=fig.columns), comments)]
-    return output.save_figure(fig, directory, fid, dpi=dpi, formats=formats)
+    return output.save_figure(fig, directory, fid, **options)
 
 
 def write_data(directory, result, data_format: str = "csv", progress=None) -> list:
