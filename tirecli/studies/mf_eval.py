@@ -30,7 +30,7 @@ from tirecli.config.loader import Config
 from tirecli.config.schema import Bool, ListOf, Map, Num, Raw, Str, collect
 from tirecli.studies.base import StudyResult, common_fields
 from tirecli.studies.mf_points import OUTPUT_COLUMNS as OUTPUTS
-from tirecli.studies.mf_points import UNITS, PointError, evaluate_points, needs_speed
+from tirecli.studies.mf_points import EXTRA_COLUMNS, UNITS, PointError, evaluate_points, needs_speed
 from tirecli.studies.registry import register
 from tirecli.studies.study import Plan, Study
 
@@ -83,39 +83,63 @@ def plan(config: Config) -> Plan:
     return Plan("mf-eval", config, checked, {"tire": ps}, None, (t, cols))
 
 
+def _evaluate(plan_: Plan, extras: bool = True):
+    """The outputs at the plan's points (:func:`~tirecli.studies.mf_points.evaluate_points`); a non-finite
+    one is the config's problem at ``points`` (an input beyond the tyre) or a RunError."""
+    from tirecli.errors import ConfigError, RunError
+
+    checked, (t, cols) = plan_.checked, plan_.detail
+    try:
+        return evaluate_points(t, cols, convention=checked["convention"], side=checked["side"],
+                               limits=checked["limits"], extras=extras)
+    except PointError as err:  # never an empty cell: the point, its inputs and why
+        text = f"point {err.index}: {err.text}; nothing was written"
+        if err.at_fault:
+            raise ConfigError(plan_.config.origins.problem(("points",), text)) from None
+        raise RunError(f"{plan_.config.label}: {text}") from None
+
+
+def _facts(outputs: dict, n: int) -> dict:
+    """Every output at a single point by its name, ``NAME[i]`` at point ``i`` of several."""
+    facts = {}
+    for k, v in outputs.items():
+        vals = np.asarray(v, dtype=float)
+        if n == 1:
+            facts[k] = float(vals.ravel()[0])
+        else:
+            facts.update({f"{k}[{i}]": float(x) for i, x in enumerate(vals)})
+    return facts
+
+
 def run(plan_: Plan, progress=None) -> StudyResult:
     """Evaluate the tyre at the config's points (see module doc)."""
     import pandas as pd
 
-    from tirecli.errors import ConfigError, RunError
-
     config, checked, ps = plan_.config, plan_.checked, plan_.sets["tire"]
-    t, cols = plan_.detail
-    try:
-        ev = evaluate_points(t, cols, convention=checked["convention"], side=checked["side"], limits=checked["limits"])
-    except PointError as err:  # never an empty cell: the point, its inputs and why
-        text = f"point {err.index}: {err.text}; nothing was written"
-        if err.at_fault:
-            raise ConfigError(config.origins.problem(("points",), text)) from None
-        raise RunError(f"{config.label}: {text}") from None
+    cols = plan_.detail[1]
+    ev = _evaluate(plan_)
     n = cols["fz"].size
     res = ev.result
     frame = pd.DataFrame({"kappa": cols["kappa"], "alpha": cols["alpha"], "gamma": cols["gamma"], "fz": cols["fz"],
                           "p": _column(ev.p, n), "vx": _column(ev.vx, n),
                           **{k: np.asarray(v, dtype=float) for k, v in ev.outputs().items()}})
-    facts = {}
-    for k in ev.outputs():
-        vals = frame[k].to_numpy()
-        if n == 1:
-            facts[k] = float(vals[0])
-        else:
-            facts.update({f"{k}[{i}]": float(v) for i, v in enumerate(vals)})
     meta = {"title": checked["title"] or f"Magic Formula at {n} point(s): {ps.name}", "convention": res.convention,
-            "limits": checked["limits"], "input_rules": {k: v for k, v in res.counts.items() if v}, "facts": facts}
+            "limits": checked["limits"], "input_rules": {k: v for k, v in res.counts.items() if v},
+            "facts": _facts(ev.outputs(), n)}
     if ev.omitted:
         meta["omitted"] = ev.omitted
     return StudyResult(study="mf-eval", config=config, parameter_sets={"tire": ps}, data={"points": frame}, meta=meta,
                        figures=[])
+
+
+def point(plan_: Plan, wanted=None, keep: bool = False):
+    """A campaign's point: the facts ``wanted`` without a frame (the extra outputs only when one is wanted),
+    or the whole run with ``keep``: ``(facts, frame or None)``."""
+    if keep:
+        result = run(plan_)
+        return result.meta["facts"], result.data["points"]
+    extras = wanted is None or any(w.split("[", 1)[0] in EXTRA_COLUMNS for w in wanted)
+    return _facts(_evaluate(plan_, extras).outputs(), plan_.detail[1]["fz"].size), None
 
 
 def _column(x, n: int) -> np.ndarray:
@@ -127,7 +151,7 @@ def _column(x, n: int) -> np.ndarray:
 
 STUDY = register(Study(
     name="mf-eval", command="campaign", spec=SPEC, plan=plan, run=run,  # a campaign's base (mf eval reads CSVs)
-    fact_units=UNITS,
+    fact_units=UNITS, point=point,
 ))
 
 __all__ = ["STUDY", "SPEC", "plan", "run", "OUTPUTS"]
