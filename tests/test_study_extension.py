@@ -100,6 +100,7 @@ def test_the_study_runs_through_a_simulate_style_command(registered, tmp_path, c
     assert run["outputs"]["figures"] == [f"figures/{FIGURE}.png", f"figures/{FIGURE}.svg"]
     (check,) = run["checks"]
     assert check["id"] == f"{FIGURE}/rise-time" and check["passed"] and abs(check["value"] - 0.2) < 1e-4
+    assert main(["params", "validate", str(cfg)]) == 0 and f"valid {NAME} config" in capsys.readouterr().out
     # --quiet hides the note, not the result line
     assert main(["--quiet", "simulate", str(cfg), "--out", str(tmp_path / "out")]) == 0
     out = capsys.readouterr().out
