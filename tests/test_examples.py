@@ -3,7 +3,7 @@ import pytest
 
 from conftest import EXAMPLES
 
-from tirecli.studies.base import builtin_config_names
+from tirecli.studies.configs import builtin_config_names
 
 
 @pytest.mark.parametrize("name", builtin_config_names())

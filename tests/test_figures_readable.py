@@ -19,14 +19,14 @@ cases:
 def many_cases(tmp_path_factory):
     """14 short lumped brakings that differ only in their torque (more than a legend can tell apart)."""
     from tirecli.config.loader import load_config
-    from tirecli.studies.simulate import run_simulate
+    from tirecli.studies.registry import run_study
 
     cases = "\n".join(f'  - {{model: lumped, kappa0: Z, label: "T_max = {600 + 50 * k} N m", '
                       f'input: {{brake_torque: {{table: {{t: [0, 0.3], value: [0, {600 + 50 * k}]}}}}}}}}'
                       for k in range(14))
     cfg = tmp_path_factory.mktemp("many") / "many.yaml"
     cfg.write_text(MANY.format(cases=cases))
-    return run_simulate(load_config(cfg))
+    return run_study(load_config(cfg))
 
 
 @pytest.mark.parametrize("fid", ["transient-histories", "transient-mu-slip", "transient-overlay"])
@@ -145,7 +145,8 @@ def _legends_over_curves(fig) -> list[str]:
 
 def _study_figures(config: str):
     from tirecli.figures.registry import get
-    from tirecli.studies.base import builtin_config, run_study
+    from tirecli.studies.configs import builtin_config
+    from tirecli.studies.registry import run_study
 
     res = run_study(builtin_config(config))
     for fid in res.figures:
@@ -155,7 +156,7 @@ def _study_figures(config: str):
 
 
 def _builtin_configs():
-    from tirecli.studies.base import builtin_config_names
+    from tirecli.studies.configs import builtin_config_names
 
     return builtin_config_names()
 

@@ -127,11 +127,11 @@ def test_campaign_libraries_are_in_the_default_install():
 
 
 def _count_point_checks(monkeypatch) -> list:
-    """A list that grows by one for every point config checked (:func:`tirecli.studies.base.check_study`)."""
-    import tirecli.studies.base as base
+    """A list that grows by one for every point config checked (:func:`tirecli.studies.registry.check`)."""
+    import tirecli.studies.registry as registry
 
-    calls, real = [], base.check_study
-    monkeypatch.setattr(base, "check_study", lambda *a, **k: calls.append(1) or real(*a, **k))
+    calls, real = [], registry.check
+    monkeypatch.setattr(registry, "check", lambda *a, **k: calls.append(1) or real(*a, **k))
     return calls
 
 

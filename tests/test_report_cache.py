@@ -56,15 +56,15 @@ def _with_changed_set(monkeypatch, tmp_path: Path, name: str, change, run):
 @pytest.fixture
 def counted(monkeypatch) -> list:
     """The studies run in this process (``--jobs 1``), by name."""
-    from tirecli.studies import base
+    from tirecli.studies import registry  # the report runs its studies through it
 
-    calls, real = [], base.run_study
+    calls, real = [], registry.run_study
 
     def run_study(config, *args, **kwargs):
         calls.append(config.label)
         return real(config, *args, **kwargs)
 
-    monkeypatch.setattr(base, "run_study", run_study)
+    monkeypatch.setattr(registry, "run_study", run_study)
     return calls
 
 
@@ -250,7 +250,8 @@ def test_a_png_has_the_pixels_savefig_writes(tmp_path, study):
 
     from tirecli.figures.registry import load_all
     from tirecli.io.output import SAVE_RC, save_figure
-    from tirecli.studies.base import builtin_config, run_study
+    from tirecli.studies.configs import builtin_config
+    from tirecli.studies.registry import run_study
 
     res = run_study(builtin_config(study))
     figs = [f for f in load_all().values() if f.study == study]
@@ -314,16 +315,16 @@ def test_a_forked_worker_starts_its_own_thread_pool():
 
 @pytest.mark.parametrize("jobs", ["1", "2"])
 def test_a_failing_study_is_an_error_card_and_is_not_cached(cli, tmp_path, monkeypatch, jobs):
-    from tirecli.studies import base
+    from tirecli.studies import registry  # the report runs its studies through it
 
-    real = base.run_study
+    real = registry.run_study
 
     def run_study(config, *args, **kwargs):
         if config.label == "<built-in mcps-fig3>":
             raise RuntimeError("the slider broke")
         return real(config, *args, **kwargs)
 
-    monkeypatch.setattr(base, "run_study", run_study)
+    monkeypatch.setattr(registry, "run_study", run_study)
     out = tmp_path / "rep"
     code, _, err = cli("--quiet", "report", "--out", out, *ONLY, "--jobs", jobs, "--strict")
     assert code == 1, err
@@ -332,7 +333,7 @@ def test_a_failing_study_is_an_error_card_and_is_not_cached(cli, tmp_path, monke
     assert [c["id"] for c in summary["checks"] if not c["passed"]] == ["mcps-fig3/study-ran"]
     assert summary["study_cached"] == {"fm-fig1-left": False, "mf-golden": False}
     assert "the slider broke" in (out / "index.html").read_text()
-    monkeypatch.setattr(base, "run_study", real)
+    monkeypatch.setattr(registry, "run_study", real)
     assert _report(cli, out, "--jobs", jobs)["study_cached"] == {"fm-fig1-left": True, "mf-golden": True,
                                                                  "mcps-fig3": False}
 
@@ -340,19 +341,19 @@ def test_a_failing_study_is_an_error_card_and_is_not_cached(cli, tmp_path, monke
 def test_a_worker_that_dies_is_an_error_and_the_previous_report_stays(cli, tmp_path, monkeypatch):
     import os
 
-    from tirecli.studies import base
+    from tirecli.studies import registry  # the report runs its studies through it
 
     out = tmp_path / "rep"
     _report(cli, out, "--jobs", "1", "--cache", tmp_path / "cache")
     before = _files(out, "**/*.*")
-    real = base.run_study
+    real = registry.run_study
 
     def run_study(config, *args, **kwargs):
         if config.label == "<built-in mcps-fig3>":
             os._exit(9)  # as if killed
         return real(config, *args, **kwargs)
 
-    monkeypatch.setattr(base, "run_study", run_study)
+    monkeypatch.setattr(registry, "run_study", run_study)
     code, _, err = cli("report", "--out", out, *ONLY, "--jobs", "2", "--no-cache", "--cache", tmp_path / "cache")
     assert code == 1 and "a worker process of the report ended abruptly" in err and f"previous results in {out} kept" in err
     assert _files(out, "**/*.*") == before and len(before) > 10

@@ -19,7 +19,7 @@ _CHECKING = None
 
 
 def check_points(campaign: Campaign, jobs: int = 1) -> tuple[list, str]:
-    """Check every point's config as its command would (:func:`tirecli.studies.base.check_study`)
+    """Check every point's config as its command would (:func:`tirecli.app.plan.plan_config`)
     without running it; returns ``(point ids, study name)``. All problems of all points are raised
     together as one ConfigError (each distinct problem once, with how many points have it). Large
     campaigns are checked on ``jobs`` processes (Linux)."""
@@ -71,8 +71,8 @@ def _check_range_global(bounds):
 
 def _check_range(campaign: Campaign, lo: int, hi: int):
     """Check points ``lo`` to ``hi - 1``: ``(document hashes, studies, {problem: [points]}, files read)``."""
+    from tirecli.app.plan import plan_config
     from tirecli.io.files import tracked_inputs
-    from tirecli.studies.base import check_study
 
     hashes, studies, seen = [], set(), {}
     with tracked_inputs() as read:
@@ -80,7 +80,7 @@ def _check_range(campaign: Campaign, lo: int, hi: int):
             h = None
             try:
                 cfg = point_config(campaign.base, campaign.fixed + campaign.point_overrides(campaign.design.points[i]))
-                studies.add(check_study(cfg))
+                studies.add(plan_config(cfg).study)
                 h = document_hash(cfg)
             except ConfigError as err:
                 for p in err.problems:

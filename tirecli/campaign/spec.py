@@ -286,7 +286,7 @@ def point_id(doc_hash: str, inputs_digest: str = "") -> str:
 
 def _load_base(raw, origins: Origins, campaign_dir: Path, label: str) -> Config:
     from tirecli.config.loader import _finish
-    from tirecli.studies.base import builtin_config, builtin_config_names
+    from tirecli.studies.configs import builtin_config, builtin_config_names
 
     if isinstance(raw, dict):
         sub = Origins(default_file=origins.default_file)
@@ -476,7 +476,7 @@ def point_samples(base: Config, fixed: list) -> float:
     """The samples one point's run needs, as its study estimates them for the base with the fixed overrides
     (:func:`tirecli.limits.recorded_estimates`; at least 1: the point's row of the results). A base the study
     refuses counts 1 (each point's own check then names the problem)."""
-    from tirecli.studies.base import check_study
+    from tirecli.studies.registry import check as check_study
 
     with limits.recorded_estimates() as seen, limits.budget(limits.MAX_MAX_SAMPLES):
         try:

@@ -215,10 +215,15 @@ def run(command: str, config: Path, set_: Optional[List[str]], out: Optional[str
 
     budget = max_samples(max_samples_)
     target = jx.target(junit, inputs=[config], outputs=run_outputs(out)) if junit is not None else None
+
+    def outputs_of(out_dir, study):  # the study's own files too (fitted.yaml), once it is known
+        if target is not None:
+            jx.target(junit, inputs=[config], outputs=run_outputs(out, study.files))
+
     t0 = time.perf_counter()
     try:
         return run_config(command, config, overrides(set_) + list(extra), out, progress(), budget,
-                          data_format=data_format)
+                          data_format=data_format, on_study=outputs_of)
     except (UsageError, Interrupted):
         raise
     except Exception as exc:
@@ -235,12 +240,33 @@ def run(command: str, config: Path, set_: Optional[List[str]], out: Optional[str
         raise
 
 
-def run_outputs(out: Optional[str]) -> list[Path]:
-    """What a run command writes in ``--out`` (files, and folders it writes into), for refusing a
-    ``--junit`` there before the run (none when the folder is the default, known only after loading)."""
+def run_outputs(out, files=()) -> list[Path]:
+    """What a run command writes in ``--out`` (files, and folders it writes into; ``files``: the study's
+    own, known once the config is read), for refusing a ``--junit`` there before the run (none when the
+    folder is the default, known only after loading)."""
+    from tirecli.app.run import RUN_OUTPUTS
+
     if out is None or not str(out).strip():
         return []
-    return [Path(out) / name for name in ("run.json", "data", "figures", "fitted.yaml", "calibrated.yaml")]
+    return [Path(out) / name for name in (*RUN_OUTPUTS, *files)]
+
+
+def run_command(command: str, config: Path, set_: Optional[List[str]], out: Optional[str], junit: Optional[str],
+                strict: bool, max_samples_: Optional[str] = None, extra: list[str] | tuple = (),
+                data_format: str = "csv") -> None:
+    """A run command (``sweep``, ``simulate``, ``compare``, ``fit``, ``observe``): the run (:func:`run`), the
+    study's summary lines, the extra files written, then :func:`finish`."""
+    summary = run(command, config, set_, out, junit, extra=extra, max_samples_=max_samples_, data_format=data_format)
+    for line in summary.lines:
+        if line.kind == "warning":
+            warn(line.text)
+        elif line.kind == "note":
+            echo(line.text)
+        else:
+            result_line(line.text)
+    for name in summary.result.files:
+        result_line(f"wrote {Path(summary.out) / name}")
+    finish(summary, command, config, junit, strict, overridden=bool(set_))
 
 
 def finish(summary, command: str, config: Path, junit: Optional[str], strict: bool, overridden: bool) -> None:

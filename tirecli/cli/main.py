@@ -22,7 +22,7 @@ import traceback
 
 import typer
 
-from tirecli import __version__
+from tirecli._version import __version__
 from tirecli.cli import campaign, common, compare, data, figures, fit, mf, observe, params, report, simulate, sweep, tir
 
 app = typer.Typer(

@@ -33,7 +33,7 @@ def require(result, study: str, fid: str, family: str | None = None) -> None:
 
 
 def _reference(result) -> bool:
-    from tirecli.studies.mcps import reference_tire
+    from tirecli.studies.mcps.common import reference_tire
 
     return reference_tire(result.parameter_sets["tire"])
 

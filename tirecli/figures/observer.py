@@ -87,7 +87,7 @@ def draw_obs_fig2(result):
 
 
 def _slow_mode_note(result) -> str:
-    """The slow mode of the first 'theta known' case (computed by the study, :func:`tirecli.studies.observe.slow_mode`)."""
+    """The slow mode of the first 'theta known' case (computed by the study, :func:`tirecli.studies.observe.running.slow_mode`)."""
     for case, _, _ in _runs(result):
         if case.label.startswith("theta known"):
             sm = result.payload.get("slow_mode", {}).get(case.label)

@@ -78,9 +78,9 @@ def sha256(data: bytes) -> str:
 def code_fingerprint() -> str:
     """SHA-256 over tirecli's Python source (relative path and bytes of each ``.py`` file): a change
     of any code invalidates every entry, whatever the version number says."""
-    import tirecli
+    from tirecli import _version
 
-    root = Path(tirecli.__file__).resolve().parent
+    root = Path(_version.__file__).resolve().parent
     h = hashlib.sha256()
     for path in sorted(root.rglob("*.py")):
         h.update(str(path.relative_to(root)).encode() + b"\0")

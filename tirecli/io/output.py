@@ -522,7 +522,7 @@ def lib_version(name: str) -> str:
 def environment() -> dict:
     """Versions that matter for reproducing a run (read from the installed packages' metadata: a
     report taken from the cache imports neither scipy, pandas nor matplotlib)."""
-    from tirecli import __version__
+    from tirecli._version import __version__
 
     return {
         "tirecli": __version__,

@@ -16,7 +16,7 @@ from pathlib import Path
 
 import jinja2
 
-from tirecli import __version__
+from tirecli._version import __version__
 from tirecli.figures.registry import PAPERS, load_all
 from tirecli.io import output
 from tirecli.io.atomic import out_path, staged_dir
@@ -26,7 +26,8 @@ from tirecli.parallel import default_jobs
 from tirecli.report.cards import card_files, page_image
 from tirecli.report import work
 from tirecli.report.docs import card_doc, link_sources, write_docs
-from tirecli.studies.base import Check, builtin_config
+from tirecli.studies.base import Check
+from tirecli.studies.configs import builtin_config
 
 PAPER_ORDER = ["FM", "OBS", "MF", "MCPS"]
 
