@@ -17,45 +17,68 @@ events) produces ``v``, ``r omega`` and ``mu`` itself: no interpolated kinematic
 and the unlock happen in the model where the candidate parameters put them.
 
 **Channels and weights.** Each channel's residual is divided by its scale ``s_c`` (in the
-channel's unit), which should be its noise level: then every channel counts by its information
-and the weighted residuals have unit variance. ``scales`` gives them (e.g. the logger's noise
-levels); by default (:data:`WEIGHTING` ``"noise"``) they are estimated: a first fit with each
-channel scaled by its range over the samples compared, then each channel's scale set to the RMS of
-its residuals there (not below :data:`SCALE_FLOOR` times its range: a channel the model reproduces
-to the solver's accuracy must not take all the weight) and the fit repeated (maximum likelihood
-with one unknown noise level per channel). ``"range"`` keeps the range scales. The statistics
-(standard errors, intervals, correlations; :func:`tirecli.numerics.identify._stats`) come from the
-weighted residuals and the Jacobian at the optimum, so they assume the scales are right up to one
-common factor.
+channel's unit), which should be its noise level: then every channel counts by its information and
+the weighted residuals have unit variance. ``scales`` gives them (e.g. the logger's noise levels).
+By default (``weighting="noise"``) they are estimated: stages 1-2 (below) scale each channel by its
+range over the samples compared; then each channel's scale is set to the RMS of its residuals at
+that optimum and stage 2 repeated, until no scale changes by more than 20 % (at most
+:data:`REWEIGHTS` times; maximum likelihood with one unknown noise level per channel). A scale never
+falls below ``tol_final`` (the simulator's own accuracy, in the channel's unit: its error control
+works in m/s for the speeds and in friction units for the tire) nor below :data:`SCALE_FLOOR` times
+the range: a channel the model reproduces to the solver's accuracy (a noise-free ``mu``) must not
+take all the weight. ``"range"`` keeps the range scales. The statistics (standard errors, Student-t
+intervals, correlations: :func:`tirecli.numerics.identify._stats`) come from the weighted residuals
+and the Jacobian at the optimum, so they hold when the scales are right up to one common factor and
+the input is exact: noise on the measured torque or pressure (errors in the input) biases the
+estimates and is not in the intervals.
 
 **Input between samples.** ``torque`` is a profile (:mod:`tirecli.models.profiles`) in the data's
 time: the config's profile when the data are synthetic from a config, or
 :func:`torque_from_samples` through the measured samples, ``linear`` (first-order hold, the
-default) or ``zoh`` (zero-order hold, for a logger that holds its last value).
+default) or ``zoh`` (zero-order hold, for a logger that holds its last value). While the wheel is
+locked a brake transmits only the torque that holds it: the input is the brake's torque (pressure
+times gain), not the transmitted one.
 
 **Initial state.** The run starts at the first sample with undeflected bristles, ``v0`` and
-``omega0`` from the first samples (or given). With noisy speeds ``v0`` should be fitted (a wrong
-initial speed shifts the whole ``v(t)``): add ``"v0"`` to ``free`` (then ``omega0`` moves with it,
-keeping the initial slip), or ``"omega0"`` for the wheel too.
+``omega0`` from the first samples (or given). With noisy speeds fit ``v0`` (add ``"v0"`` to
+``free``; ``omega0`` then moves with it, keeping the initial slip: a wrong initial speed shifts the
+whole ``v(t)``) and compare from a few samples on (``use``): the wheel's start transient depends
+on the initial slip, which a noisy first sample does not give (or fit ``"omega0"`` too).
 
-**Jacobian.** Forward differences, each parameter moved by :attr:`OEOptions.fd_step` times its
-magnitude (at least a hundredth of its bound range) towards the inside of its bounds, one run per
-parameter. An adaptive integrator's result is not a smooth function of the parameters: a change of
-its step sequence moves it by about the tolerance, so the step must move the outputs well above the
-solver's accuracy (``fd_step`` 1e-3 against ``tol`` <= 1e-4; the forward difference's own error,
-``fd_step`` relative, only slows the Gauss-Newton steps). A lock or release time moves with the
-parameters, but ``v``, ``omega`` and ``mu`` stay continuous through it (only their slopes jump), so
-a difference straddling an event is bounded and touches the one or two samples nearest it.
+**Jacobian.** Forward differences, each parameter moved by :attr:`OEOptions.fd_step` (1e-6) times
+its magnitude (at least a hundredth of its bound range) towards the inside of its bounds, one run
+per parameter. An adaptive integrator's result is a piecewise smooth function of the parameters:
+smooth while its discrete decisions (a step accepted or rejected, a step shortened to end on a
+sample) stay the same, with jumps of about the tolerance where one flips. A relative step of 1e-6
+almost never flips one, so the difference is the derivative of the smooth piece, accurate to about
+the solver's tolerance; a step of 1e-3 flips many and its truncation error is large where the
+wheel runs into the lock (measured on a braking with a lock, from parameters 0.1-0.4 % off: one
+Gauss-Newton step lands within 1.2e-4 of the truth with 1e-6 at ``tol`` 3e-5 and within 4e-4 at
+``tol`` 1e-4, but barely moves (3.4e-3 left) with 1e-3 at ``tol`` 1e-4; at ``tol`` 3e-4 no step
+size does better than 3e-3). A lock or release time moves with the parameters, but ``v``, ``omega`` and ``mu`` stay
+continuous through it (only their slopes jump): a difference straddling an event is bounded and
+touches the one or two samples nearest it.
 
-**Stages.** The iterations run at the loose :attr:`OEOptions.tol` (each run a fraction of a second),
-then a few Gauss-Newton iterations at the tight :attr:`OEOptions.tol_final` refine the optimum and
-give the Jacobian of the statistics (a Gauss-Newton step from near the optimum converges in one or
-two iterations; the tight runs cost ~5x the loose ones).
+**Stages.** 1: trust-region least squares (``scipy.optimize.least_squares``, ``trf``) with runs
+at :attr:`OEOptions.tol` (1e-4). 2: the same from there with runs at ``tol_final`` (3e-5), the
+Jacobian kept while the parameters move less than ``refresh`` (a chord method: near the optimum a
+step costs one run instead of one per parameter more); the statistics use a Jacobian computed
+within ``refresh`` of the final point. 3 (``weighting="noise"``): re-weighting, each followed by stage 2.
+
+**Starting values.** With a wheel lock the cost has local minima: where the model locks and
+unlocks earlier or later than the data, the speeds part for the rest of the record. Start from
+estimates within a few per cent, e.g. the steady-state fit of FM eq. (4) to the ``(s, v, mu)``
+samples (:func:`tirecli.numerics.identify.fit_steady_state`) or the equation-error fit with the
+distributed model (:func:`tirecli.numerics.identify.fit_distributed`) on low-noise kinematics.
+Measured on a SYNTHETIC braking that locks the wheel: from the steady-state fit on noisy samples
+(5-10 % off) the fit reaches the optimum; from FM Table 1's values (``v_s`` 19 % off, no lock in the
+model) it ends in a local minimum (``r omega`` residual 1.2 m/s RMS, ``residual_rms`` large).
 
 **Identifiability.** The weighted Jacobian with each column scaled by its parameter's magnitude
 is decomposed (SVD); singular values below :data:`RANK_RTOL` times the largest span directions the
-data do not determine. The parameters with a weight above :data:`NULL_WEIGHT` in such a direction
-are named (``extra["not_identifiable"]``) and get no interval (NaN standard error and bounds).
+data do not determine (the forward differences resolve about 1e-6 of a column). The parameters with
+a weight above :data:`NULL_WEIGHT` in such a direction are named (``extra["not_identifiable"]``,
+and in ``message``) and get no interval (NaN standard error and bounds).
 
 No I/O. Public entry: :func:`fit_output_error`.
 """
@@ -72,7 +95,7 @@ from tirecli.models.profiles import Constant, Table
 from tirecli.models.variants import FrictionVariant
 from tirecli.models.vehicle import QuarterCarParams
 from tirecli.numerics import runs
-from tirecli.numerics.identify import FitResult, _Space, _rms
+from tirecli.numerics.identify import UNITS, FitResult, _Space, _rms
 
 #: Tire parameters the output-error fit may free.
 OE_PARAMETERS = ("sigma0", "sigma1", "sigma2", "mu_c", "mu_s", "v_s", "alpha")
@@ -81,18 +104,19 @@ INITIAL_PARAMETERS = ("v0", "omega0")
 #: The measured channels it compares, and their units.
 CHANNELS = ("v", "romega", "mu")
 CHANNEL_UNITS = {"v": "m/s", "romega": "m/s", "mu": "-"}
+#: Units of the initial-state parameters (the tire's: :data:`tirecli.numerics.identify.UNITS`).
+INITIAL_UNITS = {"v0": "m/s", "omega0": "rad/s"}
 #: Channel weighting (module doc).
 WEIGHTINGS = ("noise", "range")
 #: Smallest estimated channel scale, relative to the channel's range over the samples compared.
 SCALE_FLOOR = 1e-6
+#: Most re-weightings of ``weighting="noise"`` (each followed by stage-2 iterations); they stop when no scale
+#: changes by more than 20 %.
+REWEIGHTS = 4
 #: Singular values of the scaled Jacobian below this fraction of the largest: directions the data do not determine.
-RANK_RTOL = 1e-7
+RANK_RTOL = 1e-6
 #: Weight (squared component) of a parameter in an undetermined direction above which it is named.
 NULL_WEIGHT = 0.05
-#: Measured slip beyond which a braked wheel is taken to run into a lock: the continuation stage ends before it.
-CONTINUATION_SLIP = 0.2
-#: Fewest samples compared per fitted parameter in a stage.
-MIN_PER_PARAMETER = 3
 #: Weighted residual of a run that failed (a step-size underflow at absurd candidate parameters): large and finite,
 #: so the trust region shrinks back.
 FAILED_RESIDUAL = 1e6
@@ -107,37 +131,33 @@ class OEOptions:
     tol : float
         Local error tolerance of the runs of stage 1 (m/s for the speeds, friction units for the tire).
     fd_step : float
-        Relative forward-difference step of the Jacobian in stage 1.
-    ftol : float
-        Stage 1 ends when an iteration lowers the cost by less than this fraction (or after ``max_nfev`` runs).
+        Relative forward-difference step of the Jacobians (module doc, *Jacobian*).
+    ftol, xtol : float
+        Stage 1 ends when an iteration lowers the cost by less than ``ftol`` of it, or moves the
+        (scaled) parameters by less than ``xtol`` of their size (or after ``max_nfev`` runs of the residual).
     max_nfev : int
         Most residual runs of stage 1 (each Jacobian costs one run per free parameter more).
     tol_final : float
-        Tolerance of the runs of stage 2 and of the statistics.
-    fd_step_final : float
-        Relative central-difference step of the Jacobian of stage 2.
+        Tolerance of the runs of stages 2-3 and of the statistics; also the smallest channel scale.
     final_nfev : int
-        Most residual runs of stage 2.
+        Most residual runs of each pass of stage 2.
     refresh : float
         Stage 2 recomputes its Jacobian when the parameters have moved by more than this fraction of
         their magnitude since it was computed (and at the end, for the statistics).
-    continuation : bool
-        Fit the samples before the wheel runs into a lock first (stage 0).
     h_max : float
         Largest solver step [s].
     v_stop : float
         The runs end when ``v`` falls to it [m/s] (later samples compare with the end state).
     """
 
-    tol: float = 3e-4
-    fd_step: float = 1e-3
-    ftol: float = 0.25
-    max_nfev: int = 30
+    tol: float = 1e-4
+    fd_step: float = 1e-6
+    ftol: float = 1e-8
+    xtol: float = 1e-7
+    max_nfev: int = 40
     tol_final: float = 3e-5
-    fd_step_final: float = 1e-4
-    final_nfev: int = 8
+    final_nfev: int = 4
     refresh: float = 1e-3
-    continuation: bool = True
     h_max: float = 0.05
     v_stop: float = 0.1
 
@@ -223,12 +243,20 @@ class _Problem:
         self.cache[key] = out
         return out
 
-    def residual(self, model: dict | None, scales: dict | None = None) -> np.ndarray:
-        """Weighted residuals ``(model - data)/scale`` of every channel at its samples compared, stacked."""
-        sc = self.scales if scales is None else scales
+    def weights(self) -> np.ndarray:
+        """``1/scale`` of each stacked residual (channels in order, their samples compared)."""
+        return np.concatenate([np.full(int(u.sum()), 1.0 / self.scales[c]) for c, u in self.use.items()])
+
+    def stacked(self, model: dict | None) -> np.ndarray:
+        """Unweighted residuals ``model - data`` of every channel at its samples compared, stacked (a failed run:
+        :data:`FAILED_RESIDUAL` times each channel's scale)."""
         if model is None:
-            return np.full(self.n, FAILED_RESIDUAL)
-        return np.concatenate([(model[c][u] - self.data[c][u]) / sc[c] for c, u in self.use.items()])
+            return FAILED_RESIDUAL / self.weights()
+        return np.concatenate([model[c][u] - self.data[c][u] for c, u in self.use.items()])
+
+    def residual(self, model: dict | None) -> np.ndarray:
+        """Weighted residuals ``(model - data)/scale``, stacked."""
+        return self.stacked(model) * self.weights()
 
     @property
     def n(self) -> int:
@@ -238,25 +266,30 @@ class _Problem:
         """Unweighted residuals per channel at the samples compared."""
         return {c: model[c][u] - self.data[c][u] for c, u in self.use.items()}
 
-    def jacobian(self, sp: _Space, xi, tol: float, step: float, central: bool = False) -> np.ndarray:
-        """Finite-difference Jacobian of the weighted residuals in the public coordinates (module doc):
-        forward differences, or ``central`` ones where both sides lie within the bounds."""
+    def jacobian(self, sp: _Space, xi, tol: float, step: float) -> np.ndarray:
+        """Forward-difference Jacobian of the unweighted stacked residuals in the public coordinates (module doc)."""
         pub = sp.public(xi)
-        base = self.residual(self.simulate(pub, tol)[0])
+        base = self.stacked(self.simulate(pub, tol)[0])
         J = np.empty((base.size, len(sp.free)))
         for i, k in enumerate(sp.free):
             lo, hi = sp.plo[k], sp.phi[k]
             h = step * max(abs(pub[k]), 0.01 * (hi - lo))
-            if central and lo <= pub[k] - h and pub[k] + h <= hi:
-                up = self.residual(self.simulate({**pub, k: pub[k] + h}, tol)[0])
-                down = self.residual(self.simulate({**pub, k: pub[k] - h}, tol)[0])
-                J[:, i] = (up - down) / (2.0 * h)
-                continue
             if pub[k] + h > hi:
                 h = -h
-            moved = self.residual(self.simulate({**pub, k: pub[k] + h}, tol)[0])
+            moved = self.stacked(self.simulate({**pub, k: pub[k] + h}, tol)[0])
             J[:, i] = (moved - base) / h
         return J
+
+
+class _Start:
+    """A parameter set with the initial speeds as further attributes (the starting values of :class:`_Space`)."""
+
+    def __init__(self, p: LuGreParams, **initial):
+        self._p = p
+        self.__dict__.update(initial)
+
+    def __getattr__(self, name):
+        return getattr(self._p, name)
 
 
 def _ranges(data: dict, use: dict) -> dict:
@@ -299,34 +332,15 @@ def _channels(t, given: dict, use):
     return data, {c: m & np.isfinite(data[c]) for c, m in masks.items()}
 
 
-def continuation_end(t, data: dict, masks: dict, need: int) -> int | None:
-    """Number of leading samples of the continuation stage (module doc, *Stages*), or None.
-
-    The samples before the first one where the measured slip ``|r omega - v| / max(v, r omega)`` exceeds
-    :data:`CONTINUATION_SLIP`, when there is one and at least ``need`` samples are compared before it.
-    """
-    if "v" not in data or "romega" not in data:
-        return None
-    v, rw = data["v"], data["romega"]
-    with np.errstate(divide="ignore", invalid="ignore"):
-        s = np.abs(rw - v) / np.maximum(np.maximum(v, rw), 1e-9)
-    deep = np.flatnonzero(np.isfinite(s) & (s > CONTINUATION_SLIP))
-    if deep.size == 0:
-        return None
-    end = int(deep[0])
-    if sum(int(m[:end].sum()) for m in masks.values()) < need:
-        return None
-    return end
-
-
 def _coarse(prob: _Problem, sp: _Space, xi, o: OEOptions):
     """Stage 1 of a problem (module doc): trust-region least squares at the loose tolerance, forward differences."""
     from scipy.optimize import least_squares
 
     with np.errstate(all="ignore"):
         return least_squares(lambda x: prob.residual(prob.simulate(sp.public(x), o.tol)[0]), xi,
-                             jac=lambda x: prob.jacobian(sp, x, o.tol, o.fd_step) @ sp.T, bounds=(sp.lb, sp.ub),
-                             x_scale="jac", method="trf", xtol=1e-8, ftol=o.ftol, gtol=1e-12, max_nfev=o.max_nfev)
+                             jac=lambda x: (prob.jacobian(sp, x, o.tol, o.fd_step) * prob.weights()[:, None]) @ sp.T,
+                             bounds=(sp.lb, sp.ub),
+                             x_scale="jac", method="trf", xtol=o.xtol, ftol=o.ftol, gtol=1e-12, max_nfev=o.max_nfev)
 
 
 def _record(sol, runs: int) -> dict:
@@ -409,8 +423,8 @@ def fit_output_error(t, torque, start: LuGreParams, car: QuarterCarParams, *, v=
     o = options
     prob = _Problem(t, data, masks, torque, theta, start, car, variant, v0, omega0, o)
     all_bounds = {"v0": (0.8 * v0, 1.2 * v0 + 1e-3), "omega0": (0.5 * omega0, 1.5 * omega0 + 1e-3), **(bounds or {})}
-    init = {"v0": v0, "omega0": omega0, **(initial or {})}
-    sp = _Space(free, start, all_bounds, init, OE_PARAMETERS + INITIAL_PARAMETERS, pad=1e-6)
+    sp = _Space(free, _Start(start, v0=v0, omega0=omega0), all_bounds, initial, OE_PARAMETERS + INITIAL_PARAMETERS,
+                pad=1e-6)
     spans = {k: sp.phi[k] - sp.plo[k] for k in sp.free}
     ranges = _ranges(data, masks)
     prob.scales = {c: float(scales[c]) for c in data} if scales is not None else dict(ranges)
@@ -420,60 +434,62 @@ def fit_output_error(t, torque, start: LuGreParams, car: QuarterCarParams, *, v=
         pa, pb = sp.public(xa), sp.public(xb)
         return max(abs(pa[k] - pb[k]) / max(abs(pb[k]), 0.01 * spans[k]) for k in sp.free)
 
-    stages, xi = {}, sp.xi0
-    # stage 0: the samples before the wheel runs into a lock (module doc)
-    end = continuation_end(t, data, masks, MIN_PER_PARAMETER * len(sp.free) + 1) if o.continuation else None
-    if end is not None:
-        part = _Problem(t[:end], {c: a[:end] for c, a in data.items()}, {c: m[:end] for c, m in masks.items()},
-                        torque, theta, start, car, variant, v0, omega0, o)
-        part.scales = prob.scales
-        sol0 = _coarse(part, sp, xi, o)
-        xi = sol0.x
-        stages["stage0"] = {**_record(sol0, part.runs), "samples": int(end), "t_end": float(t[end - 1])}
-    # stage 1: all samples, loose tolerance
-    sol = _coarse(prob, sp, xi, o)
+    # stage 1: loose tolerance (module doc, *Stages*)
+    sol = _coarse(prob, sp, sp.xi0, o)
     xi, nfev, njev = sol.x, sol.nfev, sol.njev or 0
-    stages["stage1"] = _record(sol, prob.runs)
-    if scales is None and weighting == "noise":  # each channel by its residual RMS (module doc)
-        raw = prob.raw(prob.simulate(sp.public(xi), o.tol)[0])
-        prob.scales = {c: max(_rms(r), SCALE_FLOOR * ranges[c]) for c, r in raw.items()}
-    # stage 2: tight tolerance, central differences, the Jacobian kept while the parameters move little
+    stages = {"stage1": _record(sol, prob.runs)}
+    # stages 2-3: tight tolerance, the Jacobian kept while the parameters move little (a chord method)
     chord = {"x": None, "J": None}
 
     def jac_final(x):
         nonlocal njev
         if chord["x"] is None or moved(x, chord["x"]) > o.refresh:
-            chord["J"] = prob.jacobian(sp, x, o.tol_final, o.fd_step_final, central=True)
+            chord["J"] = prob.jacobian(sp, x, o.tol_final, o.fd_step)
             chord["x"] = np.array(x, dtype=float)
             njev += 1
-        return chord["J"] @ sp.T
+        return (chord["J"] * prob.weights()[:, None]) @ sp.T
 
-    if o.final_nfev > 0:
-        runs1 = prob.runs
+    def polish(x, name):
+        nonlocal nfev, sol
+        runs0 = prob.runs
         with np.errstate(all="ignore"):
-            fin = least_squares(lambda x: prob.residual(prob.simulate(sp.public(x), o.tol_final)[0]), xi, jac=jac_final,
+            fin = least_squares(lambda z: prob.residual(prob.simulate(sp.public(z), o.tol_final)[0]), x, jac=jac_final,
                                 bounds=(sp.lb, sp.ub), x_scale="jac", method="trf", xtol=1e-10, ftol=1e-8, gtol=1e-12,
                                 max_nfev=o.final_nfev)
-        xi, nfev = fin.x, nfev + fin.nfev
-        stages["stage2"] = _record(fin, prob.runs - runs1)
+        nfev += fin.nfev
+        stages[name] = _record(fin, prob.runs - runs0)
         sol = fin if fin.success or not sol.success else sol
+        return fin.x
+
+    if o.final_nfev > 0:
+        xi = polish(xi, "stage2")
+    if scales is None and weighting == "noise":  # each channel by its residual RMS (module doc)
+        for k in range(REWEIGHTS):
+            raw = prob.raw(prob.simulate(sp.public(xi), o.tol_final)[0])
+            new = {c: max(_rms(r), SCALE_FLOOR * ranges[c], o.tol_final) for c, r in raw.items()}
+            settled = all(abs(np.log(new[c] / prob.scales[c])) < np.log(1.2) for c in new) and k > 0
+            prob.scales = new
+            if settled or o.final_nfev == 0:
+                break
+            xi = polish(xi, f"stage3.{k + 1}")
     x = sp.snap(xi)
     pub = sp.public(x)
     model, tr = prob.simulate(pub, o.tol_final)
     resid = prob.residual(model)
     jac_final(x)
-    Jp = chord["J"]
+    Jp = chord["J"] * prob.weights()[:, None]
     raw = prob.raw(model) if model is not None else {c: np.full(int(u.sum()), np.nan) for c, u in masks.items()}
     locks = [[a + prob.t0, None if b is None else b + prob.t0] for a, b in tr.events["lock"]] if tr is not None else []
     named, rel = identifiability(Jp, sp.free, pub, spans)
     extra = {"method": "output-error", "channels": list(data), "scales": dict(prob.scales),
              "weighting": "given" if scales is not None else weighting,
              "channel_rms": {c: _rms(r) for c, r in raw.items()}, "weighted_rms": _rms(resid),
-             "runs": prob.runs + sum(s_.get("runs", 0) for k, s_ in stages.items() if k == "stage0"),
+             "runs": prob.runs,
              "njev": int(njev), "tol": o.tol, "tol_final": o.tol_final, "jacobian_moved": moved(x, chord["x"]),
              **stages, "wall_time_s": round(time.perf_counter() - wall, 3), "locks": locks,
              "initial_state": dict(zip(("v0", "omega0"), prob.initial(pub))),
-             "smallest_relative_singular_value": rel, "not_identifiable": named}
+             "smallest_relative_singular_value": rel, "not_identifiable": named,
+             "units": {k: INITIAL_UNITS.get(k, UNITS.get(k, "-")) for k in sp.free}}
     res = sp.result(Jp, resid, x, confidence, prob.n, sol, extra)
     res.nfev = int(nfev)
     if "mu" in raw:
