@@ -161,18 +161,20 @@ def _plan_stage(stage: Stage, data: FitData, o: FitOptions, start: MFTire, plann
     mask = data.sweep[stage.points or stage.sweep] & usable
     n = int(np.count_nonzero(mask))
     cen = census(data, mask, o, start)
+    # what the data identify is judged on the points of the stage's own sweep: a combined stage also fits
+    # the pure lateral points (G_xa = 1 at kappa = 0), which say nothing about its load or camber terms
+    own = census(data, need, o, start)
     status, bounds = {}, {}
     for c in stage.coefs:
         if c.name in o.fix:
             status[c.name] = "fixed by the options"
         else:
-            unmet = [NEEDS[k] for k in c.needs if not cen.met[k]]
-            status[c.name] = f"{unmet[0]} in the points of this stage" if unmet else ""
+            unmet = [NEEDS[k] for k in c.needs if not own.met[k]]
+            status[c.name] = f"{unmet[0]} in the {sweep_text} points" if unmet else ""
         bounds[c.name] = tuple(o.bounds.get(c.name, default_bounds(c.name, start.coef[c.name])))
     x = data.inputs
     # reference levels: those nearest FNOMIN, zero inclination and NOMPRES among the points of the sweep the
     # stage needs (the combined sweeps of a rig may all be at one pressure), then the points at those levels
-    own = census(data, need, o, start)
     ref = (own.loads.centres[own.loads.nearest(start.coef["FNOMIN"])], own.cambers.centres[own.cambers.nearest(0.0)],
            None if own.pressures is None else own.pressures.centres[own.pressures.nearest(start.nominal_pressure)])
     ref_load = cen.loads.index == cen.loads.nearest(ref[0])
