@@ -267,7 +267,8 @@ def test_collinear_columns_are_named(clean):
 def test_pressure_sweeps_identify_pressure_terms():
     """Three pressures, four inclinations (|gamma| takes three values: gamma, |gamma| and gamma |gamma| act
     differently), three loads, noise-free, from the generating tyre's coefficients times 0.9: every
-    coefficient is identified and comes back within 1e-3 relative (in the sign form the fit took), the
+    coefficient but the two camber terms of the combined-slip weighting (no combined sweep with camber) is
+    identified and comes back within 1e-3 relative (in the sign form the fit took), the
     pressure terms among them; the three slip-stiffness coefficients, exactly determined by three loads,
     may take the other solution through the same three points."""
     t = load_builtin_tire_data("mfeval-255-55r20").tire("mfeval")
@@ -276,9 +277,15 @@ def test_pressure_sweeps_identify_pressure_terms():
                     combined_alphas=deg(1, 3, -3, 6))
     start = MFTire({**t.coef, **{k: t.coef[k] * 0.9 for k in FIT_COEFFICIENTS}}, t.version, t.side, "perturbed")
     r = fit_mf(df, start)
-    assert r.unidentified == {}
+    # the combined sweeps are at zero inclination: the camber terms of the weighting functions' shape (G = 1
+    # at zero slip of the other kind) are not identified by the pure sweeps with camber
+    assert set(r.unidentified) == {"RBX3", "RBY4"}, r.unidentified
+    assert all("combined-slip (both slips non-zero) points" in why for why in r.unidentified.values())
     g = equivalent(t.coef, r.values)
+    # (the combined Fx and Fy stages' other coefficients make up for the kept RBX3 and RBY4 at the points with
+    # camber: not compared one by one)
     off = {c.name: (c.value, g[c.name]) for c in r.coefficients if c.name not in EXACTLY_DETERMINED
+           and c.stage not in ("combined-fx", "combined-fy")
            and abs(c.value - g[c.name]) > 1e-3 * max(abs(g[c.name]), 1e-2)}
     assert not off, off
     k = np.linspace(-0.3, 0.3, 61)

