@@ -128,9 +128,13 @@ def fig_combined(result):
             _empty(ax, "combined")
             continue
         drawn += 1
-        finish(ax, "slip ratio kappa [-]", _CHANNEL[ch] + " (ISO-W)", legend=(ch == "fx"))
+        finish(ax, "slip ratio kappa [-]", _CHANNEL[ch] + " (ISO-W)", legend=False)
     if drawn:
         suptitle(fig, _title(result, "combined slip"))
+        handles, labels = next(ax for ax in axes if ax.get_legend_handles_labels()[0]).get_legend_handles_labels()
+        # below the panels: the curves fill every corner of them
+        fig.legend(handles, labels, loc="outside lower center", ncol=min(len(labels), 4), fontsize=8, frameon=False,
+                   title="markers: data; lines: fit", title_fontsize=8)
     return fig
 
 
@@ -162,7 +166,7 @@ def fig_residuals(result):
             _empty(ax, kind)
             continue
         ax.axhline(0.0, color="0.3", lw=0.8)
-        finish(ax, xlabel, "fit - data [% of peak]", kind)
+        finish(ax, xlabel, "fit - data [% of peak]", kind, outside=True)
         shown += 1
     ax = axes.ravel()[3]
     for j, ch in enumerate(c for c in ("fx", "fy", "mz") if c + "_res" in frame.columns):
@@ -171,7 +175,7 @@ def fig_residuals(result):
         r = r[np.isfinite(r)]
         if r.size:
             ax.hist(r, bins=40, histtype="step", color=COLORS[j], label=f"{ch}: RMS {np.sqrt(np.mean(r * r)):.2f} %")
-    finish(ax, "fit - data [% of peak]", "points", "all points")
+    finish(ax, "fit - data [% of peak]", "points [-]", "all points", outside=True)
     suptitle(fig, _title(result, "residuals"))
     return fig
 
