@@ -3,10 +3,10 @@
 Run: ``python benchmarks/bench_mf_fit.py [--quick]`` (after ``pip install .``). Prints a Markdown table.
 
 Data: SYNTHETIC rig sweeps of the shipped ``mfeval-255-55r20`` (every coefficient group non-zero,
-pressure and camber terms included; :func:`tirecli.numerics.mf_fit.synthetic.rig_sweeps`), 1 % noise of
-each channel's peak, seed 3: pure longitudinal and pure lateral sweeps (350 points each) at five loads
-(0.4 to 1.6 FNOMIN), inclinations -3, 0, 3 deg and pressures 2.2, 2.6, 3.0 bar, and combined-slip sweeps
-(600 points each) at six slip angles and the five loads: 49 500 points. The start tyre is a different one
+pressure and camber terms included; :func:`tirecli.studies.rig_data.synthetic_rig_data`, the ``grid`` layout), 1 % noise of each
+channel's peak, seed 3: pure longitudinal and pure lateral sweeps (410 points each) at five loads (0.4
+to 1.6 FNOMIN), inclinations -3, 0, 3 deg and pressures 2.2, 2.6, 3.0 bar, and combined-slip sweeps
+(410 points each) at six slip angles and the five loads: 49 200 points. The start tyre is a different one
 (``externdata-205-60r15``, FNOMIN 4000 N). The fit runs every stage (pure Fx, Fy, Mz, combined Fx, Fy,
 Mz) with the default options.
 
@@ -27,17 +27,16 @@ N_GOAL_S = 20.0
 
 
 def data(quick: bool):
-    from tirecli.numerics.mf_fit.synthetic import deg, rig_sweeps
     from tirecli.parameters.mf import load_builtin_tire_data
+    from tirecli.studies.rig_data import RigPlan, deg, synthetic_rig_data
 
     gen = load_builtin_tire_data("mfeval-255-55r20").tire("mfeval-255-55r20")
     fz0 = gen.coef["FNOMIN"]
     m = 5 if quick else 1
-    df = rig_sweeps(gen, loads=np.array([0.4, 0.7, 1.0, 1.3, 1.6]) * fz0, cambers=deg(0, -3, 3),
-                    pressures=[2.2e5, 2.6e5, 3.0e5], kappa=np.linspace(-0.25, 0.25, 350 // m),
-                    alpha=np.radians(np.linspace(-12, 12, 350 // m)), combined_alpha=deg(-6, -3, 2, 4, 8, 11),
-                    combined_kappa=np.linspace(-0.25, 0.25, 600 // m), noise=0.01, seed=3)
-    return gen, df
+    plan = RigPlan(layout="grid", loads=tuple(np.array([0.4, 0.7, 1.0, 1.3, 1.6]) * fz0), cambers=deg(-3, 3),
+                   pressures=(2.2e5, 2.6e5, 3.0e5), kappa_max=0.25, alpha_max=np.radians(12), points=410 // m,
+                   combined_alphas=deg(-6, -3, 2, 4, 8, 11))
+    return gen, synthetic_rig_data(gen, "mfeval-255-55r20", plan, noise=0.01, seed=3).frame
 
 
 def main():

@@ -17,7 +17,8 @@ from test_cli import all_commands
 COMMANDS = shell_commands()
 README = [c for c in COMMANDS if c.file == "README.md"]
 #: Files of the user's own that a guide's example names (the text around it describes them).
-USER_FILES = {("docs/transient.md", "my-fit.yaml"), ("docs/transient.md", "braking.csv")}
+USER_FILES = {("docs/transient.md", "my-fit.yaml"), ("docs/transient.md", "braking.csv"),
+              ("docs/data.md", "tirecli-out/mf-fit/fitted.tir")}  # written by the command before it
 #: Parameters that name an input file, and those that name an output.
 INPUTS = ("config", "points", "data", "file")
 OUTPUTS = ("out", "junit")
@@ -102,12 +103,13 @@ def test_documented_command_parses_and_its_files_exist(command):
     the files it reads are in the repository (run from its root), and what it writes git ignores."""
     names, params = parse(command.argv)
     for key in INPUTS:
-        value = params.get(key)
-        if value is None or (key == "file" and not re.search(r"[/.]", str(value))):  # a built-in tyre name
-            continue
-        if (command.file, str(value)) in USER_FILES:
-            continue
-        assert (ROOT / value).is_file(), f"{command.id}: {value} is not in the repository"
+        values = params.get(key)
+        for value in values if isinstance(values, (list, tuple)) else [values]:  # mf fit DATA...: a list
+            if value is None or (key == "file" and not re.search(r"[/.]", str(value))):  # a built-in tyre name
+                continue
+            if (command.file, str(value)) in USER_FILES:
+                continue
+            assert (ROOT / value).is_file(), f"{command.id}: {value} is not in the repository"
     if names[0] in ("sweep", "simulate", "compare", "fit", "observe", "report") and params.get("out") is None:
         params["out"] = "tirecli-out/x"  # the default output folder
     for key in OUTPUTS:

@@ -59,6 +59,7 @@ REDUCE = {
     "observe": {"scenario.duration": "6", "metrics.phases": "[0, 3, 6]"},
     "simulate": {"t_end": "0.6"},
     "fit": {},
+    "mf-fit": {"options.parts": "[longitudinal]"},
 }
 GRID_CAP = 21
 
@@ -167,6 +168,7 @@ def _write_support(d: Path) -> None:
                   and parse(b).get("kind") == "lugre"]
     assert lugre_sets, "README.md lost its LuGre parameter-set example (my-tire.yaml of its tire: forms)"
     (d / "my-tire.yaml").write_text(lugre_sets[0].text)
+    (d / "examples").symlink_to(ROOT / "examples")  # the data files of docs/data.md's configs
     (d / "tyres").mkdir(exist_ok=True)
     shutil.copy(ROOT / "tests" / "data" / "tir" / "mf_185_80R14.tir", d / "tyres" / "my.tir")
     # kinematics: a braking from 20 m/s with a slip rising to 0.15 and back (t, v, s)
@@ -259,7 +261,7 @@ def _run(cli, snippet_dir, block, tmp_path, reduced: bool):
     sets = _reductions(study, data) if reduced else []
     from tirecli.studies import registry
 
-    args = [registry.get(study).command, snippet_dir / block.name, "--out", tmp_path / "out"]  # the study's command
+    args = [*registry.get(study).command.split(), snippet_dir / block.name, "--out", tmp_path / "out"]  # its command
     for s in sets:
         args += ["--set", s]
     code, out, err = cli("--quiet", *args)

@@ -15,28 +15,8 @@ from tirecli.io import tir as tirio
 from tirecli.io.files import check_output_file, exists
 from tirecli.models.magic_formula.tire import VERSION_NAMES
 from tirecli.parameters import mf as mfp
+from tirecli.parameters.mf import read_document
 from tirecli.studies.mf_points import INPUT_COLUMNS, OUTPUT_COLUMNS
-
-
-def read_document(ref: str) -> tuple[tirio.TirDocument, str]:
-    """A ``.tir`` file, its YAML form, or a built-in tyre by name: ``(document, label)``."""
-    if ref in mfp.builtin_tire_names() and not exists(ref):
-        res = mfp.builtin_tire_resource(ref)
-        return tirio.parse_tir(res.read_bytes(), f"<built-in {ref}>"), ref
-    if not exists(ref) and "/" not in ref and not ref.lower().endswith((".tir", ".yaml", ".yml")):
-        import difflib
-
-        from tirecli.parameters.sets import builtin_names
-
-        if ref in builtin_names():
-            raise UsageError(f"{ref}: a LuGre or vehicle parameter set, not a Magic Formula tyre "
-                             f"(see 'tirecli params show {ref}')")
-
-        names = mfp.builtin_tire_names()
-        hint = difflib.get_close_matches(ref, names, n=1)
-        dym = f"; did you mean {hint[0]!r}?" if hint else ""
-        raise UsageError(f"{token(ref)}: no such file and no built-in tyre of that name{dym} (built-in: {', '.join(names)})")
-    return tirio.read_any(ref), ref
 
 
 def tyre_size(v: dict) -> str:

@@ -26,7 +26,9 @@ MaxSamplesOpt = typer.Option(None, "--max-samples", metavar="N",
                              help="Most samples (data rows) a file may hold [default: 1000000].")
 
 
-def _reader(map_, units, convention, rate) -> dict:
+def reader_options(map_, units, convention, rate) -> dict:
+    """The reader options of a command (``--map``, ``--units``, ``--convention``, ``--rate``) as
+    :func:`tirecli.io.readers.read_measured` takes them."""
     return {"mapping": pairs(map_), "units": pairs(units, "--units", "NAME=UNIT", "fz=kN"),
             "convention": convention, "rate": rate}
 
@@ -46,7 +48,7 @@ def show(
     from tirecli.app.data import data_show
 
     with limits.budget(max_samples(max_samples_), config_key=False):
-        blocks = data_show(files, **_reader(map_, units, convention, rate))
+        blocks = data_show(files, **reader_options(map_, units, convention, rate))
     for k, block in enumerate(blocks):
         if k:
             result_line("")
@@ -77,7 +79,7 @@ def convert(
     from tirecli.app.data import data_convert
 
     with limits.budget(max_samples(max_samples_), config_key=False):
-        result_line(data_convert(file, to, out, **_reader(map_, units, convention, rate)))
+        result_line(data_convert(file, to, out, **reader_options(map_, units, convention, rate)))
 
 
 @app.command("synth")

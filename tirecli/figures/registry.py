@@ -94,9 +94,9 @@ def register(id: str, *, paper: str, label: str, title: str, caption, paper_show
 
 #: The modules that register figures, in the order ``get`` searches them (the LuGre steady-state
 #: figures first: a sweep then imports nothing else, which keeps ``tirecli sweep`` start-up short).
-FIGURE_MODULES = ("steady", "transient", "identification", "observer", "magic_formula", "mcps")
+FIGURE_MODULES = ("steady", "transient", "identification", "observer", "magic_formula", "mf_fit", "mcps")
 #: Figure-id prefixes whose module ``get`` tries first (an MCPS run imports no LuGre figure code).
-PREFIX_MODULES = {"mcps-": "mcps"}
+PREFIX_MODULES = {"mcps-": "mcps", "mf-fit-": "mf_fit"}
 
 
 def load_all() -> dict[str, FigureDef]:

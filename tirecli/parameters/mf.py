@@ -458,6 +458,30 @@ def load_builtin_tire_data(name: str) -> TireData:
     return tire_data(tirio.parse_tir(res.read_bytes(), f"<built-in {name}>"))
 
 
+def read_document(ref: str, base_dir: Path | None = None) -> tuple[tirio.TirDocument, str]:
+    """A ``.tir`` file, its YAML form, or a built-in tyre by name: ``(document, label)``; a relative
+    path is read against ``base_dir`` when given (a config's folder). UsageError (one line, with a
+    did-you-mean) for a name that is neither."""
+    from tirecli.errors import UsageError
+    from tirecli.io.files import exists
+
+    path = ref if base_dir is None or Path(ref).is_absolute() else str(Path(base_dir) / ref)
+    if ref in builtin_tire_names() and not exists(path):
+        res = builtin_tire_resource(ref)
+        return tirio.parse_tir(res.read_bytes(), f"<built-in {ref}>"), ref
+    if not exists(path) and "/" not in ref and not ref.lower().endswith((".tir", ".yaml", ".yml")):
+        root = resources.files("tirecli.parameters").joinpath("data")
+        if root.joinpath(ref + ".yaml").is_file():  # a built-in LuGre or vehicle set
+            raise UsageError(f"{ref}: a LuGre or vehicle parameter set, not a Magic Formula tyre "
+                             f"(see 'tirecli params show {ref}')")
+
+        names = builtin_tire_names()
+        hint = difflib.get_close_matches(ref, names, n=1)
+        dym = f"; did you mean {hint[0]!r}?" if hint else ""
+        raise UsageError(f"{token(ref)}: no such file and no built-in tyre of that name{dym} (built-in: {', '.join(names)})")
+    return tirio.read_any(path), ref
+
+
 # --------------------------------------------------------------------------- tyres from coefficients
 
 

@@ -25,6 +25,7 @@ STUDY_MODULES: dict[str, str] = {
     "observe": "tirecli.studies.observe",
     "mf-golden": "tirecli.studies.mf_golden",
     "mf-eval": "tirecli.studies.mf_eval",
+    "mf-fit": "tirecli.studies.mf_fit",
     "mcps-stationary": "tirecli.studies.mcps.stationary",
     "mcps-slider": "tirecli.studies.mcps.slider",
     "mcps-standstill": "tirecli.studies.mcps.standstill",

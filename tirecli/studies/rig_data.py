@@ -15,6 +15,12 @@ Sweeps, in this order, each its own measurement number ``run`` (at the tyre's no
 5. pressure: the pure longitudinal and lateral sweeps at the nominal load at each further pressure of
    ``pressures``.
 
+With ``layout="grid"`` (the full factorial a fit of every load, camber and pressure term needs): a pure
+longitudinal and a pure lateral sweep at every combination of the loads, the inclinations (zero and
+``cambers``) and the pressures (every one of ``pressures``; the nominal pressure when it is empty), then
+the combined sweeps at every load (zero inclination, the first pressure). ``combined_kappa`` replaces
+the ``kappa`` values of the combined sweeps when given.
+
 Slips, loads, cambers and pressures are kept inside the tyre's ranges (``KPUMIN/KPUMAX``,
 ``ALPMIN/ALPMAX``, ``FZMIN/FZMAX``, ``CAMMIN/CAMMAX``, ``PRESMIN/PRESMAX``), so no value of the data is
 a clipped evaluation. Noise: for each of ``fx, fy, mz, mx, my`` independent normal values of standard
@@ -56,6 +62,10 @@ class RigPlan:
         Samples per sweep.
     dt : float
         Time between samples [s].
+    layout : str
+        ``rig`` (the sweeps above) or ``grid`` (the full factorial; module docstring).
+    combined_kappa : tuple
+        ``kappa`` values of the combined sweeps (empty: those of the longitudinal sweeps).
     """
 
     loads: tuple = ()
@@ -66,11 +76,24 @@ class RigPlan:
     alpha_max: float = 12 * _DEG
     points: int = 41
     dt: float = 0.1
+    layout: str = "rig"
+    combined_kappa: tuple = ()
+
+    def __post_init__(self):
+        if self.layout not in ("rig", "grid"):
+            raise ValueError(f"RigPlan layout {self.layout!r}: expected 'rig' or 'grid'")
 
     def sweeps(self) -> int:
         """Number of sweeps (before the tyre's ranges are known)."""
         loads = len(self.loads) or 3
+        if self.layout == "grid":
+            levels = loads * (1 + len(self.cambers)) * max(len(self.pressures), 1)
+            return 2 * levels + loads * len(self.combined_alphas)
         return 2 * loads + len(self.cambers) + len(self.combined_alphas) + 2 * len(self.pressures)
+
+    def samples(self) -> int:
+        """Number of rows (before the tyre's ranges are known)."""
+        return self.sweeps() * self.points
 
 
 def _inside(value: float, tire, var: str) -> float:
@@ -93,6 +116,8 @@ def plan_rows(tire, plan: RigPlan) -> list[dict]:
     kap = _sweep(tire, "kappa", plan.kappa_max, plan.points)
     alp = _sweep(tire, "alpha", plan.alpha_max, plan.points)
     zero = np.zeros(plan.points)
+    if plan.layout == "grid":
+        return _grid_rows(tire, plan, loads, p0, kap, alp)
     out = []
     for f in loads:
         out.append(dict(kind="pure longitudinal", kappa=kap, alpha=zero, gamma=0.0, fz=f, p=p0))
@@ -107,6 +132,25 @@ def plan_rows(tire, plan: RigPlan) -> list[dict]:
         pp = _inside(p, tire, "p")
         out.append(dict(kind="pressure", kappa=kap, alpha=zero, gamma=0.0, fz=nominal, p=pp))
         out.append(dict(kind="pressure", kappa=zero, alpha=alp, gamma=0.0, fz=nominal, p=pp))
+    return out
+
+
+def _grid_rows(tire, plan: RigPlan, loads, p0, kap, alp) -> list[dict]:
+    """The sweeps of the ``grid`` layout (module docstring)."""
+    pressures = [_inside(p, tire, "p") for p in plan.pressures] if p0 is not None and plan.pressures else [p0]
+    cambers = list(dict.fromkeys([0.0, *(_inside(g, tire, "gamma") for g in plan.cambers)]))
+    zero = np.zeros(plan.points)
+    out = []
+    for p in pressures:
+        for g in cambers:
+            for f in loads:
+                out.append(dict(kind="pure longitudinal", kappa=kap, alpha=zero, gamma=g, fz=f, p=p))
+                out.append(dict(kind="pure lateral", kappa=zero, alpha=alp, gamma=g, fz=f, p=p))
+    ck = np.asarray(plan.combined_kappa, dtype=float) if len(plan.combined_kappa) else kap
+    for f in loads:
+        for a in plan.combined_alphas:
+            out.append(dict(kind="combined", kappa=ck, alpha=np.full(ck.size, _inside(a, tire, "alpha")), gamma=0.0,
+                            fz=f, p=pressures[0]))
     return out
 
 
@@ -132,12 +176,14 @@ def synthetic_rig_data(tire, label: str, plan: RigPlan = RigPlan(), noise: float
     from tirecli.models.magic_formula.radius import effective_rolling_radius, has_radius
 
     sweeps = plan_rows(tire, plan)
-    n = plan.points * len(sweeps)
+    sizes = [max(np.size(s["kappa"]), np.size(s["alpha"])) for s in sweeps]
+    n = int(sum(sizes))
     check_budget(source, n, 16)
     vx = float(tire.reference_speed or 16.7)
     cols = {k: np.empty(n) for k in ("t", "run", "kappa", "alpha", "gamma", "fz", "p", "vx")}
+    ends = np.cumsum(sizes)
     for i, s in enumerate(sweeps):
-        sl = slice(i * plan.points, (i + 1) * plan.points)
+        sl = slice(int(ends[i]) - sizes[i], int(ends[i]))
         cols["run"][sl] = i + 1
         cols["kappa"][sl] = s["kappa"]
         cols["alpha"][sl] = s["alpha"]
@@ -165,7 +211,7 @@ def synthetic_rig_data(tire, label: str, plan: RigPlan = RigPlan(), noise: float
     kinds = ", ".join(f"{sum(s['kind'] == k for s in sweeps)} {k}" for k in dict.fromkeys(s["kind"] for s in sweeps))
     comments = [SYNTHETIC_NOTE,
                 f"tyre: {label} (Magic Formula {tire.version}), evaluated by tirecli (ISO-W axes, SI units)",
-                f"sweeps: {len(sweeps)} ({kinds}), {plan.points} samples each, {plan.dt:g} s apart",
+                f"sweeps: {len(sweeps)} ({kinds}), {_samples(sizes)} each, {plan.dt:g} s apart",
                 f"noise: normal, standard deviation {noise:g} x each force's and moment's largest magnitude; seed {seed}"]
     header = {"MEASID": f"synthetic-{label}", "SUPPLIER": "tirecli (SYNTHETIC DATA, not measured)"}
     if tire.side in ("left", "right"):
@@ -173,8 +219,20 @@ def synthetic_rig_data(tire, label: str, plan: RigPlan = RigPlan(), noise: float
     constants = {"FNOMIN": (float(tire.coef["FNOMIN"]), "N"), "LONGVL": (vx, "m/s")}
     if tire.nominal_pressure:
         constants["NOMPRES"] = (float(tire.nominal_pressure), "Pa")
+    frame.attrs["label"] = (f"SYNTHETIC rig sweeps generated by tirecli from {label} (MF {tire.version}), noise "
+                            f"{100 * noise:g} % of each channel's peak, seed {seed}")
     return MeasuredData(frame, channels, source, "synthetic", "iso", header, comments, constants,
                         [f"generated from {label}"])
 
 
-__all__ = ["RigPlan", "synthetic_rig_data", "plan_rows"]
+def _samples(sizes) -> str:
+    lo, hi = min(sizes), max(sizes)
+    return f"{lo} samples" if lo == hi else f"{lo} to {hi} samples"
+
+
+def deg(*values) -> tuple:
+    """Degrees to radians (a shorthand for sweep definitions: ``cambers=deg(-3, 3)``)."""
+    return tuple(v * _DEG for v in values)
+
+
+__all__ = ["deg", "RigPlan", "synthetic_rig_data", "plan_rows"]

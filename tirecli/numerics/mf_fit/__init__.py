@@ -6,7 +6,7 @@
 - :class:`FitResult` -- fitted tyre, coefficient table with 95 % intervals, correlations, stage reports;
 - :mod:`.stages` (which coefficients, in which order, identified by which data), :mod:`.data` (checks,
   sweeps, levels), :mod:`.model` (a stage's model values), :mod:`.solve` (least squares, identifiability,
-  intervals), :mod:`.synthetic` (SYNTHETIC rig data from a tyre, seeded).
+  intervals). SYNTHETIC rig data to fit come from :func:`tirecli.studies.rig_data.synthetic_rig_data`.
 
 Documentation: docs/models/magic_formula_tyre.md, "Fitting a .tir to measurements".
 """

@@ -28,6 +28,12 @@ from tirecli.numerics.mf_fit.stages import FIT_COEFFICIENTS, GROUPS, NEEDS, PART
 #: RVY6, B_r with QBZ9 and QBZ10.
 SEEDS = {"RBX2": 5.0, "RBY2": 5.0, "RVY4": 20.0, "RVY5": 1.9, "RVY6": 10.0, "QBZ9": 10.0}
 
+#: Load and camber terms of the combined-slip weighting functions' shape: G_xa = 1 at kappa = 0 and G_yk = 1
+#: at alpha = 0 whatever they are, so the pure-slip points a combined stage also fits say nothing about
+#: them; only the combined points (both slips non-zero) identify them (the S_Vyk terms RVY2, RVY3 act at
+#: alpha = 0 too, and are judged on every point of the stage).
+WEIGHTING = frozenset({"REX2", "RBX3", "REY2", "RHY2", "RBY4"})
+
 _SWEEP_TEXT = {"longitudinal": "pure longitudinal (|alpha| <= {a:.2g} deg)",
                "lateral": "pure lateral (|kappa| <= {k:.2g})", "combined": "combined-slip (both slips non-zero)"}
 
@@ -161,10 +167,14 @@ def _plan_stage(stage: Stage, data: FitData, o: FitOptions, start: MFTire, plann
     mask = data.sweep[stage.points or stage.sweep] & usable
     n = int(np.count_nonzero(mask))
     cen = census(data, mask, o, start)
+    own = census(data, need, o, start)
     status, bounds = {}, {}
     for c in stage.coefs:
         if c.name in o.fix:
             status[c.name] = "fixed by the options"
+        elif c.name in WEIGHTING:  # judged on the stage's own sweep (:data:`WEIGHTING`)
+            unmet = [NEEDS[k] for k in c.needs if not own.met[k]]
+            status[c.name] = f"{unmet[0]} in the {sweep_text} points" if unmet else ""
         else:
             unmet = [NEEDS[k] for k in c.needs if not cen.met[k]]
             status[c.name] = f"{unmet[0]} in the points of this stage" if unmet else ""
@@ -172,7 +182,6 @@ def _plan_stage(stage: Stage, data: FitData, o: FitOptions, start: MFTire, plann
     x = data.inputs
     # reference levels: those nearest FNOMIN, zero inclination and NOMPRES among the points of the sweep the
     # stage needs (the combined sweeps of a rig may all be at one pressure), then the points at those levels
-    own = census(data, need, o, start)
     ref = (own.loads.centres[own.loads.nearest(start.coef["FNOMIN"])], own.cambers.centres[own.cambers.nearest(0.0)],
            None if own.pressures is None else own.pressures.centres[own.pressures.nearest(start.nominal_pressure)])
     ref_load = cen.loads.index == cen.loads.nearest(ref[0])
