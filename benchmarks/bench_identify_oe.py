@@ -67,7 +67,7 @@ def main():
     }
     # FM Fig. 4's braking #2 (the data of FM Fig. 6): Table 2 as it is
     from tirecli.config.loader import config_from_text
-    from tirecli.studies.simulate import run_simulate
+    from tirecli.studies.registry import run_study as run_simulate
 
     text = (ROOT / "tirecli" / "studies" / "configs" / "fm-fig4.yaml").read_text()
     sim = config_from_text(text, "<fm-fig4>")

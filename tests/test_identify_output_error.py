@@ -21,7 +21,7 @@ GAIN = 20.0   # N m/bar, the simulate study's default pressure gain
 def braking(model: str, pressure: str, t_end: float, tol: float = 1e-6) -> dict:
     """A SYNTHETIC braking by the simulate study: its result (frames ``measured_clean``, ``measured``)."""
     from tirecli.config.loader import config_from_text
-    from tirecli.studies.simulate import run_simulate
+    from tirecli.studies.registry import run_study as run_simulate
 
     text = f"""\
 study: simulate
