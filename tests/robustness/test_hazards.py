@@ -14,11 +14,14 @@ library warning, no raw control byte.
 """
 from __future__ import annotations
 
+from pathlib import Path
+
 import pytest
 from harness import Result, assert_clean_error, copy_example, run
 
 from tirecli import limits
 
+EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
 #: A run that has not ended after this long hangs (each refusal here takes a second or two).
 HANG_SECONDS = 60
 
@@ -118,3 +121,166 @@ def test_a_fast_oscillating_input_is_in_the_step_estimate(tmp_path, refused_here
                  r"input\.pressure: .*1,999 switches over 5 s")
     code, _, err = cli("params", "validate", cfg2, "--max-samples", "30000")
     assert code == 0, err
+
+
+# --------------------------------------------------------------------------- observe: the work before the run
+
+
+@pytest.mark.parametrize("sets, pattern", [
+    (["observer.gamma=1e30"],
+     r"observer\.gamma: the run would need 3\.9e\+18 samples .* adaptation loop's ringing at 4\.52e\+16 rad/s "
+     r"\(damping ratio 4\.3e-11, .*make it smaller"),
+    (["measurement.rate=100000", "solver.method=lsoda", "scenario.duration=2", "metrics.phases=[0, 1, 2]"],
+     r"measurement\.rate: the run would need .* the lsoda solver's 200,009 restarts .*raise it with --max-samples \d+"),
+    (["measurement.rate=10000", "solver.method=radau"],
+     r"measurement\.rate: the run would need 80,\d{3},\d{3} samples .* the radau solver's 200,009 restarts "
+     r".*raise it with --max-samples 81000000"),
+])
+def test_observe_runs_are_estimated_with_their_solver_and_gains(tmp_path, sets, pattern):
+    """Each of these ran for more than a minute; now each is refused before it starts, with its estimate."""
+    cfg = copy_example("obs-fig2.yaml", tmp_path)
+    r = run(["observe", cfg, "-o", tmp_path / "o"] + [a for s in sets for a in ("--set", s)], timeout=HANG_SECONDS)
+    assert_clean_error(r, 2, pattern)
+    _no_library_noise(r)
+    assert not (tmp_path / "o").exists()
+
+
+def test_a_gain_study_names_the_case(tmp_path, refused_here):
+    cfg = copy_example("obs-gain-study.yaml", tmp_path)
+    refused_here(["observe", cfg, "-o", tmp_path / "o", "--set", "gain_study.values=[2.0e+5, 1.0e+14]"],
+                 r"<command line --set>: gain_study\.values: .*ringing at 4\.52e\+08 rad/s .*\(case gamma = 1e\+14\)")
+
+
+@pytest.mark.parametrize("sets, pattern", [
+    (["observer.alpha=1e30"], r"<command line --set>: observer\.alpha: 1e\+30 is more than an adaptive solver can integrate "
+                              r"in double precision: .* into z_hat .* may be at most about 3e\+06"),
+    (["observer.k1=1e30"], r"observer\.k1: 1e\+30 is more than an adaptive solver .* into eta_hat"),
+    (["scenario.torque=1e9"], r"scenario\.torque: up to 1e\+09 N m is far more than the tyre transmits \(1\.36e\+03 N m\): "
+                              r"the wheel would spin up to \|v_r\| ~ 2\.5e\+08 m/s.*give a torque the tyre can transmit"),
+    (["scenario.torque=1e5"], r"scenario\.torque: the run would need .* ringing .*the torque \(up to 1e\+05 N m, the tyre "
+                              r"transmits 1\.36e\+03\) spins the wheel"),
+])
+def test_gains_and_torques_no_solver_can_follow_are_refused_by_name(tmp_path, refused_here, sets, pattern):
+    """Were a scipy UserWarning ('lsoda: Repeated convergence failures') and exit 1, or a hang."""
+    cfg = copy_example("obs-fig2.yaml", tmp_path)
+    refused_here(["observe", cfg, "-o", tmp_path / "o"] + [a for s in sets for a in ("--set", s)], pattern)
+
+
+def _fig2_case(*sets):
+    from tirecli.config.loader import load_config
+    from tirecli.studies import observe
+
+    p = observe.plan(load_config(EXAMPLES / "obs-fig2.yaml", list(sets)))
+    return p, p.cases[0]
+
+
+def test_a_solver_failure_is_one_line_naming_the_solver():
+    """alpha = 1e7 passes no check here (the plan refuses it: this calls the integrator directly)."""
+    import warnings
+
+    from tirecli.errors import RunError
+    from tirecli.numerics import observer_integrator as oi
+
+    p, case = _fig2_case()
+    gains = case.gains.replace(alpha=1e7)
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        with pytest.raises(RunError) as err:
+            oi.simulate_adaptive(p.plant, gains, case.scenario, case.sensor, method="lsoda", rtol=1e-7)
+    assert not caught, [str(w.message) for w in caught]
+    msg = str(err.value)
+    assert msg.startswith("the lsoda solver failed at t = 7 s (repeated convergence failures): try solver.method: "
+                          "radau or bdf"), msg
+    assert "\n" not in msg and "Unexpected istate" not in msg
+
+
+def test_the_fixed_scheme_failing_is_one_line(monkeypatch):
+    from tirecli.errors import RunError
+    from tirecli.numerics import observer_integrator as oi
+
+    p, case = _fig2_case()
+
+    def overflow(*args, **kwargs):
+        raise OverflowError("math range error")
+
+    monkeypatch.setattr(oi, "simulate_fast", overflow)
+    with pytest.raises(RunError, match=r"^the fixed solver failed at t = 0 s \(overflowerror: math range error\): "
+                                       r"try solver\.method: lsoda or radau"):
+        oi.simulate(p.plant, case.gains, case.scenario, case.sensor, oi.SolverOptions(method="fixed"))
+
+
+def test_work_past_the_budget_stops_a_run_at_once():
+    """The run-time guard: OBS Fig. 2 takes about 3,400 evaluations; at a limit of 1,000 it stops, naming the
+    option that raises the budget; the projection stops a run whose pace would pass the limit."""
+    from tirecli.errors import RunError
+    from tirecli.numerics import observer_integrator as oi
+    from tirecli.numerics.solver_guard import CHECK_EVERY, WorkGuard
+
+    p, case = _fig2_case()
+    with limits.budget(1000), pytest.raises(RunError, match=r"at its pace up to t = .* the lsoda solver would need about "
+                                                           r"[\d,]+ samples; the budget is 1,000 \(raise it with "
+                                                           r"--max-samples \d+"):
+        oi.simulate_adaptive(p.plant, case.gains, case.scenario, case.sensor, method="lsoda", rtol=1e-7)
+    with pytest.raises(RunError, match=r"would need about [\d,]+ evaluations, more than its limit of 1,000;"):
+        oi.simulate_adaptive(p.plant, case.gains, case.scenario, case.sensor, method="lsoda", rtol=1e-7, max_work=1000)
+    guard = WorkGuard("bdf", 0.0, 20.0, limit=1e6)
+    f = guard.wrap(lambda t, x: x)
+    for k in range(CHECK_EVERY * 15):       # 15,000 BDF evaluations (49,500 of LSODA's cost) for the first 0.1 s
+        f(0.1 * k / (CHECK_EVERY * 15), 0.0)
+    with pytest.raises(RunError, match=r"t = 0\.1 s of 20 s \(52,800 evaluations .* would need about 10,560,001 samples"):
+        for k in range(CHECK_EVERY * 2):    # past 5% of the limit (at 16,000): the pace projects 200 times the work
+            f(0.1, 0.0)
+    ok = WorkGuard("lsoda", 0.0, 20.0, limit=1e6).wrap(lambda t, x: x)
+    for k in range(CHECK_EVERY * 60):       # 60,000 evaluations for all 20 s: fine
+        ok(20.0 * k / (CHECK_EVERY * 60), 0.0)
+
+
+def test_the_adaptation_loop_closed_form_matches_the_full_jacobian():
+    """``s^2 + lambda_f s + gamma phi^2 P/J``: its ringing frequency against the eigenvalues of the finite-difference
+    Jacobian of the full 7-state system (plant + observer) at a braking state with theta_hat = theta."""
+    import numpy as np
+
+    from tirecli.numerics import observer_integrator as oi
+    from tirecli.observers import envelope as en
+
+    p, case = _fig2_case()
+    plant, c = p.plant, p.plant.car
+    v, vr = 15.0, -1.8
+    y = (v + vr) / c.r
+    g = float(__import__("tirecli.models.lugre", fromlist=["stribeck"]).stribeck(vr, plant.tire))
+    a_phi = plant.tire.sigma0 * abs(vr) / g
+    z = vr / (a_phi + plant.kappa * c.r * abs(y))           # the steady bristle state, theta = 1
+    X = np.array([v, y, z, c.r * c.m * v + c.J * y, c.J * y + plant.P * z, z, 1.0])
+    for gamma in (1e12, 1e14):
+        gains = case.gains.replace(gamma=gamma)
+        f = oi.scalar_rhs(plant, gains, case.scenario)
+        J = np.empty((7, 7))
+        f0 = f(1.0, X)
+        for i in range(7):
+            h = 1e-7 * max(abs(X[i]), oi.state_scales(plant)[i])
+            Xp = X.copy()
+            Xp[i] += h
+            J[:, i] = (f(1.0, Xp) - f0) / h
+        imag = float(np.max(np.abs(np.linalg.eigvals(J).imag)))
+        wa, zeta = en.adaptation_loop(plant, gains, abs(a_phi * z), 1.0)
+        assert imag == pytest.approx(wa * np.sqrt(1 - zeta ** 2), rel=0.02), (gamma, imag, wa, zeta)
+
+
+def test_the_envelope_of_a_spinning_wheel():
+    """At 5000 N m the OBS plant's wheel spins up until its viscous friction takes the excess torque: the
+    envelope's slip speed r (u - r F_n mu_s)/sigma_w against the run's."""
+    import numpy as np
+
+    from tirecli.numerics import observer_integrator as oi
+    from tirecli.numerics.observer_work import scenario_envelope
+    from tirecli.observers.envelope import knee_slip_speed, steady_phi
+
+    p, case = _fig2_case("scenario.torque=5000", "scenario.duration=5", "metrics.phases=[0, 5]")
+    env = scenario_envelope(p.plant, case.scenario)
+    c, t = p.plant.car, p.plant.tire
+    assert env.spin and env.capacity == pytest.approx(c.r * c.F_n * t.mu_s)
+    tr = oi.simulate_adaptive(p.plant, case.gains, case.scenario, case.sensor, method="lsoda", rtol=1e-6)
+    vr_run = float(np.max(c.r * tr.omega - tr.v))
+    assert 0.8 < env.vr / vr_run < 1.3, (env.vr, vr_run)
+    knee = knee_slip_speed(p.plant, 20.0)
+    assert steady_phi(p.plant, knee, 20.0 - knee) == pytest.approx(knee / 2, rel=1e-9)   # transport = relaxation
