@@ -284,3 +284,37 @@ def test_the_envelope_of_a_spinning_wheel():
     assert 0.8 < env.vr / vr_run < 1.3, (env.vr, vr_run)
     knee = knee_slip_speed(p.plant, 20.0)
     assert steady_phi(p.plant, knee, 20.0 - knee) == pytest.approx(knee / 2, rel=1e-9)   # transport = relaxation
+
+
+# --------------------------------------------------------------------------- control characters in texts
+
+
+@pytest.mark.parametrize("args, pattern", [
+    (["observe", "obs-noise.yaml", "--set", 'cases=[{label: "a\\e[31mred", measurement: {rate: 1000}}]'],
+     r"<command line --set>: cases\[0\]\.label: contains the control character \\x1b \(at character 2\)"),
+    (["simulate", "fm-fig4.yaml", "--set", 'cases=[{model: lumped, label: "bell\\a"}]'],
+     r"cases\[0\]\.label: contains the control character \\x07 \(at character 5\)"),
+    (["sweep", "fm-fig1-left.yaml", "--set", 'title="nul\\0"'], r"title: contains the control character \\x00"),
+    (["sweep", "fm-fig1-left.yaml", "--set", 'tire={set: ./s.yaml}'], r"s\.yaml:3: title: contains the control character \\x1b"),
+])
+def test_control_characters_in_texts_are_refused_at_their_key(tmp_path, refused_here, args, pattern):
+    """They wrote an SVG that is not well-formed XML and sent raw ESC/BEL/NUL to the terminal through
+    matplotlib's missing-glyph warnings."""
+    (tmp_path / "s.yaml").write_text('name: s\nkind: lugre\ntitle: "\\e[2J"\ncitation: none\nvalues: {sigma0: 181.54}\n')
+    args = [str(copy_example(a, tmp_path)) if a.endswith(".yaml") else a for a in args]
+    refused_here(args + ["-o", tmp_path / "o"], pattern)   # ./s.yaml: beside the config
+    assert not (tmp_path / "o").exists()
+
+
+def test_tabs_and_line_breaks_in_texts_are_fine(cli, tmp_path):
+    cfg = copy_example("fm-fig1-left.yaml", tmp_path)
+    code, _, err = cli("params", "validate", cfg)
+    assert code == 0, err
+    from tirecli.config.schema import Context, Str
+    from tirecli.io.yamlio import Origins
+
+    ctx = Context(Origins())
+    assert Str().check("two\tcolumns\nand lines", ("k",), ctx) == "two\tcolumns\nand lines"
+    assert not ctx.problems
+    Str().check("right-to-left \u202e override", ("k",), ctx)
+    assert "\\u202e" in ctx.problems[-1].message
