@@ -318,3 +318,59 @@ def test_tabs_and_line_breaks_in_texts_are_fine(cli, tmp_path):
     assert not ctx.problems
     Str().check("right-to-left \u202e override", ("k",), ctx)
     assert "\\u202e" in ctx.problems[-1].message
+
+
+# --------------------------------------------------------------------------- a fit the data cannot identify
+
+
+def test_a_fit_of_data_that_identify_nothing_is_refused(tmp_path):
+    """40 identical rows (one operating point) wrote fitted.yaml with every parameter at +/- 0 and a zero-width
+    interval; the steady-state Jacobian has rank 1 of 5."""
+    data = tmp_path / "same.csv"
+    data.write_text("t,v,s,mu\n" + "".join(f"{i * 0.01:.2f},20,-0.05,-0.5\n" for i in range(40)))
+    cfg = copy_example("fm-fig6.yaml", tmp_path)
+    r = run(["fit", cfg, "--data", data, "-o", tmp_path / "o"], timeout=HANG_SECONDS)
+    assert_clean_error(r, 2, r"same\.csv: the steady state \(FM eq\. 4\) fit is refused: the data cannot identify any of "
+                             r"the fitted parameters \(sigma0, sigma2, mu_c, mu_s, v_s: the fit's Jacobian has rank 1 of 5")
+    assert not (tmp_path / "o").exists()
+
+
+def test_unidentifiable_parameters_get_no_interval_and_the_others_their_exact_one():
+    """Columns (x, y, x): a and c enter only as a + c (the null direction (1, 0, -1)/sqrt 2): neither is identifiable;
+    b is, with the variance of the full-rank fit in (a + c, b)."""
+    import numpy as np
+
+    from tirecli.numerics.identify import _stats, identifiability
+
+    rng = np.random.default_rng(3)
+    x, y = rng.normal(size=30), rng.normal(size=30)
+    J = np.column_stack([x, y, x])
+    resid = rng.normal(scale=0.1, size=30)
+    names = ["a", "b", "c"]
+    assert identifiability(J, names) == (["a", "c"], 2)
+    st = _stats(J, resid, names, {"a": 1.0, "b": 2.0, "c": 3.0}, dict.fromkeys(names, -10.0), dict.fromkeys(names, 10.0),
+                0.95)
+    assert np.isnan(st["se"]["a"]) and np.isnan(st["se"]["c"]) and np.isnan(st["ci_low"]["a"]) and np.isnan(st["ci_high"]["c"])
+    J2 = np.column_stack([x, y])
+    s2 = float(resid @ resid) / (30 - 3)
+    assert st["se"]["b"] == pytest.approx(np.sqrt(s2 * np.linalg.inv(J2.T @ J2)[1, 1]), rel=1e-9)
+    assert identifiability(np.column_stack([x, y, np.zeros(30)]), names) == (["c"], 2)     # a column of zeros
+    w = rng.normal(size=30)
+    assert identifiability(np.column_stack([x, y, x + 1e-3 * w]), names) == ([], 3)       # nearly, but determined
+
+
+def test_a_partly_identified_fit_says_which_and_claims_no_interval_for_them():
+    import numpy as np
+
+    from tirecli.numerics.identify import FitResult
+
+    nan = float("nan")
+    f = FitResult(names=["a", "b"], estimate={"a": 1.0, "b": 2.0}, se={"a": nan, "b": 0.1}, ci_low={"a": nan, "b": 1.8},
+                  ci_high={"a": nan, "b": 2.2}, corr=np.full((2, 2), nan), cov=np.full((2, 2), nan), at_bound={"a": False, "b": False},
+                  residual_rms=0.01, n=10, dof=8, confidence=0.95, unidentifiable=["a"], rank=1)
+    assert f.failure() is None
+    assert f.identifiability_text() == "the data cannot identify a (a: the fit's Jacobian has rank 1 of 2; e.g. every " \
+                                       "sample at one operating point)"
+    assert f.record()["unidentifiable"] == ["a"]
+    f.unidentifiable = ["a", "b"]
+    assert f.failure().startswith("the data cannot identify any of the fitted parameters")

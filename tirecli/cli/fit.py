@@ -40,6 +40,9 @@ def fit(config: Path = ConfigArg, out: Optional[str] = OutOpt, set_: Optional[Li
                         else "distributed model (all at once, model in the loop):")
         for _, r in rows.iterrows():
             flag = " (on a bound)" if r["at_bound"] else ""
+            if not r.get("identified", True):
+                result_line(f"  {r['parameter']:7s} {r['estimate']:12.6g} NOT IDENTIFIED by these data (no interval)")
+                continue
             result_line(f"  {r['parameter']:7s} {r['estimate']:12.6g} +/- {r['se']:.3g} {r['unit']:4s} "
                         f"CI [{r['ci_low']:.6g}, {r['ci_high']:.6g}]{flag}")
         if fit_name != "distributed":
