@@ -159,6 +159,10 @@ def test_a_gain_study_names_the_case(tmp_path, refused_here):
                               r"the wheel would spin up to \|v_r\| ~ 2\.5e\+08 m/s.*give a torque the tyre can transmit"),
     (["scenario.torque=1e5"], r"scenario\.torque: the run would need .* ringing .*the torque \(up to 1e\+05 N m, the tyre "
                               r"transmits 1\.36e\+03\) spins the wheel"),
+    (["scenario.torque=-1e9"], r"scenario\.torque: up to 1e\+09 N m is far more than the tyre transmits"),
+    (["scenario.v0=1e9"], r"scenario\.v0: 1e\+09 m/s turns the wheel at 4\.18e\+09 rad/s: .*no adaptive solver converges"),
+    (["scenario.theta=1e-9"], r"scenario\.theta: theta_obs from 1e-09 to 1 \(OBS convention\) is beyond the model's range"),
+    (["solver.rtol=1e-15"], r"solver\.rtol: 1e-15 is tighter than the rounding noise .* use 1e-07 \(the default\) or looser"),
 ])
 def test_gains_and_torques_no_solver_can_follow_are_refused_by_name(tmp_path, refused_here, sets, pattern):
     """Were a scipy UserWarning ('lsoda: Repeated convergence failures') and exit 1, or a hang."""

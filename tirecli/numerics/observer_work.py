@@ -124,23 +124,40 @@ def work_terms(plant, gains, scenario, sensor, opts, env: Envelope, profiles=())
     return out
 
 
-def injection_problem(plant, gains, scenario, sensor, opts, env: Envelope) -> tuple[str, str] | None:
-    """``(key, message)`` when an adaptive run cannot converge: the gain ``key`` (``k1``, ``k2``, ``k3`` or
-    ``alpha``) injects more rounding noise than the tolerance allows (module doc), or ``torque`` when only the
-    wheel speed the torque spins up to makes it so; None when the run is fine or will use the fixed scheme
-    (which takes the fast layer in closed form)."""
+def injection_problem(plant, gains, scenario, sensor, opts, env: Envelope, given=()) -> tuple[str, str] | None:
+    """``(key, message)`` when an adaptive run cannot converge because the output injection amplifies rounding
+    noise beyond the tolerance (module doc), with ``key`` the input at fault: the gain (``k1``, ``k2``, ``k3``,
+    ``alpha``) when the user gave it (``given``: the gains the config sets), else what made a usual gain too
+    much: ``torque`` (it spins the wheel up), ``rtol`` (tighter than the default), ``theta`` (an adhesion that
+    makes ``alpha (1 + theta)`` or the knee's slip speed extreme), ``v0`` (the speed), else the gain. None when
+    the run is fine or will use the fixed scheme (which takes the fast layer in closed form)."""
+    from dataclasses import replace
+
+    from tirecli.numerics.observer_integrator import DEFAULT_RTOL
+
     method, _ = planned_method(plant, gains, scenario, sensor, opts, env)
     if method == "fixed":
         return None
-    r = plant.car.r
-    bad = _injection(plant, gains, opts, env.theta_max, (abs(scenario.v0) + env.vr) / r, method)
-    if bad is None:
-        return None
-    if env.spin and _injection(plant, gains, opts, env.theta_max, (abs(scenario.v0) + env.knee) / r, method) is None:
+    r, v0 = plant.car.r, abs(scenario.v0)
+    omega = (v0 + env.vr) / r
+    bad = _injection(plant, gains, opts, env.theta_max, omega, method)
+    if bad is None or bad[0] in given:
+        return bad
+    tail = (f"the observer's output injection then amplifies the rounding noise of the wheel speed ({omega:.3g} rad/s) "
+            f"beyond the tolerance of solver.rtol {opts.rtol:g}, and no adaptive solver converges")
+    if env.spin and _injection(plant, gains, opts, env.theta_max, (v0 + env.knee) / r, method) is None:
         return "torque", (f"up to {env.torque_max:g} N m is far more than the tyre transmits ({env.capacity:.3g} N m): "
-                          f"the wheel would spin up to |v_r| ~ {env.vr:.3g} m/s, where the observer's output injection "
-                          f"amplifies the rounding noise of the wheel speed beyond the tolerance of solver.rtol "
-                          f"{opts.rtol:g} (no adaptive solver converges); give a torque the tyre can transmit")
+                          f"the wheel would spin up to |v_r| ~ {env.vr:.3g} m/s; {tail}; give a torque the tyre can transmit")
+    if opts.rtol < DEFAULT_RTOL and _injection(plant, gains, replace(opts, rtol=DEFAULT_RTOL), env.theta_max, omega,
+                                               method) is None:
+        return "rtol", (f"{opts.rtol:g} is tighter than the rounding noise the observer's output injection puts into the "
+                        f"estimates at {omega:.3g} rad/s allows (no adaptive solver converges); use {DEFAULT_RTOL:g} "
+                        "(the default) or looser")
+    if env.theta_max > 1.0 and _injection(plant, gains, opts, 1.0, omega, method) is None or env.vr > v0:
+        return "theta", (f"theta_obs from {env.theta_min:.3g} to {env.theta_max:.3g} (OBS convention) is beyond the "
+                         f"model's range: {tail}")
+    if v0 > 1.0 and _injection(plant, gains, opts, env.theta_max, (1.0 + env.vr / v0) / r, method) is None:
+        return "v0", f"{v0:g} m/s turns the wheel at {omega:.3g} rad/s: {tail}"
     return bad
 
 

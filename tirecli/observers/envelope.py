@@ -13,8 +13,8 @@ estimated (and refused) before it starts (:mod:`tirecli.numerics.observer_work`)
 - **spin-up**: a driving torque above the largest the tyre transmits, ``r F_n mu_s / theta_obs``, spins the
   wheel up at least at ``(u - r F_n mu_s/theta_obs)/J``, until the wheel's viscous friction ``sigma_w omega``
   takes the excess: the slip speed reaches about the smaller of ``r/J`` times the integral of the excess over
-  the run and ``r (u - r F_n mu_s/theta_obs)/sigma_w`` (OBS Fig. 2 plant at 5000 N m: 1.1 km/s; a braking
-  excess locks the wheel: ``|vr| = v``);
+  the run and ``r (u - r F_n mu_s/theta_obs)/sigma_w`` (OBS Fig. 2 plant at 5000 N m: 1.1 km/s; the plant has
+  no brake lock, so a braking excess turns the wheel backwards alike, ``|vr| >= v``);
 - in steady state ``z = vr / (theta_obs sigma0 |vr|/g + kappa r |omega|)``, so
   ``phi = sigma0 |vr|/g z`` (OBS (18)) is ``vr/(2 theta_obs)`` at the knee and tends to ``vr/theta_obs``
   beyond;
@@ -81,8 +81,8 @@ class Envelope:
         The largest ``|u|`` of the run [N m].
     spin : bool
         Whether the torque exceeds the capacity (the wheel spins up or locks).
-    theta_max : float
-        The largest ``theta_obs`` of the run [-] (least grip).
+    theta_max, theta_min : float
+        The largest and smallest ``theta_obs`` of the run [-] (least and most grip).
     """
 
     vr: float
@@ -92,6 +92,7 @@ class Envelope:
     torque_max: float
     spin: bool
     theta_max: float = 1.0
+    theta_min: float = 1.0
 
 
 def operating_envelope(plant: ObserverPlant, v0: float, t, torque, theta_obs) -> Envelope:
@@ -104,16 +105,16 @@ def operating_envelope(plant: ObserverPlant, v0: float, t, torque, theta_obs) ->
     u_max = float(np.max(np.abs(u))) if u.size else 0.0
     vr = knee
     if u.size > 1:
-        excess = np.maximum(u - cap, 0.0)
+        excess = np.maximum(np.abs(u) - cap, 0.0)   # the plant has no brake lock: a braking excess turns the wheel back
         spin_up = plant.car.r / plant.car.J * float(np.sum(0.5 * (excess[1:] + excess[:-1]) * np.diff(t)))
         if plant.tire.sigma_w > 0:   # the wheel's viscous friction takes the excess at omega = excess/sigma_w
             spin_up = min(spin_up, plant.car.r * float(np.max(excess)) / plant.tire.sigma_w)
         vr = max(vr, spin_up)
         if float(np.min(u)) < -cap:
-            vr = max(vr, abs(v0))           # the wheel locks: vr = -v
+            vr = max(vr, abs(v0))           # at least locked: vr = -v
     spin = vr > knee
     return Envelope(vr=vr, phi=steady_phi(plant, vr, v0, th_min), knee=knee, capacity=cap, torque_max=u_max, spin=spin,
-                    theta_max=float(np.max(th)) if th.size else 1.0)
+                    theta_max=float(np.max(th)) if th.size else 1.0, theta_min=th_min)
 
 
 def adaptation_loop(plant: ObserverPlant, gains: ObserverGains, phi: float, theta_hat: float = 1.0) -> tuple[float, float]:

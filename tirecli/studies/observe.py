@@ -382,9 +382,12 @@ def _work_estimate(checked: dict, cases: list, solver, plant, origins):
             return (("cases", j, "observer", name), ("observer", name)) + ((("gain_study", "values"),) if study_gain == name else ())
 
         torque = (("cases", j, "torque"), ("scenario", "torque"))
-        bad = ow.injection_problem(plant, case.gains, case.scenario, case.sensor, solver, env)
+        keys = {"torque": torque, "rtol": (("solver", "rtol"),), "v0": (("scenario", "v0"),),
+                "theta": (("cases", j, "theta"), ("scenario", "theta"))}
+        given = {g for g in GAINS if any(p in origins.where for p in gain(g))}
+        bad = ow.injection_problem(plant, case.gains, case.scenario, case.sensor, solver, env, given)
         if bad is not None:
-            paths = torque if bad[0] == "torque" else gain(bad[0]) + (("observer",),)
+            paths = keys.get(bad[0]) or gain(bad[0]) + (("observer",),)
             raise ConfigError(origins.problem(next((p for p in paths if p in origins.where), paths[-1]), bad[1]))
         keys = {"restarts": (("cases", j, "measurement", "rate"), ("measurement", "rate"), ("solver", "method")),
                 "ringing": (torque + gain("gamma")) if env.spin else (gain("gamma") + torque),
