@@ -17,7 +17,7 @@ from __future__ import annotations
 from pathlib import Path
 
 import pytest
-from harness import Result, assert_clean_error, copy_example, run
+from harness import Result, assert_clean_error, copy_example, run, run_warm
 
 from tirecli import limits
 
@@ -57,6 +57,15 @@ def refused_here(cli):
         return r
 
     return check
+
+
+def warm_refused(args, pattern, code=2):
+    """Through the CLI forked from a warm ``tirecli`` (:func:`harness.run_warm`), with the hang limit: for inputs
+    that hung before (in this process a hang would stop the test run)."""
+    r = run_warm(args, timeout=HANG_SECONDS)
+    assert_clean_error(r, code, pattern)
+    _no_library_noise(r)
+    return r
 
 
 # --------------------------------------------------------------------------- formulas that switch too often
@@ -109,7 +118,7 @@ def test_a_fast_oscillating_input_is_in_the_step_estimate(tmp_path, refused_here
     2 million steps, refused up front with the estimate and the option that raises it, instead of a minute of
     stepping into the step budget."""
     cfg = _write(tmp_path, "s.yaml", SIMULATE.replace("PRESSURE", "40 + 30*sin(2*pi*20000*t)").replace("TEND", "10"))
-    r = refused_here(["simulate", cfg, "-o", tmp_path / "o"],
+    r = warm_refused(["simulate", cfg, "-o", tmp_path / "o"],
                      r"s\.yaml:5: input\.pressure: the run would need 2,0\d\d,\d\d\d samples .* 2,000,00\d of them for the "
                      r"solver steps to follow input\.pressure \(oscillating at up to 2e\+04 Hz over 10 s\); "
                      r"the budget is 1,000,000 \(raise it with --max-samples 2100000")
@@ -145,9 +154,9 @@ def test_observe_runs_are_estimated_with_their_solver_and_gains(tmp_path, sets, 
     assert not (tmp_path / "o").exists()
 
 
-def test_a_gain_study_names_the_case(tmp_path, refused_here):
+def test_a_gain_study_names_the_case(tmp_path):
     cfg = copy_example("obs-gain-study.yaml", tmp_path)
-    refused_here(["observe", cfg, "-o", tmp_path / "o", "--set", "gain_study.values=[2.0e+5, 1.0e+14]"],
+    warm_refused(["observe", cfg, "-o", tmp_path / "o", "--set", "gain_study.values=[2.0e+5, 1.0e+14]"],
                  r"<command line --set>: gain_study\.values: .*ringing at 4\.52e\+08 rad/s .*\(case gamma = 1e\+14\)")
 
 
@@ -164,10 +173,10 @@ def test_a_gain_study_names_the_case(tmp_path, refused_here):
     (["scenario.theta=1e-9"], r"scenario\.theta: theta_obs from 1e-09 to 1 \(OBS convention\) is beyond the model's range"),
     (["solver.rtol=1e-15"], r"solver\.rtol: 1e-15 is tighter than the rounding noise .* use 1e-07 \(the default\) or looser"),
 ])
-def test_gains_and_torques_no_solver_can_follow_are_refused_by_name(tmp_path, refused_here, sets, pattern):
+def test_gains_and_torques_no_solver_can_follow_are_refused_by_name(tmp_path, sets, pattern):
     """Were a scipy UserWarning ('lsoda: Repeated convergence failures') and exit 1, or a hang."""
     cfg = copy_example("obs-fig2.yaml", tmp_path)
-    refused_here(["observe", cfg, "-o", tmp_path / "o"] + [a for s in sets for a in ("--set", s)], pattern)
+    warm_refused(["observe", cfg, "-o", tmp_path / "o"] + [a for s in sets for a in ("--set", s)], pattern)
 
 
 def _fig2_case(*sets):
