@@ -52,6 +52,7 @@ from tirecli.observers import lugre_observer as lo
 from tirecli.observers import metrics as om
 from tirecli.observers.measurement import METHODS, Sensor
 from tirecli.studies.base import StudyResult, common_fields, register_study
+from tirecli.studies.observe_work import work_estimate
 
 if TYPE_CHECKING:  # pandas is imported when a study runs, not when its config is checked
     import pandas as pd
@@ -305,8 +306,7 @@ def plan(config: Config) -> Plan:
     problems = profile_problems(to_check, config.origins, sc["duration"], (checked["output"] or {}).get("dt", 0.01))
     if problems:
         raise ConfigError(problems)
-    # the solver's work (method, measurement, gains) and gains no adaptive solver integrates (numerics.observer_work)
-    _sample_estimate(checked, cases, solver, plant, config.origins).check(config.origins)
+    _sample_estimate(checked, cases, solver, plant, config.origins).check(config.origins)   # + the solver's work
     met = checked["metrics"] or {}
     dur = sc["duration"]
     metrics = {
@@ -333,9 +333,7 @@ ADAPTIVE_OUTPUT_DT = 1e-3
 def _sample_estimate(checked: dict, cases: list, solver, plant=None, origins=None):
     """Samples of an observe run before it starts, per case: the recorded times (the fixed scheme's grid
     of ``solver.step``, or the adaptive methods' 1 ms output grid; ``auto`` may run either), the
-    measurement samples, the adaptive steps ``h_max`` forces and the CSV's ``output.dt`` grid; with the
-    ``plant``, also the solver's work (:func:`tirecli.numerics.observer_work.work_terms`: restarts, a
-    ringing adaptation loop, fast inputs) after refusing gains no adaptive solver can integrate."""
+    measurement samples, the adaptive steps ``h_max`` forces and the CSV's ``output.dt`` grid (+ work)."""
     from tirecli.limits import Estimate, steps
 
     dur = checked["scenario"]["duration"]
@@ -355,8 +353,7 @@ def _sample_estimate(checked: dict, cases: list, solver, plant=None, origins=Non
         samples += steps(dur, 1.0 / rate) if rate else 0.0
     n = len(cases)
     rate_paths = (("measurement", "rate"),) + tuple(("cases", i, "measurement", "rate") for i in range(n))
-    est = Estimate() if plant is None else _work_estimate(checked, cases, solver, plant, origins)
-    return (est
+    return ((Estimate() if plant is None else work_estimate(checked, cases, solver, plant, origins))
             .add(points, (rate_paths if by_rate else (("solver", "step"), ("numerics", "step"))) + (("scenario", "duration"),),
                  f"the recorded times ({n} case(s) x {dur:g} s, solver {solver.method})", BYTES_PER_POINT)
             .add(samples, rate_paths + (("scenario", "duration"),),
@@ -365,38 +362,6 @@ def _sample_estimate(checked: dict, cases: list, solver, plant=None, origins=Non
                  f"the solver steps h_max forces ({n} case(s) x {dur:g} s)", BYTES_PER_STEP)
             .add(n * steps(dur, dt_out), (("output", "dt"), ("scenario", "duration")),
                  f"data/observer.csv ({n} case(s) x {dur:g} s every {dt_out:g} s)", BYTES_PER_POINT))
-
-
-def _work_estimate(checked: dict, cases: list, solver, plant, origins):
-    """The solver work of every case as an Estimate (each term blamed on the keys that drive it); a
-    ConfigError at the gain that no adaptive solver can integrate (:mod:`tirecli.numerics.observer_work`)."""
-    from tirecli.limits import Estimate
-    from tirecli.numerics import observer_work as ow
-
-    est = Estimate()
-    study_gain = (checked["gain_study"] or {}).get("gain")
-    for j, case in enumerate(cases):
-        env = ow.scenario_envelope(plant, case.scenario)
-
-        def gain(name, j=j):
-            return (("cases", j, "observer", name), ("observer", name)) + ((("gain_study", "values"),) if study_gain == name else ())
-
-        torque = (("cases", j, "torque"), ("scenario", "torque"))
-        keys = {"torque": torque, "rtol": (("solver", "rtol"),), "v0": (("scenario", "v0"),),
-                "theta": (("cases", j, "theta"), ("scenario", "theta"))}
-        given = {g for g in GAINS if any(p in origins.where for p in gain(g))}
-        bad = ow.injection_problem(plant, case.gains, case.scenario, case.sensor, solver, env, given)
-        if bad is not None:
-            paths = keys.get(bad[0]) or gain(bad[0]) + (("observer",),)
-            raise ConfigError(origins.problem(next((p for p in paths if p in origins.where), paths[-1]), bad[1]))
-        keys = {"restarts": (("cases", j, "measurement", "rate"), ("measurement", "rate"), ("solver", "method")),
-                "ringing": (torque + gain("gamma")) if env.spin else (gain("gamma") + torque),
-                "inputs": torque + (("cases", j, "theta"), ("scenario", "theta"))}
-        for kind, work, what in ow.work_terms(plant, case.gains, case.scenario, case.sensor, solver, env,
-                                              (case.scenario.torque, case.theta_profile)):
-            est.add(work, keys[kind] + (("observer",), ("scenario", "duration")),
-                    what if len(cases) == 1 else f"{what} (case {case.label})", 0.0)   # evaluations: nothing stored
-    return est
 
 
 # --------------------------------------------------------------------------- run
