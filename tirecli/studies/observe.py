@@ -35,7 +35,6 @@ forward motion) are listed in ``meta["warnings"]``.
 from __future__ import annotations
 
 from dataclasses import asdict, dataclass, replace
-
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -52,12 +51,11 @@ from tirecli.observers import lugre_observer as lo
 from tirecli.observers import metrics as om
 from tirecli.observers.measurement import METHODS, Sensor
 from tirecli.studies.base import StudyResult, common_fields, register_study
-from tirecli.studies.observe_work import work_estimate
+from tirecli.studies.observe_work import GAINS, work_estimate
 
 if TYPE_CHECKING:  # pandas is imported when a study runs, not when its config is checked
     import pandas as pd
 
-GAINS = ("k1", "k2", "k3", "gamma", "alpha")
 DEFAULT_GAINS = "canudas2003-obs-gains"
 DEFAULT_VEHICLE = "canudas2003-obs-quarter-car"
 
