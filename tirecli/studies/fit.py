@@ -507,7 +507,7 @@ def _require(result: identify.FitResult, stage: str, data: dict, mu) -> None:
     """RunError (exit 1, nothing written: no ``fitted.yaml``) when a stage did not give a fitted result
     (:meth:`~tirecli.numerics.identify.FitResult.failure`): start values are never written as if fitted."""
     why = result.failure()
-    if why is not None and result.names and set(result.unidentifiable) >= set(result.names):
+    if why is not None and result.unidentifiable and why == result.identifiability_text():   # the data, not the run
         raise DataError(f"{data['source']}: the {STAGES[stage]} fit is refused: {why}; no fitted.yaml was written")
     with np.errstate(all="ignore"):
         top = float(np.max(np.abs(mu))) if len(mu) else float("nan")
