@@ -51,7 +51,8 @@ def stationary():
 def transient():
     from tirecli.numerics.mcps_transient import simulate_rolling
     from tirecli.parameters.sets import load_builtin
-    from tirecli.studies.base import builtin_config, run_study
+    from tirecli.studies.configs import builtin_config
+    from tirecli.studies.registry import run_study
 
     p = load_builtin("sorine2000-mcps").model()
     rows = []

@@ -40,10 +40,10 @@ def best_of(fn, repeat):
 
 
 def setup():
-    from tirecli.studies.base import builtin_config
+    from tirecli.studies.configs import builtin_config
     from tirecli.studies.observe import plan
 
-    p = plan(builtin_config("obs-fig2"))
+    p = plan(builtin_config("obs-fig2")).detail
     return p.plant, p.cases[0].gains, p.cases[0].scenario
 
 
@@ -115,10 +115,10 @@ def main() -> None:
     table("1 kHz held measurement, 1 s, OBS gains", plant, gains, sc_m, Sensor(rate=1000.0), runs,
           np.arange(0.0, 1.0, 0.001) + 0.0005)
 
-    from tirecli.studies.base import builtin_config
+    from tirecli.studies.configs import builtin_config
     from tirecli.studies.observe import plan
 
-    pe = plan(builtin_config("obs-speed-error"))
+    pe = plan(builtin_config("obs-speed-error")).detail
     known = pe.cases[3]
     runs = [("fixed, step 2.5 ms", S(method="fixed"), 3)]
     runs += [(f"{m}, rtol 1e-7", S(method=m, rtol=1e-7), 3) for m in ("lsoda", "bdf", "radau")]

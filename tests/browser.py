@@ -177,14 +177,18 @@ def _dup_high(fd: int) -> int:
 
 
 #: Measures the loaded page: images that failed to load, elements reaching past the viewport (outside any
-#: element that scrolls or clips on its own), and whether the page itself scrolls sideways.
+#: element marked as scrolling sideways: a box that scrolls, with role=region, a label and tabindex, so that
+#: a reader sees and reaches it), and whether the page itself scrolls sideways.
 INSPECT = r"""
 (() => {
   const doc = document.documentElement, vw = doc.clientWidth;
-  const images = [...document.images].map(img => ({
-    alt: img.alt, loaded: img.complete && img.naturalWidth > 0, width: img.getBoundingClientRect().width}));
+  const marked = p => ['auto', 'scroll'].includes(getComputedStyle(p).overflowX) && p.getAttribute('role') === 'region'
+      && p.hasAttribute('aria-label') && p.getAttribute('tabindex') === '0' && p.getBoundingClientRect().right <= vw + 0.5;
   const clips = el => { for (let p = el.parentElement; p && p !== document.body; p = p.parentElement) {
-      const o = getComputedStyle(p).overflowX; if (o !== 'visible') return true; } return false; };
+      if (marked(p)) return true; } return false; };
+  const images = [...document.images].map(img => ({
+    alt: img.alt, loaded: img.complete && img.naturalWidth > 0, width: img.getBoundingClientRect().width,
+    in_scroll_box: clips(img)}));
   const wide = [];
   for (const el of document.body.querySelectorAll('*')) {
     const r = el.getBoundingClientRect();

@@ -5,8 +5,10 @@ from __future__ import annotations
 import re
 import shlex
 from dataclasses import dataclass
+from pathlib import Path
 
-from conftest import ROOT
+#: The checkout (also run without pytest: tests/run_readme_examples.py imports this module).
+ROOT = Path(__file__).resolve().parents[1]
 
 DOCS = [ROOT / "README.md", *sorted((ROOT / "docs").rglob("*.md"))]
 SHELL = ("sh", "bash", "shell", "console", "")  # an untyped block too (docs/observe.md has one)

@@ -57,7 +57,7 @@ def test_grid_results_one_row_per_point(cli, tmp_path):
     # each row equals the base study run with the same overrides (as --set would give them)
     from tirecli.campaign.spec import load_campaign
     from tirecli.config.loader import apply_override
-    from tirecli.studies.base import run_study
+    from tirecli.studies.registry import run_study
 
     base = load_campaign(c).base
     apply_override(base.data, base.origins, "tire.LMUY=0.8")
@@ -289,18 +289,20 @@ outputs: [distance, v_final, wheel_locks]
 
 
 def test_unknown_units_leave_the_bare_name():
-    from tirecli.campaign.facts import fact_unit
     from tirecli.parameters.kinds import unit_at
-    from tirecli.studies.base import SPECS, load_study
+    from tirecli.studies import registry
+    from tirecli.studies.facts import fact_unit
 
-    load_study("simulate")
-    assert unit_at(SPECS["simulate"], ("tire", "sigma0")) == "1/m"
-    assert unit_at(SPECS["simulate"], ("tire", "set")) is None  # the set's name: no number
-    assert unit_at(SPECS["simulate"], ("cases", 0, "label")) is None
-    assert fact_unit("simulate", "stopping_distance[braking]") == "m" and fact_unit("simulate", "end") is None
-    assert fact_unit("mcps-standstill", "mz_at_minus_A_Nm") == "N m"
-    assert fact_unit("mcps-standstill", "fast_rate_1_s") == "1/s"
-    assert fact_unit("mcps-stationary", "C_kappa[stiffness, 4000 N]") is None
+    sim = registry.get("simulate")
+    assert unit_at(sim.spec, ("tire", "sigma0")) == "1/m"
+    assert unit_at(sim.spec, ("tire", "set")) is None  # the set's name: no number
+    assert unit_at(sim.spec, ("cases", 0, "label")) is None
+    assert fact_unit(sim, "stopping_distance[braking]") == "m" and fact_unit(sim, "end") is None
+    # a study without a table of units: from the suffix of the name
+    assert fact_unit(registry.get("mcps-slider"), "first_peak_force_N") == "N"
+    assert fact_unit(registry.get("mcps-standstill"), "mz_at_minus_A_Nm") == "N m"
+    assert fact_unit(registry.get("mcps-standstill"), "fast_rate_1_s") == "1/s"
+    assert fact_unit(registry.get("mcps-stationary"), "C_kappa[stiffness, 4000 N]") is None
     from tirecli.figures.campaign import _label
 
     assert _label("C_kappa[stiffness, 4000 N]", {}) == "C_kappa[stiffness, 4000 N]"
@@ -359,15 +361,16 @@ def test_fast_facts_equal_the_array_path():
     for torque in (600, 1500):  # the second locks the wheel (locked-mode steps in the searches)
         cfg = config_from_text(BRAKING.replace("t_end: 0.6", "t_end: 1.5"), "base.yaml",
                                overrides=[f"input.pressure.table.value=[0, 0, {torque / 10}, {torque / 10}]"])
-        checked, tire, vehicle, cases = sim.plan(cfg)
-        p, car = tire.model(), vehicle.model()
+        plan = sim.plan(cfg)
+        checked, cases = plan.checked, plan.detail
+        p, car = plan.sets["tire"].model(), plan.sets["vehicle"].model()
         tr = sim.run_cases(cases, p, car, checked["t_end"])[cases[0].label]
         r = car.r
 
         def slip(t, Y, O):
             return slip_from_speeds(Y[:, 0], Y[:, 1], r)
 
-        ev = sim._events(tr, cases[0], r)
+        ev = sim.case_events(tr, cases[0], r)
         assert (ev["t_peak_abs_slip"], ev["peak_abs_slip"]) == tr.extremum(lambda t, Y, O: np.abs(slip(t, Y, O)), "max")
         assert (ev["t_min_slip"], ev["min_slip"]) == tr.extremum(slip, "min")
         assert (ev["t_peak_abs_mu"], ev["peak_abs_mu"]) == tr.extremum(lambda t, Y, O: np.abs(O["mu"]), "max")
@@ -392,7 +395,7 @@ def test_campaign_workers_use_one_thread():
     from tirecli.campaign import execute
 
     ctx = multiprocessing.get_context("fork" if hasattr(__import__("os"), "fork") else "spawn")
-    with ctx.Pool(1, initializer=execute._init_worker, initargs=(None,)) as pool:
+    with ctx.Pool(1, **execute.pool_options(None)) as pool:
         limit, threads, env = pool.apply(_worker_threads)
     assert limit == 1 and threads == 1 and env == "1"
 

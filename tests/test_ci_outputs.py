@@ -145,10 +145,10 @@ def test_a_failed_run_is_a_junit_error(cli, tmp_path, monkeypatch, exc, code):
     from tirecli.app import run
     from tirecli.errors import RunError
 
-    def broken(config, **kw):
+    def broken(config, *args, **kw):
         raise RunError("the solver did not converge") if exc == "run" else ZeroDivisionError("boom")
 
-    monkeypatch.setattr(run, "run_study", broken)
+    monkeypatch.setattr(run, "execute", broken)
     junit = tmp_path / "junit.xml"
     rc, stdout, err = cli("simulate", EXAMPLES / "fm-fig4.yaml", "--out", tmp_path / "out", "--junit", junit)
     assert rc == code
@@ -180,8 +180,9 @@ def test_junit_never_replaces_an_output_of_the_run(cli, tmp_path, no_render, mon
     the folder (report, campaign, run commands), after it when the folder is the default one (the
     run's files are kept, exit 2)."""
     out = tmp_path / "out"
-    for target in (out / "run.json", out / "data" / "sweep.csv", out / "fitted.yaml"):
-        code, _, err = cli("sweep", SWEEP, "--out", out, "--junit", target)
+    for command, cfg, target in (("sweep", SWEEP, out / "run.json"), ("sweep", SWEEP, out / "data" / "sweep.csv"),
+                                 ("fit", EXAMPLES / "fm-fig6.yaml", out / "fitted.yaml")):  # a file of the fit study
+        code, _, err = cli(command, cfg, "--out", out, "--junit", target)
         assert code == 2 and "an output of this run" in err and err.count("\n") == 1, err
         assert not out.exists()  # refused before the run
     code, _, err = cli("report", "--out", tmp_path / "rep", "--junit", tmp_path / "rep" / "summary.json")

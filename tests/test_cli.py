@@ -114,15 +114,18 @@ def test_figures_list(cli):
         assert fid in out
 
 
-def test_every_study_module_registers_its_name():
+def test_every_study_module_registers_its_entry():
     import importlib
 
-    from tirecli.studies.base import STUDIES, STUDY_MODULES, load_all_studies
+    from tirecli.studies.registry import REGISTRY, STUDY_MODULES, load_all
+    from tirecli.studies.study import Plan, Study
 
     for name, module in STUDY_MODULES.items():
         importlib.import_module(module)
-        assert name in STUDIES, f"{module} does not register study {name!r}"
-    assert set(load_all_studies()) == set(STUDY_MODULES)
+        assert isinstance(REGISTRY.get(name), Study), f"{module} does not register study {name!r}"
+        assert REGISTRY[name].name == name and callable(REGISTRY[name].plan) and callable(REGISTRY[name].run)
+    assert set(load_all()) >= set(STUDY_MODULES)
+    assert Plan.__dataclass_fields__.keys() >= {"config", "checked", "sets", "estimate", "detail"}
 
 
 def test_lugre_sweep_loads_only_what_it_needs(tmp_path):
@@ -146,7 +149,7 @@ def test_generic_sweep_figure_with_many_curves(tmp_path):
 
     from tirecli.config.loader import config_from_text
     from tirecli.figures.registry import get
-    from tirecli.studies.base import run_study
+    from tirecli.studies.registry import run_study
 
     cfg = config_from_text("""\
 study: sweep

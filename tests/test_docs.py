@@ -62,10 +62,6 @@ REDUCE = {
 }
 GRID_CAP = 21
 
-#: The command that runs each study (tirecli.studies.base.command_of).
-COMMAND = {"sweep": "sweep", "simulate": "simulate", "observe": "observe", "fit": "fit",
-           "mcps-stationary": "compare", "mcps-slider": "simulate", "mcps-standstill": "simulate",
-           "mcps-relaxation": "simulate"}
 
 
 @dataclass
@@ -261,7 +257,9 @@ def _run(cli, snippet_dir, block, tmp_path, reduced: bool):
     data = parse(block)
     study = data["study"]
     sets = _reductions(study, data) if reduced else []
-    args = [COMMAND[study], snippet_dir / block.name, "--out", tmp_path / "out"]
+    from tirecli.studies import registry
+
+    args = [registry.get(study).command, snippet_dir / block.name, "--out", tmp_path / "out"]  # the study's command
     for s in sets:
         args += ["--set", s]
     code, out, err = cli("--quiet", *args)
@@ -341,3 +339,29 @@ def test_ci_pipeline(block):
                     assert published and published[0]["with"]["report_paths"] == junit
                     assert published[0]["if"] == "always()"
     assert reports == 1, f"{block.id}: expected one 'tirecli report --strict --junit FILE'"
+
+
+# --------------------------------------------------------------------------- Python examples
+
+PYTHON_FENCE = re.compile(r"^```python[ \t]*\n(.*?)^```", re.S | re.M)
+#: The pages whose Python examples run as written: every block, in order, in one fresh Python process
+#: in an empty folder (the public API, docs/api.md; adding a study, docs/development.md).
+RUNNABLE_PYTHON = ["docs/api.md", "docs/development.md"]
+
+
+@pytest.mark.parametrize("page", RUNNABLE_PYTHON)
+def test_python_examples_run_as_written(page, tmp_path):
+    import os
+    import subprocess
+    import sys
+
+    blocks = PYTHON_FENCE.findall((ROOT / page).read_text(encoding="utf-8"))
+    assert len(blocks) >= 3, page
+    script = tmp_path / "examples.py"
+    script.write_text("\n\n".join(blocks), encoding="utf-8")
+    work = tmp_path / "work"
+    work.mkdir()
+    env = {**os.environ, "MPLBACKEND": "Agg", "PYTHONPATH": str(ROOT)}
+    res = subprocess.run([sys.executable, str(script)], cwd=work, capture_output=True, text=True, env=env, timeout=600)
+    assert res.returncode == 0, f"{page}: {res.stderr[-4000:]}"
+    assert "Traceback" not in res.stderr, res.stderr[-4000:]

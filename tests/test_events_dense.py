@@ -116,7 +116,7 @@ def test_extrema_are_root_found(p, car):
 
 def _slip_drive(v, slip):
     """(v(t), omega(t)) profiles of an open-loop drive by speed and slip profiles."""
-    from tirecli.studies.simulate import _SlipOmega
+    from tirecli.studies.simulate.planning import _SlipOmega
 
     return v, _SlipOmega(v, slip, 0.3)
 

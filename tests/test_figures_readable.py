@@ -19,14 +19,14 @@ cases:
 def many_cases(tmp_path_factory):
     """14 short lumped brakings that differ only in their torque (more than a legend can tell apart)."""
     from tirecli.config.loader import load_config
-    from tirecli.studies.simulate import run_simulate
+    from tirecli.studies.registry import run_study
 
     cases = "\n".join(f'  - {{model: lumped, kappa0: Z, label: "T_max = {600 + 50 * k} N m", '
                       f'input: {{brake_torque: {{table: {{t: [0, 0.3], value: [0, {600 + 50 * k}]}}}}}}}}'
                       for k in range(14))
     cfg = tmp_path_factory.mktemp("many") / "many.yaml"
     cfg.write_text(MANY.format(cases=cases))
-    return run_simulate(load_config(cfg))
+    return run_study(load_config(cfg))
 
 
 @pytest.mark.parametrize("fid", ["transient-histories", "transient-mu-slip", "transient-overlay"])
@@ -145,7 +145,8 @@ def _legends_over_curves(fig) -> list[str]:
 
 def _study_figures(config: str):
     from tirecli.figures.registry import get
-    from tirecli.studies.base import builtin_config, run_study
+    from tirecli.studies.configs import builtin_config
+    from tirecli.studies.registry import run_study
 
     res = run_study(builtin_config(config))
     for fid in res.figures:
@@ -155,17 +156,179 @@ def _study_figures(config: str):
 
 
 def _builtin_configs():
-    from tirecli.studies.base import builtin_config_names
+    from tirecli.studies.configs import builtin_config_names
 
     return builtin_config_names()
 
 
+def _is_colorbar(ax) -> bool:
+    return ax.get_label() == "<colorbar>" or getattr(ax, "_colorbar", None) is not None
+
+
+def _labels_without_unit(fig) -> list[str]:
+    """The axis labels of ``fig`` (x, y, z of every panel, colour bars included) that name no unit in
+    brackets (``[N]``, ``[-]`` for a number without a unit): ``["panel title: label", ...]``. An empty label
+    (a panel sharing its neighbour's) is fine."""
+    import re
+
+    found = []
+    for ax in fig.axes:
+        labels = [ax.get_xlabel(), ax.get_ylabel()] + ([ax.get_zlabel()] if ax.name == "3d" else [])
+        found += [f"{ax.get_title() or ax.get_label()}: {lab!r}" for lab in labels
+                  if lab.strip() and not re.search(r"\[[^\]]+\]", lab)]
+    return found
+
+
+def _panels_side_by_side(fig) -> int:
+    """The largest number of panels (colour bars and twin axes not counted) on one horizontal line of ``fig``."""
+    boxes = {tuple(np.round(ax.get_position().bounds, 2)) for ax in fig.axes
+             if ax.get_visible() and not _is_colorbar(ax)}
+    return max((sum(1 for _, y2, _, h2 in boxes if y2 <= y + h / 2 <= y2 + h2) for _, y, _, h in boxes), default=0)
+
+
+def _too_wide(fig) -> list[str]:
+    """What makes ``fig`` a strip a phone (or a text column) shrinks until it cannot be read: wider than
+    style.MAX_WIDTH, flatter than style.MAX_ASPECT, more than style.MAX_COLUMNS panels side by side."""
+    from tirecli.figures.style import MAX_ASPECT, MAX_COLUMNS, MAX_WIDTH
+
+    w, h = fig.get_size_inches()
+    n = _panels_side_by_side(fig)
+    return [text for bad, text in ((w > MAX_WIDTH + 1e-9, f"{w:g} in wide (at most {MAX_WIDTH:g})"),
+                                   (w > MAX_ASPECT * h + 1e-9,
+                                    f"{w:g} x {h:g} in: {w / h:.2f} times as wide as high (at most {MAX_ASPECT:g})"),
+                                   (n > MAX_COLUMNS, f"{n} panels side by side (at most {MAX_COLUMNS})")) if bad]
+
+
+def _unreadable_3d(fig, most: int = 6, smallest: float = 8.0, room: float = 4.0) -> list[str]:
+    """The 3-D panels of ``fig`` (laid out as saved) whose tick labels cannot be read: more than ``most``
+    on an axis, smaller than ``smallest`` points, or overlapping each other; or a panel narrower than
+    ``room`` inches (the cramped 3-D panel of the old FM Fig. 6)."""
+    renderer = fig.canvas.get_renderer()
+    found = []
+    for ax in fig.axes:
+        if ax.name != "3d":
+            continue
+        width = ax.get_position(original=True).width * fig.get_figwidth()
+        if width < room:
+            found.append(f"{ax.get_title()}: {width:.2f} in wide")
+        for name, axis in (("x", ax.xaxis), ("y", ax.yaxis), ("z", ax.zaxis)):
+            locs = axis.get_majorticklocs()
+            lo, hi = sorted(axis.get_view_interval())
+            eps = 1e-9 * (hi - lo or 1.0)
+            labels = [t.label1 for t, loc in zip(axis.get_major_ticks(len(locs)), locs)
+                      if lo - eps <= loc <= hi + eps and t.label1.get_visible() and t.label1.get_text()]
+            boxes = [lab.get_window_extent(renderer).padded(-2.0) for lab in labels]  # 2 px: the glyphs' margin
+            if len(labels) > most:
+                found.append(f"{ax.get_title()}: {len(labels)} tick labels on {name}")
+            found += [f"{ax.get_title()}: {name} tick label {lab.get_text()!r} at {lab.get_fontsize():g} pt"
+                      for lab in labels if lab.get_fontsize() < smallest]
+            found += [f"{ax.get_title()}: {name} tick labels {labels[i].get_text()!r} and {labels[j].get_text()!r} "
+                      "overlap" for i in range(len(boxes)) for j in range(i + 1, len(boxes)) if boxes[i].overlaps(boxes[j])]
+    return found
+
+
+def _texts(fig) -> list[str]:
+    """Every text ``fig`` shows: titles, axis labels, legend entries and titles, free texts."""
+    out = [fig.get_suptitle()] + [t.get_text() for t in fig.texts]
+    legends = list(fig.legends)
+    for ax in fig.axes:
+        out += [ax.get_title(), ax.get_xlabel(), ax.get_ylabel()] + [t.get_text() for t in ax.texts]
+        legends += [ax.get_legend()] if ax.get_legend() is not None else []
+    for leg in legends:
+        out += [leg.get_title().get_text()] + [t.get_text() for t in leg.get_texts()]
+    return out
+
+
+def _fig4_as_panels(fig):
+    """MCPS Fig. 4: the surface f_y(xi, t) as a map over (xi, t) above the profiles at the reversals, no 3-D
+    panel, one legend for the figure (the reversal lines on the map and the profiles share it)."""
+    panels = [ax for ax in fig.axes if not _is_colorbar(ax)]
+    assert [ax.name for ax in panels] == ["rectilinear", "rectilinear"]
+    assert len(fig.legends) == 1 and not any(ax.get_legend() for ax in fig.axes)
+    assert [ax.get_xlabel() for ax in panels] == ["", "patch abscissa xi [mm] (forward)"]  # one xi axis for both
+    assert [ax.get_ylabel() for ax in fig.axes if _is_colorbar(ax)] == ["f_y [kN/m]"]
+
+
+def _fig10_by_model(fig):
+    """MCPS Fig. 10: one column per model, -Fy above Mz (an Mz curve never shares a panel with an Fy
+    curve), one colour per slip angle, each curve named at its end in its colour, no legend."""
+    assert not fig.legends and not any(ax.get_legend() for ax in fig.axes)
+    rows = {}
+    for ax in fig.axes:
+        rows.setdefault(round(ax.get_position().y0, 2), []).append(ax)
+    top, bottom = (rows[y] for y in sorted(rows, reverse=True))
+    assert len(top) == len(bottom) >= 3  # MCPS complete, MCPS solid carcass, the Magic Formula
+    assert top[0].get_ylabel().startswith("side force -Fy") and bottom[0].get_ylabel().startswith("aligning torque Mz")
+    import matplotlib.colors as mc
+
+    for ax in top + bottom:
+        colours = [mc.to_hex(line.get_color()) for line in ax.lines]
+        names = {t.get_text(): mc.to_hex(t.get_color()) for t in ax.texts}
+        assert len(colours) == len(set(colours)) == len(names) == 3, ax.get_title()  # alpha_s = 1, 2, 4 deg
+        assert sorted(names.values()) == sorted(colours) and all(n.endswith(" deg") for n in names)
+
+
+def _fig5_says_what_is_not_modelled(fig):
+    """FM Fig. 5: the image itself says that the paper's F_y and G_t are not modelled (not only the caption)."""
+    text = " ".join(" ".join(_texts(fig)).split())  # wrapped lines joined
+    assert "F_y" in text and "G_t" in text and "not modelled" in text
+
+
+def _gain_study_with_units(fig):
+    """The observer gain study: every value of the gain carries its unit, in the legend and on the axis."""
+    entries = [t for t in _texts(fig) if t.startswith("gamma =")]
+    assert len(entries) == 5 and all(e.endswith(" s/m") for e in entries), entries
+    assert any(ax.get_xlabel().endswith("gamma [s/m]") for ax in fig.axes)
+
+
+#: Rules of single report figures (figure id -> check of the drawn figure).
+FIGURE_RULES = {"mcps-fig4": _fig4_as_panels, "mcps-fig10": _fig10_by_model, "fm-fig5": _fig5_says_what_is_not_modelled,
+                "obs-gain-study": _gain_study_with_units}
+
+
 @pytest.mark.parametrize("config", _builtin_configs())
-def test_legends_stay_off_the_curves(config):
-    """No legend inside a panel of a report figure covers its panel's curves (the MF six-panel tyre figures'
-    camber legend, the transient fit's and MCPS Fig. 3's did)."""
+def test_report_figures_are_readable(config):
+    """Every figure of the report, laid out as saved:
+    - no legend inside a panel covers its panel's curves (the MF six-panel tyre figures' camber legend,
+      the transient fit's and MCPS Fig. 3's did);
+    - every axis label names its unit in brackets (the gain study's gamma, the MF golden rows' row numbers);
+    - it fits a phone: at most style.MAX_WIDTH wide, style.MAX_ASPECT times as wide as high and
+      style.MAX_COLUMNS panels side by side (FM Fig. 6 was a 15.5 in strip of four);
+    - a 3-D panel has room and a few legible tick labels that do not overlap (MCPS Fig. 4's did not);
+    - and the rules of single figures (FIGURE_RULES)."""
     for fid, fig in _study_figures(config):
         assert _legends_over_curves(fig) == [], fid
+        assert _labels_without_unit(fig) == [], fid
+        assert _too_wide(fig) == [], fid
+        assert _unreadable_3d(fig) == [], fid
+        if fid in FIGURE_RULES:
+            FIGURE_RULES[fid](fig)
+
+
+def test_the_readability_rules_can_fail():
+    """The rules of test_report_figures_are_readable catch what they are meant to: a label without a unit,
+    a wide strip of four panels, a cramped 3-D panel with many small tick labels."""
+    from tirecli.figures.style import figure, new_figure
+
+    fig, axes = new_figure(ncols=4, width=15.5, height=4.9)
+    axes[0].set_xlabel("gamma")
+    axes[1].set_xlabel("gamma [s/m]")
+    _drawn(fig)
+    assert _labels_without_unit(fig) == [": 'gamma'"]
+    assert _too_wide(fig) == ["15.5 in wide (at most 12.5)", "4 panels side by side (at most 3)"]
+    fig, _ = new_figure(width=11.0, height=3.0)  # new_figure raises the height to the widest shape
+    assert fig.get_figheight() == pytest.approx(11.0 / 2.5) and _too_wide(_drawn(fig)) == []
+    fig = figure(figsize=(11.0, 4.0))
+    ax = fig.add_axes((0.0, 0.0, 0.3, 1.0), projection="3d")
+    ax.plot_surface(*np.meshgrid(np.linspace(0, 0.3, 5), np.linspace(5, 25, 5)), np.ones((5, 5)))
+    ax.tick_params(labelsize=7)
+    problems = _unreadable_3d(_drawn(fig))
+    assert problems[0] == ": 3.30 in wide" and ": 7 tick labels on x" in problems
+    assert ": x tick label '0.00' at 7 pt" in problems
+    ax.tick_params(labelsize=9)
+    ax.set_yticks(np.linspace(5, 25, 21))
+    problems = _unreadable_3d(_drawn(fig))
+    assert ": y tick labels '10' and '11' overlap" in problems and not any(" pt" in p for p in problems)
 
 
 def test_campaign_figures_keep_their_title_inside_and_legends_off_the_curves():

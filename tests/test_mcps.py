@@ -372,7 +372,7 @@ def test_rigid_relaxation_is_exact_and_second_order(p):
         errs.append(np.max(np.abs(run.fy - fy)))
         assert np.max(np.abs(run.mz - mz)) < 0.05
     assert errs[0] / errs[1] == pytest.approx(4, rel=0.15) and errs[1] / errs[2] == pytest.approx(4, rel=0.15)
-    from tirecli.studies.mcps import crossings
+    from tirecli.studies.mcps.relaxation import crossings
 
     s = np.linspace(0, 0.3, 30001)
     fy, _ = TR.rigid_relaxation_exact(p, 4000, a, s)
@@ -395,7 +395,7 @@ def test_complete_transient_tends_to_the_fixed_point(p):
 
 def test_relaxation_converges_with_the_cells(p):
     """Twist locked at 20 m/s: 63 % at 0.309 m, 95 % at 0.933 m, converged in the number of cells."""
-    from tirecli.studies.mcps import crossings
+    from tirecli.studies.mcps.relaxation import crossings
 
     a = DEG
     finf = S.solve(p, 4000, [0], [a], [0], locked=(2,)).fy[0]
@@ -427,7 +427,7 @@ def test_lag_integral_invariant(p):
 
 def test_low_speed_relaxation_stays_stable(p):
     """At 0.3 m/s the study raises the cell count so the belt-patch coupling is resolved."""
-    from tirecli.studies.mcps import _cells, RelaxCase
+    from tirecli.studies.mcps.relaxation import RelaxCase, _cells
 
     checked = {"cells": 100, "fz": 4000.0, "speed": 0.3, "alpha": DEG}
     n = _cells(p, checked, RelaxCase("c", "complete", ()))

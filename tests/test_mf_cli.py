@@ -389,3 +389,35 @@ def test_a_tir_file_without_its_model_section_says_so(cli, tmp_path):
     (tmp_path / "nomodel.tir").write_text(text[:start] + text[end:], encoding="utf-8")
     code, out, err = cli("tir", "check", tmp_path / "nomodel.tir")
     assert code == 2 and "LONGVL: missing" in err and "[MODEL] is missing" in err, err
+
+
+def test_mf_eval_command_and_study_are_one_path(cli, tmp_path):
+    """``tirecli mf eval --points CSV`` and the mf-eval study (a campaign's base) evaluate the same points to the
+    same numbers and columns (the extra outputs included), default the pressure and speed alike, and refuse a
+    non-finite output alike (naming the point)."""
+    import pandas as pd
+
+    from tirecli.campaign.facts import run_point
+    from tirecli.config.loader import config_from_text
+    from tirecli.errors import ConfigError
+    from tirecli.studies.registry import get, run_study
+
+    pts = tmp_path / "p.csv"
+    pts.write_text("kappa,alpha,gamma,fz\n0,0.03,0,3000\n0.08,-0.02,0.01,5000\n-0.1,0.1,0,4000\n")
+    code, _, err = cli("mf", "eval", "externdata-205-60r15", "--points", pts, "--out", tmp_path / "r.csv")
+    assert code == 0, err
+    written = pd.read_csv(tmp_path / "r.csv")
+    text = ("study: mf-eval\ntire: externdata-205-60r15\npoints: {kappa: [0, 0.08, -0.1], alpha: [0.03, -0.02, 0.1], "
+            "gamma: [0, 0.01, 0], fz: [3000, 5000, 4000]}\n")
+    res = run_study(config_from_text(text, "<test>"))
+    frame = res.data["points"]
+    assert list(frame.columns) == list(written.columns) and {"Kya", "Cz", "re"} <= set(frame.columns)
+    np.testing.assert_array_equal(frame.to_numpy(dtype=float), written.to_numpy(dtype=float))  # p, vx defaults too
+    facts = get("mf-eval").facts(res)
+    assert facts["fy[1]"] == written["fy"][1] and facts["Kya[2]"] == written["Kya"][2]
+    # a campaign's point: only the facts asked for, the same numbers
+    assert run_point(config_from_text(text, "<test>"), ["fy[1]", "re[0]"])[0] == {"fy[1]": facts["fy[1]"], "re[0]": facts["re[0]"]}
+    # an absurd load: no finite force, named at its point
+    bad = "study: mf-eval\ntire: chrono-185-80r14\nlimits: false\npoints: {kappa: 0.05, alpha: 0, fz: [4000, 1.0e+12]}\n"
+    with pytest.raises(ConfigError, match=r"<test>:4: points: point 1: the Magic Formula gives no finite fx.*fz = 1e\+12 N.*above FZMAX"):
+        run_study(config_from_text(bad, "<test>"))

@@ -302,7 +302,7 @@ def test_numbers_beyond_a_double_are_errors_not_crashes(tmp_path):
         parse_yaml("t_end: " + "9" * 5000 + "\n", "c.yaml")
     cfg = tmp_path / "c.yaml"
     cfg.write_text("study: simulate\ntire: canudas2003-table2\nt_end: " + "9" * 400 + "\n")
-    from tirecli.studies.simulate import plan
+    from tirecli.studies.registry import plan
 
     with pytest.raises(ConfigError, match=r"t_end: expected a finite number \[s\], got an integer of about 401 digits"):
         plan(load_config(cfg))

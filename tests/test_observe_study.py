@@ -95,7 +95,8 @@ def test_noise_is_seeded():
 
 @pytest.fixture(scope="module")
 def fig2():
-    from tirecli.studies.base import builtin_config, run_study
+    from tirecli.studies.configs import builtin_config
+    from tirecli.studies.registry import run_study
 
     return run_study(builtin_config("obs-fig2"))
 
@@ -133,7 +134,8 @@ def test_fig2_frame_and_conventions(fig2):
 
 def test_speed_error_study_reproduces_section_8():
     from tirecli.studies.checks.observer import speed_error_checks
-    from tirecli.studies.base import builtin_config, run_study
+    from tirecli.studies.configs import builtin_config
+    from tirecli.studies.registry import run_study
 
     res = run_study(builtin_config("obs-speed-error"))
     checks = {c.id: c for c in speed_error_checks(res)}
@@ -142,7 +144,8 @@ def test_speed_error_study_reproduces_section_8():
 
 
 def test_gain_study_frame():
-    from tirecli.studies.base import builtin_config, run_study
+    from tirecli.studies.configs import builtin_config
+    from tirecli.studies.registry import run_study
 
     res = run_study(builtin_config("obs-gain-study", overrides=["gain_study.values=[1.0e+5, 4.0e+5]"]))
     gs = res.data["gain_study"]
@@ -153,7 +156,8 @@ def test_gain_study_frame():
     from tirecli.figures.registry import REGISTRY
 
     fig = REGISTRY["obs-gain-study"].draw(res)
-    assert fig.axes[1].get_xlabel() == "gamma [s/m]"
+    assert fig.axes[1].get_xlabel().endswith("gamma [s/m]")
+    assert [t.get_text() for t in fig.axes[0].get_legend().get_texts()][1:] == ["gamma = 1e5 s/m", "gamma = 4e5 s/m"]
 
 
 # --------------------------------------------------------------------------- command
@@ -229,7 +233,8 @@ def test_observe_config_errors(cli, tmp_path):
 
 def test_deprecated_numerics_block_still_runs():
     """The old numerics: {method: fast|reference} block maps to solver: fixed|radau, with a warning."""
-    from tirecli.studies.base import builtin_config, run_study
+    from tirecli.studies.configs import builtin_config
+    from tirecli.studies.registry import run_study
 
     over = ["scenario.duration=1", "metrics.phases=[0, 1]"]
     cfg = builtin_config("obs-fig2", overrides=over)
@@ -251,7 +256,8 @@ def test_report_strict_fails_when_fig2_drifts(cli, tmp_path, monkeypatch):
 
 
 def test_reference_integrator_through_the_study():
-    from tirecli.studies.base import builtin_config, run_study
+    from tirecli.studies.configs import builtin_config
+    from tirecli.studies.registry import run_study
 
     res = run_study(builtin_config("obs-fig2", overrides=["solver.method=radau", "solver.rtol=1e-8",
                                                           "scenario.duration=1", "metrics.phases=[0, 1]"]))

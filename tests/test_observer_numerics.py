@@ -152,10 +152,10 @@ def test_too_slow_fast_mode_is_refused(plant, gains):
 @pytest.mark.slow
 def test_fig2_fast_scheme_matches_radau(plant, gains):
     """The whole 20 s OBS Fig. 2 run: fast scheme (2.5 ms) against Radau (rtol 1e-8, about 10 s)."""
-    from tirecli.studies.base import builtin_config
+    from tirecli.studies.configs import builtin_config
     from tirecli.studies.observe import plan
 
-    p = plan(builtin_config("obs-fig2"))
+    p = plan(builtin_config("obs-fig2")).detail
     sc = p.cases[0].scenario
     fast = oi.simulate_fast(plant, gains, sc)
     ref = oi.simulate_reference(plant, gains, sc)
@@ -264,10 +264,10 @@ ALL = ("auto", "fixed", "lsoda", "radau", "bdf")
 
 def fig2_start(plant, duration, **kw):
     """The OBS Fig. 2 scenario (docs/models/observer_model.md §7), shortened to ``duration``."""
-    from tirecli.studies.base import builtin_config
+    from tirecli.studies.configs import builtin_config
     from tirecli.studies.observe import plan
 
-    sc = plan(builtin_config("obs-fig2")).cases[0].scenario
+    sc = plan(builtin_config("obs-fig2")).detail.cases[0].scenario
     return replace(sc, duration=duration, breakpoints=tuple(b for b in sc.breakpoints if b < duration), **kw)
 
 
@@ -382,10 +382,10 @@ def test_lsoda_stall_in_its_nonstiff_mode_is_redone_with_bdf():
     iteration at every step, so it never estimated the stiffness and stayed in its Adams mode at the step the
     observer's fast mode allows (1.5e-7 s): 7.2e6 rhs calls and 100 s for this run. ``auto`` (LSODA) redoes such a
     segment with BDF: the work stays bounded and the answer is the tight reference's."""
-    from tirecli.studies.base import builtin_config
+    from tirecli.studies.configs import builtin_config
     from tirecli.studies.observe import plan
 
-    p = plan(builtin_config("obs-speed-error"))
+    p = plan(builtin_config("obs-speed-error")).detail
     case = p.cases[3]
     assert case.gains.gamma == 0.0 and case.sensor.ideal
     tr = oi.simulate(p.plant, case.gains, case.scenario, case.sensor, p.solver)

@@ -1,5 +1,8 @@
 """The report in a real browser: headless Chromium renders index.html on a desktop (1280 px), a phone
-(420 px) and for print; every figure image must load and nothing may reach past the page's width.
+(420 px) and for print; every figure image must load and nothing may reach past the page's width
+unless it is inside a box marked as scrolling sideways (tests/browser.py). On the phone the tables are
+stacked rows that fit the screen and a figure of many panels pans in such a box, with a link to the
+file; in print every table is there, those of closed sections too.
 
 The browser is driven over the DevTools protocol on a pipe (tests/browser.py, no extra package).
 Screenshots (and a PDF of the print layout) are saved in the test's temporary folder, or in
@@ -22,8 +25,34 @@ pytestmark = pytest.mark.skipif(
     CHROMIUM is None, reason="Chromium not found: install the Debian package 'chromium' (or set TIRECLI_CHROMIUM "
                              "to a Chromium/Chrome executable) to run the report's browser tests")
 
-#: A small report: a table card, a figure beside its text, a wide six-panel figure, three papers.
-SUBSET = ["fm-table1", "fm-fig1-left", "mf-tire-pacejka2006-205-60r15", "mcps-fig10"]
+#: A small report: two table cards (FM Table 1, the MCPS parameters), a figure beside its text, a wide
+#: six-panel figure, three papers.
+SUBSET = ["fm-table1", "fm-fig1-left", "mf-tire-pacejka2006-205-60r15", "mcps-fig10", "mcps-table"]
+
+#: On the phone: each table's layout and size, and each wide figure's box and link.
+PHONE = r"""(() => {
+  const lines = el => el.getBoundingClientRect().height / parseFloat(getComputedStyle(el).lineHeight);
+  const tables = [...document.querySelectorAll('main table')].map(t => {
+    const cells = [...t.querySelectorAll('td')].filter(td => td.getBoundingClientRect().height > 0);
+    return {card: (t.closest('article') || {}).id || '', summary: t.classList.contains('summary'),
+            stacked: getComputedStyle(t).display === 'block', right: t.getBoundingClientRect().right,
+            unlabelled: cells.filter(td => ['none', 'normal', '""'].includes(getComputedStyle(td, '::before').content)).length,
+            tallest: Math.max(0, ...cells.map(lines))};
+  });
+  const wide = [...document.querySelectorAll('article.card.wide')].map(c => {
+    const f = c.querySelector('.figure'), open = c.querySelector('.open');
+    return {card: c.id, ratio: f.scrollWidth / f.clientWidth,
+            link: !!open && getComputedStyle(open).display !== 'none' && !!open.querySelector('a[href$=".png"]')};
+  });
+  return {tables, wide};
+})()"""
+
+#: In print: every table, and how many of them are in sections that are closed on the screen.
+PRINT = r"""(() => {
+  const tables = [...document.querySelectorAll('main table')];
+  return {n: tables.length, hidden: tables.filter(t => t.getBoundingClientRect().height === 0).length,
+          in_closed: tables.filter(t => { const d = t.closest('details'); return d && !d.open; }).length};
+})()"""
 #: Viewports: name, width [CSS px], phone.
 VIEWS = [("desktop", 1280, False), ("phone", 420, True)]
 
@@ -43,6 +72,9 @@ def _build(out: Path, only=(), drift: bool = False) -> Path:
         args += ["--only", name]
     if drift:  # one drifted reference: the summary then lists a failing check with its link
         from tirecli.studies.checks import steady
+
+        # a cache of its own: the session's may hold the card with the real reference, and must not get the drifted one
+        args += ["--cache", str(out.parent / "drift-cache")]
 
         with pytest.MonkeyPatch.context() as mp:
             mp.setitem(steady._REF_SPEEDS, 20, (1.20, 0.212, 0.6451, 0.8717))
@@ -74,12 +106,15 @@ def _check_views(browser, report: Path, shots: Path) -> dict:
         bad = problems(m)
         assert not bad, f"{name} ({width} px, screenshot {shot}):\n" + "\n".join(bad)
         assert len(m["images"]) == n_png, f"{len(m['images'])} images on the page, {n_png} figures written"
+        if phone:
+            m["layout"] = browser.evaluate(PHONE)
         measures[name] = m
     browser.send("Emulation.setEmulatedMedia", {"media": "print"})
     try:
         m = inspect_page(browser, report / "index.html", 680)  # A4 less the print margins, in CSS px
         bad = problems(m)
         assert not bad, "print layout:\n" + "\n".join(bad)
+        m["tables"] = browser.evaluate(PRINT)
         pdf = browser.send("Page.printToPDF", {"printBackground": False, "preferCSSPageSize": True})
     finally:
         browser.send("Emulation.setEmulatedMedia", {"media": ""})
@@ -99,14 +134,29 @@ def test_small_report_in_the_browser(browser, small_report, tmp_path_factory):
     wide = [i for i in m["desktop"]["images"] if i["alt"].startswith("mf-tire-")]
     narrow = [i for i in m["desktop"]["images"] if i["alt"].startswith("fm-fig1-left:")]
     assert wide and narrow and wide[0]["width"] > 1000 > narrow[0]["width"]
-    # on the phone every image fits the screen
-    assert all(i["width"] <= 420 for i in m["phone"]["images"])
+    # on the phone every image fits the screen, or pans in its box (a figure of many panels, at twice the width)
+    assert all(i["width"] <= 420 or i["in_scroll_box"] for i in m["phone"]["images"])
+    _phone_layout(m["phone"]["layout"])
+    # in print every table is there: those of the closed sections (parameters, checks that passed) too
+    assert m["print"]["tables"]["hidden"] == 0 and m["print"]["tables"]["in_closed"] >= len(SUBSET), m["print"]["tables"]
     # the paper's description beside a figure where there is room, else below it
     assert _layout(browser, small_report, 1280, False) == {
-        "fm-table1": "beside", "fm-fig1-left": "beside", "mf-tire-pacejka2006-205-60r15": "below", "mcps-fig10": "below"}
+        "fm-table1": "beside", "fm-fig1-left": "beside", "mf-tire-pacejka2006-205-60r15": "below", "mcps-fig10": "below",
+        "mcps-table": "beside"}
     assert set(_layout(browser, small_report, 420, True).values()) == {"below"}
     for f in ("report-desktop-1280px.png", "report-phone-420px.png", "report-print.pdf"):
         assert (shots / f).stat().st_size > 1000
+
+
+def _phone_layout(layout: dict) -> None:
+    """Tables of the cards are stacked rows (each cell named, no cell taller than 4 lines), fit the 420 px
+    screen; each wide figure pans at twice the width, with a visible link to its file."""
+    cards = [t for t in layout["tables"] if not t["summary"]]
+    assert cards and all(t["stacked"] and t["right"] <= 420 and not t["unlabelled"] for t in cards), cards
+    mcps = [t for t in cards if t["card"] == "mcps-table"]
+    assert mcps and all(t["tallest"] <= 4.05 for t in mcps), mcps  # it had rows of 8-10 lines
+    assert all(t["tallest"] <= 6.05 for t in cards), [t for t in cards if t["tallest"] > 6.05]
+    assert layout["wide"] and all(w["ratio"] > 1.9 and w["link"] for w in layout["wide"]), layout["wide"]
 
 
 def _layout(browser, report: Path, width: int, phone: bool) -> dict:
@@ -143,13 +193,16 @@ def test_the_checks_can_fail(browser, small_report):
     broken = small_report / "broken.html"
     broken.write_text(html.replace('<main>', '<main><div id="too-wide" style="width: 2000px">a wide block</div>'
                                             '<table><tr><td>' + "x" * 400 + '</td></tr></table>'
-                                            '<img alt="missing" src="figures/missing.png">', 1), encoding="utf-8")
+                                            '<img alt="missing" src="figures/missing.png">'
+                                            '<div style="overflow-x: auto"><p id="unmarked" style="width: 3000px">'
+                                            'scrolls in a box that does not say so</p></div>', 1), encoding="utf-8")
     try:
         for _, width, phone in VIEWS:
             bad = problems(inspect_page(browser, broken, width, mobile=phone))
             assert any("scrolls sideways" in p for p in bad), bad
             assert any("too-wide" in p for p in bad), bad
             assert any(p == "image not loaded: missing" for p in bad), bad
+            assert any("unmarked" in p for p in bad), bad
     finally:
         broken.unlink()
 

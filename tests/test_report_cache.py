@@ -7,6 +7,7 @@ the number of processes.
 from __future__ import annotations
 
 import json
+import os
 from pathlib import Path
 
 import pytest
@@ -20,6 +21,11 @@ def _report(cli, out: Path, *extra) -> dict:
     code, stdout, err = cli("--quiet", "report", "--out", out, *ONLY, *extra)
     assert code == 0, err
     return json.loads((out / "summary.json").read_text())
+
+
+def _cache() -> Path:
+    """The study cache of a report without --cache: $TIRECLI_CACHE_DIR, a folder of this test (tests/conftest.py)."""
+    return Path(os.environ["TIRECLI_CACHE_DIR"])
 
 
 def _files(out: Path, pattern: str) -> dict:
@@ -50,15 +56,15 @@ def _with_changed_set(monkeypatch, tmp_path: Path, name: str, change, run):
 @pytest.fixture
 def counted(monkeypatch) -> list:
     """The studies run in this process (``--jobs 1``), by name."""
-    from tirecli.studies import base
+    from tirecli.studies import registry  # the report runs its studies through it
 
-    calls, real = [], base.run_study
+    calls, real = [], registry.run_study
 
     def run_study(config, *args, **kwargs):
         calls.append(config.label)
         return real(config, *args, **kwargs)
 
-    monkeypatch.setattr(base, "run_study", run_study)
+    monkeypatch.setattr(registry, "run_study", run_study)
     return calls
 
 
@@ -72,9 +78,9 @@ def test_a_second_report_takes_every_study_from_the_cache(cli, tmp_path, counted
     assert second["study_cached"] == dict.fromkeys(STUDIES, True)
     assert second["checks"] == first["checks"] and second["n_checks"] > 10
     assert {**_files(out, "data/*/*.csv"), **_files(out, "figures/*"), **_files(out, "studies/*.json")} == before
-    # the cache lives in the report's folder, survives its staged write and is no output of the report
-    assert (out / ".tirecli-cache").is_dir()
-    assert not any(rel.startswith(".tirecli-cache") for rel in second["outputs"])
+    # the cache lives outside the report's folder (which an artifact of a CI job keeps): nothing of it there
+    assert (_cache() / "v1" / "mcps-fig3").is_dir() and out not in _cache().parents
+    assert not [p for p in out.rglob("*") if "cache" in p.name or p.name in ("manifest.json", "card.json")]
     assert "data:image/png;base64," in (out / "index.html").read_text()
 
     third = _report(cli, out, "--jobs", "1", "--no-cache")
@@ -108,7 +114,7 @@ def test_a_damaged_cache_entry_is_recomputed(cli, tmp_path, damage):
     out = tmp_path / "rep"
     first = _report(cli, out, "--jobs", "1")
     before = {**_files(out, "data/*/*.csv"), **_files(out, "figures/*")}
-    entry = next((out / ".tirecli-cache").glob("v1/mcps-fig3/*"))
+    entry = next(_cache().glob("v1/mcps-fig3/*"))
     target = {"manifest": entry / "manifest.json", "csv": next(entry.glob("files/data/*.csv")),
               "png": next(entry.glob("fig-*/*.png")), "card": next(entry.glob("fig-*/card.json"))}[damage]
     target.write_bytes(target.read_bytes()[: len(target.read_bytes()) // 2])
@@ -122,7 +128,7 @@ def test_a_damaged_cache_entry_is_recomputed(cli, tmp_path, damage):
 def test_a_cache_elsewhere_and_an_unreadable_one(cli, tmp_path):
     out, cache = tmp_path / "rep", tmp_path / "cache"
     _report(cli, out, "--jobs", "1", "--cache", cache)
-    assert not (out / ".tirecli-cache").exists() and (cache / "v1" / "mcps-fig3").is_dir()
+    assert not any(_cache().iterdir()) and (cache / "v1" / "mcps-fig3").is_dir()
     assert set(_report(cli, tmp_path / "other", "--jobs", "1", "--cache", cache)["study_cached"].values()) == {True}
     (cache / "v1" / "mcps-fig3").chmod(0o000)  # (root reads it anyway: then it is simply a hit)
     try:
@@ -158,7 +164,7 @@ def test_formats(cli, tmp_path):
     out = tmp_path / "rep"
     summary = _report(cli, out, "--jobs", "1")
     assert summary["formats"] == ["png"]
-    assert not list(out.rglob("*.svg")) and not list((out / ".tirecli-cache").rglob("*.svg"))
+    assert not list(out.rglob("*.svg")) and not list(_cache().rglob("*.svg"))
     assert (out / "figures" / "fm-fig1-left.png").is_file()
     html = (out / "index.html").read_text()
     assert 'href="figures/fm-fig1-left.png"' in html and ".svg" not in html
@@ -197,15 +203,17 @@ def test_a_cache_hit_reads_each_cached_file_once(cli, tmp_path, monkeypatch):
     """The files of a cache entry are read once: the bytes whose hash was checked are the bytes copied."""
     out = tmp_path / "rep"
     _report(cli, out, "--jobs", "1")
-    cache = (out / ".tirecli-cache").resolve()
-    reads, real = [], Path.read_bytes
+    cache = _cache().resolve()
+    from tirecli.io import cache as cache_io
 
-    def read_bytes(self):
-        if cache in self.resolve().parents and self.name != "manifest.json" and self.name != "card.json":
-            reads.append(str(self))
-        return real(self)
+    reads, real = [], cache_io._read
 
-    monkeypatch.setattr(Path, "read_bytes", read_bytes)
+    def read(path, root):  # every read of a cached file goes through the cache's gate
+        if cache in Path(path).resolve().parents and path.name != "manifest.json" and path.name != "card.json":
+            reads.append(str(path))
+        return real(path, root)
+
+    monkeypatch.setattr(cache_io, "_read", read)
     before = {**_files(out, "data/*/*.csv"), **_files(out, "figures/*")}
     summary = _report(cli, out, "--jobs", "1")
     assert summary["study_cached"] == dict.fromkeys(STUDIES, True)
@@ -242,7 +250,8 @@ def test_a_png_has_the_pixels_savefig_writes(tmp_path, study):
 
     from tirecli.figures.registry import load_all
     from tirecli.io.output import SAVE_RC, save_figure
-    from tirecli.studies.base import builtin_config, run_study
+    from tirecli.studies.configs import builtin_config
+    from tirecli.studies.registry import run_study
 
     res = run_study(builtin_config(study))
     figs = [f for f in load_all().values() if f.study == study]
@@ -298,22 +307,24 @@ def test_a_forked_worker_starts_its_own_thread_pool():
     assert _sum_on_threads() == 3  # the pool exists in this process
     ctx = multiprocessing.get_context("fork")
     q = ctx.Queue()
-    with ctx.Pool(1, initializer=work._init_worker, initargs=(q,)) as pool:
+    from tirecli.parallel import fork_point
+
+    with ctx.Pool(1, initializer=work._init_worker, initargs=(q, fork_point())) as pool:
         assert pool.apply_async(_sum_on_threads).get(timeout=60) == 3
 
 
 @pytest.mark.parametrize("jobs", ["1", "2"])
 def test_a_failing_study_is_an_error_card_and_is_not_cached(cli, tmp_path, monkeypatch, jobs):
-    from tirecli.studies import base
+    from tirecli.studies import registry  # the report runs its studies through it
 
-    real = base.run_study
+    real = registry.run_study
 
     def run_study(config, *args, **kwargs):
         if config.label == "<built-in mcps-fig3>":
             raise RuntimeError("the slider broke")
         return real(config, *args, **kwargs)
 
-    monkeypatch.setattr(base, "run_study", run_study)
+    monkeypatch.setattr(registry, "run_study", run_study)
     out = tmp_path / "rep"
     code, _, err = cli("--quiet", "report", "--out", out, *ONLY, "--jobs", jobs, "--strict")
     assert code == 1, err
@@ -322,7 +333,7 @@ def test_a_failing_study_is_an_error_card_and_is_not_cached(cli, tmp_path, monke
     assert [c["id"] for c in summary["checks"] if not c["passed"]] == ["mcps-fig3/study-ran"]
     assert summary["study_cached"] == {"fm-fig1-left": False, "mf-golden": False}
     assert "the slider broke" in (out / "index.html").read_text()
-    monkeypatch.setattr(base, "run_study", real)
+    monkeypatch.setattr(registry, "run_study", real)
     assert _report(cli, out, "--jobs", jobs)["study_cached"] == {"fm-fig1-left": True, "mf-golden": True,
                                                                  "mcps-fig3": False}
 
@@ -330,19 +341,19 @@ def test_a_failing_study_is_an_error_card_and_is_not_cached(cli, tmp_path, monke
 def test_a_worker_that_dies_is_an_error_and_the_previous_report_stays(cli, tmp_path, monkeypatch):
     import os
 
-    from tirecli.studies import base
+    from tirecli.studies import registry  # the report runs its studies through it
 
     out = tmp_path / "rep"
     _report(cli, out, "--jobs", "1", "--cache", tmp_path / "cache")
     before = _files(out, "**/*.*")
-    real = base.run_study
+    real = registry.run_study
 
     def run_study(config, *args, **kwargs):
         if config.label == "<built-in mcps-fig3>":
             os._exit(9)  # as if killed
         return real(config, *args, **kwargs)
 
-    monkeypatch.setattr(base, "run_study", run_study)
+    monkeypatch.setattr(registry, "run_study", run_study)
     code, _, err = cli("report", "--out", out, *ONLY, "--jobs", "2", "--no-cache", "--cache", tmp_path / "cache")
     assert code == 1 and "a worker process of the report ended abruptly" in err and f"previous results in {out} kept" in err
     assert _files(out, "**/*.*") == before and len(before) > 10
@@ -369,3 +380,94 @@ def test_a_parameter_set_read_by_a_figure_invalidates_its_card(cli, tmp_path, mo
     summary = _with_changed_set(monkeypatch, tmp_path, "canudas2003-table2", lambda text: text + "\n# changed\n",
                                 lambda: _report(cli, out, "--jobs", "1"))
     assert summary["study_cached"] == {"fm-fig1-left": True, "mf-golden": True, "mcps-fig3": False}
+
+
+def test_the_default_cache_folder(monkeypatch, tmp_path):
+    """Outside the report: $TIRECLI_CACHE_DIR, else $XDG_CACHE_HOME/tirecli (absolute), else ~/.cache/tirecli."""
+    from tirecli.io.cache import default_dir
+
+    monkeypatch.setenv("HOME", str(tmp_path / "home"))
+    monkeypatch.setenv("TIRECLI_CACHE_DIR", str(tmp_path / "mine"))
+    monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path / "xdg"))
+    assert default_dir() == tmp_path / "mine"
+    monkeypatch.setenv("TIRECLI_CACHE_DIR", " ")
+    assert default_dir() == tmp_path / "xdg" / "tirecli"
+    monkeypatch.setenv("XDG_CACHE_HOME", "relative/path")  # the XDG rule: a relative path is ignored
+    assert default_dir() == tmp_path / "home" / ".cache" / "tirecli"
+    monkeypatch.delenv("XDG_CACHE_HOME")
+    monkeypatch.delenv("TIRECLI_CACHE_DIR")
+    assert default_dir() == tmp_path / "home" / ".cache" / "tirecli"
+
+
+def test_a_report_keeps_no_cache_in_its_folder(cli, tmp_path, monkeypatch):
+    """The cache was DIR/.tirecli-cache, half of a 104 MB report folder that CI jobs archive: now it is
+    the user's cache folder (here $XDG_CACHE_HOME/tirecli), and a cache left in DIR by an earlier
+    version is named once (not used, not removed)."""
+    monkeypatch.delenv("TIRECLI_CACHE_DIR")
+    monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path / "xdg"))
+    out = tmp_path / "rep"
+    code, stdout, err = cli("report", "--out", out, "--only", "mcps-fig3", "--jobs", "1")
+    assert code == 0, err
+    assert (tmp_path / "xdg" / "tirecli" / "v1" / "mcps-fig3").is_dir()
+    assert sorted(p.name for p in out.iterdir()) == ["data", "docs", "figures", "index.html", "studies", "summary.json"]
+    assert "note:" not in stdout.replace("note: building matplotlib's font cache (first run only)", "")
+    (out / ".tirecli-cache" / "v1").mkdir(parents=True)
+    code, stdout, err = cli("report", "--out", out, "--only", "mcps-fig3", "--jobs", "1")
+    assert code == 0 and f"note: {out / '.tirecli-cache'} is the study cache of an earlier tirecli" in stdout, stdout
+    assert json.loads((out / "summary.json").read_text())["study_cached"] == {"mcps-fig3": True}
+    assert (out / ".tirecli-cache" / "v1").is_dir()
+
+
+def test_a_cache_variable_that_names_a_file_is_a_usage_error(cli, tmp_path, monkeypatch):
+    (tmp_path / "afile").write_text("")
+    monkeypatch.setenv("TIRECLI_CACHE_DIR", str(tmp_path / "afile"))
+    code, out, err = cli("report", "--only", "mcps-fig3", "--out", tmp_path / "rep")
+    assert code == 2 and err.startswith("error: TIRECLI_CACHE_DIR ") and err.count("\n") == 1, err
+    assert not (tmp_path / "rep").exists()
+
+
+def test_the_page_embeds_a_smaller_png_and_links_the_file(cli, tmp_path):
+    """index.html was 8.3 MB, 7.3 MB of it the figures' PNGs in base64: the page embeds each PNG in 256
+    colours (no channel of a pixel moves by more than 20 of 255), the full-colour file is linked."""
+    import base64
+    import io
+    import re
+
+    import numpy as np
+    from PIL import Image
+
+    out = tmp_path / "rep"
+    _report(cli, out, "--jobs", "1")
+    html = (out / "index.html").read_text()
+    embedded = dict(re.findall(r'<a href="(figures/[\w-]+\.png)"[^>]*>\s*<img alt="[^"]*"\s*(?:width="\d+" height="\d+" )?'
+                               r'src="data:image/png;base64,([^"]+)"', html))
+    assert set(embedded) == {"figures/fm-fig1-left.png", "figures/mf-golden-fx0.png", "figures/mcps-fig3.png"}
+    for href, text in embedded.items():
+        page, file = base64.b64decode(text), (out / href).read_bytes()
+        assert len(page) < 0.5 * len(file), href
+        with Image.open(io.BytesIO(page)) as a, Image.open(io.BytesIO(file)) as b:
+            assert a.mode == "P" and a.size == b.size
+            pa, pb = (np.asarray(im.convert("RGB"), dtype=int) for im in (a, b))
+            diff = np.abs(pa - pb).max(axis=2)
+            assert diff.max() <= 20 and (diff == 0).mean() > 0.5, (href, diff.max(), (diff == 0).mean())
+            assert (pa[pb.sum(axis=2) == 765] == 255).all(), href  # white stays white
+
+
+def test_the_first_report_says_once_that_it_builds_the_font_cache(tmp_path):
+    """matplotlib scans the system's fonts on its first use on a machine: the report says so, then never again."""
+    import subprocess
+    import sys
+
+    env = dict(os.environ, MPLCONFIGDIR=str(tmp_path / "mpl"), MPLBACKEND="Agg")
+    note = "note: building matplotlib's font cache (first run only)"
+
+    def report(*extra):
+        proc = subprocess.run([sys.executable, "-m", "tirecli", "report", "--out", str(tmp_path / "rep"),
+                               "--only", "fm-table1", "--jobs", "1", *extra], env=env, capture_output=True,
+                              text=True, timeout=300)
+        assert proc.returncode == 0, proc.stderr
+        return proc.stdout
+
+    assert report("--no-cache").count(note) == 1
+    assert list((tmp_path / "mpl").glob("fontlist-v*.json"))
+    assert note not in report("--no-cache")

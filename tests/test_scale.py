@@ -139,9 +139,9 @@ def _sweep_inputs(text=SWEEP):
     from tirecli.config.loader import config_from_text
     from tirecli.studies import sweep as sw
 
-    checked, tire, variants, thetas = sw.plan(config_from_text(text, label="<test>"))
-    s = checked["sweep"]
-    return variants, tire.model(), s["slip"], s["speeds"], thetas
+    plan = sw.plan(config_from_text(text, label="<test>"))
+    s = plan.checked["sweep"]
+    return plan.detail.variants, plan.sets["tire"].model(), s["slip"], s["speeds"], plan.detail.thetas_fm
 
 
 def test_blockwise_sweep_equals_one_block():
@@ -248,7 +248,8 @@ def test_format_errors_are_one_line(cli, tmp_path, monkeypatch):
     assert code == 2 and "--format 'xlsx'" in err and len(err.strip().splitlines()) == 1
     block_pyarrow(monkeypatch)
     code, _, err = cli("sweep", cfg, "--out", tmp_path / "o", "--format", "parquet")
-    assert code == 2 and "pip install 'tirecli[campaign]'" in err and len(err.strip().splitlines()) == 1
+    assert code == 2 and "--format parquet needs pyarrow, which is not installed" in err, err
+    assert "pip install 'pyarrow'" in err and len(err.strip().splitlines()) == 1
     assert not (tmp_path / "o").exists()  # refused before the run
 
 
@@ -295,14 +296,14 @@ cases:
 
 
 def test_many_cases_stream_the_same_timeseries(cli, tmp_path, monkeypatch):
-    from tirecli.studies import simulate
+    from tirecli.studies.simulate import running
 
     cfg = tmp_path / "many.yaml"
     cfg.write_text(_many_cases(14))
-    assert 14 > simulate.SPOOL_CASES
+    assert 14 > running.SPOOL_CASES
     code, _, err = cli("--quiet", "simulate", cfg, "--out", tmp_path / "streamed")
     assert code == 0, err
-    monkeypatch.setattr(simulate, "SPOOL_CASES", 100)  # the frame kept in memory, as before
+    monkeypatch.setattr(running, "SPOOL_CASES", 100)  # the frame kept in memory, as before
     code, _, err = cli("--quiet", "simulate", cfg, "--out", tmp_path / "frame")
     assert code == 0, err
     for name in ("timeseries", "events"):
@@ -366,18 +367,20 @@ def test_drawn_rows_are_rows_of_the_timeseries(dt):
     time series (the same numbers)."""
     from tirecli.config.loader import config_from_text
     from tirecli.studies import simulate
+    from tirecli.studies.simulate import running
 
     config = config_from_text(_many_cases(2).replace("dt: 0.002", f"dt: {dt}"), label="<test>")
-    checked, tire, vehicle, cases = simulate.plan(config)
-    car = vehicle.model()
-    trs = simulate.run_cases(cases, tire.model(), car, checked["t_end"])
+    plan = simulate.plan(config)
+    checked, cases = plan.checked, plan.detail
+    car = plan.sets["vehicle"].model()
+    trs = simulate.run_cases(cases, plan.sets["tire"].model(), car, checked["t_end"])
     for c in cases:
         cache = trs[c.label].sample_cache  # a kept run's samples (runs.quarter_car(reuse=True))
-        whole = simulate._frame(trs[c.label], c, dt, car.r, 20.0)
+        whole = running.case_frame(trs[c.label], c, dt, car.r, 20.0)
         kept = len(cache)
-        drawn = simulate._frame(trs[c.label], c, dt, car.r, 20.0, points=40, keep=False)
+        drawn = running.case_frame(trs[c.label], c, dt, car.r, 20.0, points=40, keep=False)
         assert len(cache) == kept and (kept >= 1 or dt == 0)  # keep=False: not kept with the run
-        rows = simulate._thinned(len(whole), 40)
+        rows = running.thinned(len(whole), 40)
         assert 20 < len(drawn) <= 41 and rows[-1] == len(whole) - 1
         pd.testing.assert_frame_equal(drawn, whole.iloc[rows].reset_index(drop=True), check_exact=True)
 

@@ -322,7 +322,7 @@ def test_overlay_differences_only_runs_driven_the_same_way(tmp_path):
     difference), never against a run with another torque; open-loop cases against their driver."""
     from tirecli.config.loader import load_config
     from tirecli.figures.transient import draw_overlay, overlay_base
-    from tirecli.studies.simulate import run_simulate
+    from tirecli.studies.registry import run_study
 
     cfg = tmp_path / "ov.yaml"
     cfg.write_text("""\
@@ -337,7 +337,7 @@ cases:
   - {model: lumped, kappa0: 2, label: D, drive: {case: B}}
   - {model: lumped, kappa0: 2, label: E, input: {pressure: 10}}
 """)
-    res = run_simulate(load_config(cfg))
+    res = run_study(load_config(cfg))
     cases = res.payload["cases"]
     assert [overlay_base(cases, c) for c in cases] == [None, None, "B", "B", None]
     fig = draw_overlay(res)

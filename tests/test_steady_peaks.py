@@ -258,7 +258,7 @@ def test_figures_mark_the_peaks(sweep_run):
     legend entry when there are many curves."""
     from tirecli.config.loader import config_from_text
     from tirecli.figures.registry import get
-    from tirecli.studies.base import run_study
+    from tirecli.studies.registry import run_study
 
     few = config_from_text("study: sweep\ntire: canudas2003-table1\nsweep:\n  slip: {start: -1, stop: 0, num: 11}\n"
                            "  speeds: [10, 20]\n", label="<test>")

@@ -33,7 +33,7 @@ def test_fm_campaign_brakings_lock_once_and_release(point):
     as many steps as any other braking of the campaign (about 800); v never increases, omega never < 0,
     and while locked the brake holds the tire torque."""
     from tirecli.campaign.spec import load_campaign, point_config
-    from tirecli.studies.base import run_study
+    from tirecli.studies.registry import run_study
 
     c = load_campaign(EXAMPLES / "campaign-fm-fig4-mc.yaml")
     values = tuple(point[KEYS.index(k)] for k in c.design.keys)

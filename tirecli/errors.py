@@ -145,6 +145,51 @@ class DataError(UsageError):
     """A data file (CSV) that cannot be used: missing column, NaN, too few rows: exit code 2."""
 
 
+#: Libraries that tirecli imports only where a feature needs them (import name -> the distribution to
+#: install and the extra of tirecli that brings it, None for a dependency of the default install).
+OPTIONAL = {
+    "dask": ("dask[distributed]", "campaign"),
+    "distributed": ("dask[distributed]", "campaign"),
+    "pyarrow": ("pyarrow", None),
+    "SALib": ("SALib", None),
+    "asammdf": ("asammdf", "mdf"),
+}
+
+
+class MissingDependency(UsageError):
+    """A library that a feature needs is not installed (or does not import): exit code 2, with the
+    command that installs it."""
+
+
+def missing_dependency(module: str, what: str, reason: str = "is not installed") -> MissingDependency:
+    """The error of ``what`` (e.g. ``--scheduler``) needing library ``module`` (an import name of
+    :data:`OPTIONAL`), which ``reason``: one line naming how to install it, from a checkout of tirecli
+    (``pip install '.[EXTRA]'``) or from the package index (``pip install 'tirecli[EXTRA]'``)."""
+    top = module.split(".")[0]
+    dist, extra = OPTIONAL.get(top, (top, None))
+    name = dist.split("[")[0]
+    if extra:
+        how = f"pip install '.[{extra}]' in a checkout of tirecli, or pip install 'tirecli[{extra}]'"
+    else:
+        how = f"a dependency of tirecli: pip install '{dist}' (or install tirecli again: pip install . in its checkout)"
+    return MissingDependency(f"{what} needs {name}, which {reason}: {how}")
+
+
+def require(module: str, what: str):
+    """Import ``module`` and return it, or raise :func:`missing_dependency` naming ``what`` needs it.
+    Called before any work, so that a missing library fails a run at its start."""
+    import importlib
+
+    try:
+        return importlib.import_module(module)
+    except ModuleNotFoundError as exc:
+        if exc.name is not None and exc.name.split(".")[0] != module.split(".")[0]:
+            raise missing_dependency(module, what, f"does not import (it needs {exc.name})") from None
+        raise missing_dependency(module, what) from None
+    except ImportError as exc:
+        raise missing_dependency(module, what, f"does not import ({clip(str(exc), 120)})") from None
+
+
 def error_lines(exc: BaseException) -> list[str]:
     """The lines printed for an error (each then prefixed with ``error: ``): one per problem, at most
     :data:`MAX_PROBLEM_LINES` (then a count of the rest), each a clean line."""

@@ -86,6 +86,8 @@ CONFIG_KEY = ("run", "max_samples")
 
 #: ``(budget or None, whether the run has a config whose run.max_samples raises it)`` of the command running.
 _LIMIT: contextvars.ContextVar = contextvars.ContextVar("tirecli_max_samples", default=(None, True))
+#: The list collecting the samples of every estimate checked (:func:`recorded_estimates`), or None.
+_SEEN: contextvars.ContextVar = contextvars.ContextVar("tirecli_estimates", default=None)
 
 
 def max_samples() -> int:
@@ -103,6 +105,18 @@ def budget(limit: int | None, config_key: bool = True):
         yield
     finally:
         _LIMIT.reset(token)
+
+
+@contextlib.contextmanager
+def recorded_estimates():
+    """Yield a list that receives the samples of every :class:`Estimate` checked in the block (a campaign
+    counts its points against the budget at the samples its base run estimates)."""
+    seen: list = []
+    token = _SEEN.set(seen)
+    try:
+        yield seen
+    finally:
+        _SEEN.reset(token)
 
 
 def compute_cap(cap: float) -> float:
@@ -236,6 +250,9 @@ class Estimate:
     def problem(self, origins, fallback: str | None = None) -> Problem | None:
         if not self.terms:
             return None
+        seen = _SEEN.get()
+        if seen is not None:
+            seen.append(self.samples)
         total, memory, limit = self.samples, self.memory, max_samples()
         avail = available_memory()
         over_memory = avail is not None and memory > avail

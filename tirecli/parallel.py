@@ -29,6 +29,16 @@ def default_jobs() -> int:
         return max(os.cpu_count() or 1, 1)
 
 
+#: Worker processes per core a report or a campaign may be given (``--jobs``): more only adds memory.
+JOBS_PER_CORE = 4
+
+
+def max_jobs() -> int:
+    """The most worker processes ``--jobs`` may ask for: :data:`JOBS_PER_CORE` per core of :func:`default_jobs`
+    (at least 8)."""
+    return max(8, JOBS_PER_CORE * default_jobs())
+
+
 def helper_process_ok() -> bool:
     """Whether this process may hand work to a forked helper process and go on meanwhile: on Linux
     (``fork``), with more than one core (:func:`default_jobs`), and only in the command's own process:
@@ -40,6 +50,51 @@ def helper_process_ok() -> bool:
 
     return (sys.platform.startswith("linux") and default_jobs() > 1 and LIMIT != 1
             and multiprocessing.parent_process() is None and not multiprocessing.current_process().daemon)
+
+
+#: Seconds between two looks of a worker or helper process at its parent (:func:`die_with_parent`).
+WATCH_SECONDS = 0.5
+#: ``prctl`` option: the signal a process gets when its parent (the thread that forked it) ends.
+_PR_SET_PDEATHSIG = 1
+
+
+def fork_point() -> tuple[int, bool]:
+    """What :func:`die_with_parent` needs to know of the process about to start workers or a helper: its id,
+    and whether this is its main thread (which ends only with the process)."""
+    return os.getpid(), threading.current_thread() is threading.main_thread()
+
+
+def die_with_parent(point: tuple[int, bool]) -> None:
+    """In a worker or helper process just started by the process of ``point`` (:func:`fork_point`, taken there):
+    end within a second of that parent's death however it dies (SIGKILL, out of memory), so that no worker
+    computes on for nobody.
+
+    On Linux the kernel sends SIGKILL when the parent ends (``prctl(PR_SET_PDEATHSIG)``, through ctypes), when
+    the parent started this process from its main thread (the signal follows the thread that forked, and
+    another thread may end before the process); everywhere a daemon thread looks at the parent every
+    :data:`WATCH_SECONDS` and ends this process when it has gone (its parent id is no longer the parent's).
+    A parent that died before this call ends this process at once."""
+    import signal
+    import sys
+    import time
+
+    parent, from_main = point
+    if from_main and sys.platform.startswith("linux"):
+        try:
+            import ctypes
+
+            ctypes.CDLL(None, use_errno=True).prctl(_PR_SET_PDEATHSIG, int(signal.SIGKILL), 0, 0, 0)
+        except (OSError, AttributeError, TypeError):  # no C library to call: the watch below does it
+            pass
+    if os.getppid() != parent:  # the parent ended before the signal was asked for
+        os._exit(1)
+
+    def watch() -> None:
+        while os.getppid() == parent:
+            time.sleep(WATCH_SECONDS)
+        os._exit(1)
+
+    threading.Thread(target=watch, name="tirecli-parent-watch", daemon=True).start()
 
 
 def _drop_after_fork() -> None:

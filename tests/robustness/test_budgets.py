@@ -289,6 +289,46 @@ def test_a_run_within_the_budget_works_and_one_sample_more_is_refused(tmp_path, 
     assert (tmp_path / "b" / "data" / "sweep.csv").read_text().count("\n") == 12
 
 
+# --------------------------------------------------------------------------- campaigns
+
+
+def _mc(tmp_path, n: int, budget: str | None = None) -> Path:
+    """The FM Fig. 4 Monte Carlo example with ``n`` samples (and the file's ``run:`` budget replaced by ``budget``)."""
+    text = (Path(__file__).resolve().parents[2] / "examples" / "campaign-fm-fig4-mc.yaml").read_text(encoding="utf-8")
+    text = text.replace("base: fm-fig4.yaml", "base: fm-fig4").replace("\n  n: 1000\n", f"\n  n: {n}\n")
+    text = "\n".join(ln for ln in text.splitlines() if not ln.startswith("run:")) + "\n"
+    return _write(tmp_path, "mc.yaml", text + (f"run: {{max_samples: {budget}}}\n" if budget else ""))
+
+
+@pytest.mark.parametrize("command, n", [("campaign", 10_000_000), ("params validate", 2_000_000)])
+def test_a_campaign_counts_its_points_against_the_budget(tmp_path, command, n):
+    """Points x the samples of one run, estimated before the design is made (a design of 10^7 points was built
+    and checked for minutes); the refusal names the estimate and the option that raises it."""
+    cfg = _mc(tmp_path, n)
+    args = [*command.split(), cfg] + (["-o", tmp_path / "o"] if command == "campaign" else [])
+    refused(args, rf"mc\.yaml:\d+: sample\.n: {n:,} point\(s\) x ([\d,]+) samples per run would need [\d,]+ samples; "
+                  r"the budget is 1,000,000 \(raise it with --max-samples (\d+) or run\.max_samples: \2\)", cwd=tmp_path)
+    assert not (tmp_path / "o").exists()
+
+
+def test_the_campaign_budget_is_raised_by_its_file_or_the_option(tmp_path, cli, refused_here):
+    from tirecli.campaign.spec import load_campaign
+
+    cfg = _mc(tmp_path, 300)
+    r = refused_here(["params", "validate", cfg], r"sample\.n: 300 point\(s\) x ([\d,]+) samples per run would need")
+    per_run = int(r.err.split(" x ")[1].split(" ")[0].replace(",", ""))
+    assert 100 < per_run < 100_000  # a braking of a few seconds, as its simulate estimates it
+    enough = str(300 * per_run)
+    assert load_campaign(cfg, max_samples=int(enough)).max_samples == int(enough)
+    refused_here(["params", "validate", _mc(tmp_path, 300, str(300 * per_run - 1))], rf"the budget is {300 * per_run - 1:,}")
+    assert load_campaign(_mc(tmp_path, 300, enough)).max_samples == int(enough)
+    # a grid counts the same way, before its points are made
+    grid = _write(tmp_path, "g.yaml", "campaign: g\nbase: fm-fig1-left\nvary: {tire.mu_s: {start: 1, stop: 2, num: 5000}, "
+                                      "tire.mu_c: {start: 0.5, stop: 0.9, num: 300}}\noutputs: [x]\n")
+    refused_here(["campaign", grid, "-o", tmp_path / "o", "--max-samples", "10000"],
+                 r"g\.yaml:3: vary: 1,500,000 point\(s\) x [\d,]+ samples per run would need [\d,]+ samples; the budget is 10,000 ")
+
+
 # --------------------------------------------------------------------------- free text
 
 

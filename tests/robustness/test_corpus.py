@@ -38,6 +38,11 @@ LIMIT = 30.0  # s per case: a hang detector (each case takes about a second alon
 SECRET = "".join(f"user{i}:$6$Zq8s9Yw1$" + "k3Jf9a8B" * 12 + ":19000:0:99999:7:::\n" for i in range(12))
 # the same as a YAML mapping (one key per account)
 SECRET_YAML = "".join(f"user{i}: $6$Zq8s9Yw1$" + "k3Jf9a8B" * 12 + ":19000:0:99999:7\n" for i in range(12))
+# a shadow file of short lines (each one a YAML key: the file reads as a mapping), and a password file (a YAML text)
+SHADOW = "root:$6$Zq8s9Yw1$k3Jf9a8B:19000:0:99999:7:::\ndaemon:*:19000:0:99999:7:::\nbob:!:19000:0:99999:7:::\n"
+PASSWD = "root:x:0:0:root:/root:/bin/bash\nbob:x:1000:1000:Bob,,,:/home/bob:/bin/sh\n"
+#: Text of SHADOW and PASSWD that no message may show (not even as a short token).
+SHADOW_TEXT = ("root", "daemon", "bob", "Zq8s9Yw1", "99999", "/bin/")
 GOOD_POINTS = "kappa,alpha,gamma,fz\n0.1,0,0,4000\n0.2,0.01,0,4000\n"
 GOOD_DATA = "t,v,s,mu\n0,20,-0.01,-0.3\n0.01,19.9,-0.02,-0.5\n0.02,19.8,-0.03,-0.6\n"
 BAD_TIME = "t,v,s,mu\n0,20,-0.01,-0.3\n0.01,19.9,-0.02,-0.5\n0.005,19.8,-0.03,-0.6\n"
@@ -50,6 +55,9 @@ citation: none
 values: {sigma0: 181.54, sigma1: 1.0, sigma2: 0.0018, mu_c: 0.8, mu_s: 1.55, v_s: 6.57, L: 0.2, alpha: 1.0}
 """
 LONG = "x" * 300
+#: A small campaign over a built-in config (two points of the observer's convergence).
+CAMPAIGN = (EX / "campaign-obs-convergence.yaml").read_text(encoding="utf-8").replace(
+    "base: obs-gain-study.yaml", "base: obs-gain-study")
 
 
 class Fifo:
@@ -260,6 +268,59 @@ CASES = [
          {"o/summary.json": Dir}),
     Case("fit-data-400-digit", fit(), 2, r"d\.csv: column 'mu' row 2: (infinite value|.*number too large)",
          {"d.csv": GOOD_DATA.replace("-0.5", "-" + "5" * 400)}),
+    # ---------------------------------------------------------------- secret files given to every command that reads a file
+    # (through a symlink, as a link to /etc/shadow would be): no message shows any of their text
+    Case("campaign-shadow-link", ["campaign", "LINK", "--out", "prev/c"], 2, r"LINK:1: not a campaign file: none of its 3 top-level",
+         {"shadow": SHADOW, "LINK": Link("shadow")}, forbid=SHADOW_TEXT),
+    Case("campaign-passwd", ["campaign", "passwd", "--out", "prev/c"], 2, r"passwd:1: expected a YAML mapping",
+         {"passwd": PASSWD}, forbid=SHADOW_TEXT),
+    Case("campaign-base-shadow", ["campaign", "c.yaml", "--out", "prev/c"], 2, r"shadow:1: not a study config",
+         {"shadow": SHADOW, "c.yaml": "campaign: c\nbase: shadow\nvary: {x: [1, 2]}\noutputs: [y]\n"}, forbid=SHADOW_TEXT),
+    Case("report-campaign-shadow-link", ["report", "LINK", "--out", "prev"], 2, r"LINK:1: not a campaign file",
+         {"shadow": SHADOW, "LINK": Link("shadow")}, forbid=SHADOW_TEXT),
+    Case("params-validate-shadow-link", ["params", "validate", "LINK"], 2, r"LINK:1: not a study config",
+         {"shadow": SHADOW, "LINK": Link("shadow")}, forbid=SHADOW_TEXT),
+    Case("params-show-shadow", ["params", "show", "shadow.yaml"], 2, r"shadow\.yaml:1: not a parameter set",
+         {"shadow.yaml": SHADOW}, forbid=SHADOW_TEXT),
+    Case("sweep-shadow-link", ["sweep", "LINK", "--out", "prev"], 2, r"LINK:1: not a study config",
+         {"shadow": SHADOW, "LINK": Link("shadow")}, forbid=SHADOW_TEXT),
+    Case("observe-shadow", ["observe", "shadow", "--out", "prev"], 2, r"shadow:1: not a study config",
+         {"shadow": SHADOW}, forbid=SHADOW_TEXT),
+    Case("compare-passwd", ["compare", "passwd", "--out", "prev"], 2, r"passwd:1: expected a YAML mapping",
+         {"passwd": PASSWD}, forbid=SHADOW_TEXT),
+    Case("fit-data-passwd", fit("passwd.csv"), 2, r"passwd\.csv: (missing column|data row 1 has 4 fields.*not shown)", {"passwd.csv": PASSWD}, forbid=SHADOW_TEXT),
+    Case("tir-show-shadow-yaml-form", ["tir", "show", "shadow.yaml"], 2, r"shadow\.yaml:1: format: expected",
+         {"shadow.yaml": SHADOW}, forbid=SHADOW_TEXT),
+    Case("tir-check-passwd", ["tir", "check", "passwd.tir"], 2, r"passwd\.tir: not a \.tir property file",
+         {"passwd.tir": PASSWD}, forbid=SHADOW_TEXT),
+    Case("mf-points-shadow", mf("shadow.csv"), 2, r"shadow\.csv: missing column", {"shadow.csv": SHADOW}, forbid=SHADOW_TEXT),
+    Case("data-show-shadow-csv", ["data", "show", "shadow.csv"], 2, r"shadow\.csv: no known channel",
+         {"shadow.csv": SHADOW}, forbid=SHADOW_TEXT),
+    Case("data-convert-passwd-tdx", ["data", "convert", "passwd.tdx", "--to", "csv", "--out", "prev/d.csv"], 2,
+         r"passwd\.tdx: not a TYDEX file", {"passwd.tdx": PASSWD}, forbid=SHADOW_TEXT),
+    Case("data-show-shadow-mf4", ["data", "show", "shadow.mf4"], 2, r"shadow\.mf4: not an MDF file",
+         {"shadow.mf4": SHADOW}, forbid=SHADOW_TEXT),
+    # ---------------------------------------------------------------- options never silently ignored
+    Case("campaign-scheduler-refused-port", ["campaign", "c.yaml", "--out", "prev/c", "--scheduler", "tcp://127.0.0.1:1"], 2,
+         r"--scheduler 'tcp://127\.0\.0\.1:1': cannot connect \(connection refused\)", {"c.yaml": CAMPAIGN}),
+    Case("campaign-scheduler-word", ["campaign", "c.yaml", "--out", "prev/c", "--scheduler", "foo"], 2,
+         r"--scheduler 'foo': expected 'local' or a Dask scheduler's address", {"c.yaml": CAMPAIGN}),
+    Case("campaign-scheduler-empty", ["campaign", "c.yaml", "--out", "prev/c", "--scheduler", ""], 2,
+         r"--scheduler '': empty", {"c.yaml": CAMPAIGN}),
+    Case("campaign-scheduler-http", ["campaign", "c.yaml", "--out", "prev/c", "--scheduler", "http://127.0.0.1:1"], 2,
+         r"--scheduler 'http://127\.0\.0\.1:1': http is not a Dask address scheme", {"c.yaml": CAMPAIGN}),
+    Case("campaign-scheduler-bad-port", ["campaign", "c.yaml", "--out", "prev/c", "--scheduler", "tcp://127.0.0.1:99999"], 2,
+         r"--scheduler 'tcp://127\.0\.0\.1:99999': cannot read the address", {"c.yaml": CAMPAIGN}),
+    Case("campaign-jobs-absurd", ["campaign", "c.yaml", "--out", "prev/c", "--jobs", "99999999999999999999"], 2,
+         r"--jobs 9{20}: more processes than this machine can use \(at most \d+", {"c.yaml": CAMPAIGN}),
+    Case("report-jobs-absurd", ["report", "--only", "fm-fig1-left", "--out", "prev", "--jobs", "99999999999999999999"], 2,
+         r"--jobs 9{20}: more processes than this machine can use"),
+    Case("campaign-check-not-an-output", ["campaign", "c.yaml", "--out", "prev/c"], 2,
+         r"c\.yaml:14: checks\[0\]\.output: 'converge_time' is not one of the campaign's outputs \(convergence_time, ",
+         {"c.yaml": CAMPAIGN.replace("{output: convergence_time,", "{output: converge_time,")}),
+    Case("params-validate-check-not-an-output", ["params", "validate", "c.yaml"], 2,
+         r"c\.yaml:14: checks\[0\]\.output: 'converge_time' is not one of the campaign's outputs",
+         {"c.yaml": CAMPAIGN.replace("{output: convergence_time,", "{output: converge_time,")}),
     # ---------------------------------------------------------------- output locations of runs
     Case("out-is-file", ["sweep", "c.yaml", "--out", "prev/run.json"], 2, r"--out prev/run\.json: exists and is not a directory",
          {"c.yaml": FIG1}),
@@ -421,3 +482,16 @@ def test_no_code_runs_from_a_config(tmp_path):
     (tmp_path / "c.yaml").write_text(cfg_text)
     r = run(["params", "validate", "c.yaml"], cwd=tmp_path, timeout=LIMIT)
     assert r.code == 2 and not (tmp_path / "pwned").exists()
+
+
+@pytest.mark.parametrize("command", [["campaign", "LINK", "--out", "o"], ["report", "LINK", "--out", "o"],
+                                     ["sweep", "LINK", "--out", "o"]])
+def test_debug_shows_no_file_content(tmp_path, command):
+    """--debug adds the traceback, never the text of a file that is not of the kind expected."""
+    (tmp_path / "shadow").write_text(SHADOW)
+    os.symlink("shadow", tmp_path / "LINK")
+    r = run_warm(["--debug", *command], cwd=tmp_path, timeout=LIMIT)
+    assert r.code == 2, r.err[-800:]
+    assert "not a" in r.err, r.err[-800:]
+    for text in SHADOW_TEXT:
+        assert text not in r.err and text not in r.out, f"{text!r} printed"

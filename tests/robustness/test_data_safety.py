@@ -46,6 +46,10 @@ FIRST = "study: sweep\ntitle: first\ntire: canudas2003-table1\nsweep: {slip: {st
 SECOND = FIRST.replace("title: first", "title: second") + "figures: [fm-table1]\n"
 
 
+#: A campaign of two sweeps over the base config ``BASE`` (figures off: it is quick).
+CAMPAIGN = "campaign: c\nbase: BASE\nvary: {tire.mu_s: [1.4, 1.5]}\noutputs: ['mu_peak[0]']\nfigures: false\n"
+
+
 def _popen(args, cwd) -> subprocess.Popen:
     """``tirecli ARGS`` in the background, Ctrl-C handled as in a terminal (a SIGINT ignored by the
     test runner's parent would otherwise be inherited)."""
@@ -251,6 +255,119 @@ def test_a_stale_lock_and_staging_are_taken_over(configs, previous, tmp_path):
     assert os.listdir(tmp_path) == ["o"]
 
 
+# --------------------------------------------------------------------------- SIGKILL at the commit
+
+#: ``tirecli ARGS`` that kills itself (SIGKILL: no handler, no cleanup) as it moves a file of its commit into
+#: place: before the ``KILL_AT_MOVE``-th move, or before the move of the file named ``KILL_AT_NAME``.
+KILLED_AT_COMMIT = """
+import os, signal, sys
+import tirecli.io.atomic as atomic
+real, moves = atomic._move, [0]
+def move(src, dst):
+    moves[0] += 1
+    if moves[0] == int(os.environ.get("KILL_AT_MOVE", "0")) or os.path.basename(dst) == os.environ.get("KILL_AT_NAME"):
+        os.kill(os.getpid(), signal.SIGKILL)
+    real(src, dst)
+atomic._move = move
+from tirecli.cli.main import main
+main(sys.argv[1:])
+"""
+
+
+def _killed_at_commit(args, cwd, **where) -> subprocess.CompletedProcess:
+    env = dict(os.environ, MPLBACKEND="Agg", **{k: str(v) for k, v in where.items()})
+    p = subprocess.run([sys.executable, "-c", KILLED_AT_COMMIT, *map(str, args)], cwd=cwd, env=env, capture_output=True,
+                       text=True, timeout=120)
+    assert p.returncode == -signal.SIGKILL, (p.returncode, p.stderr[-800:])
+    return p
+
+
+@pytest.mark.parametrize("where", [{"KILL_AT_MOVE": 2}, {"KILL_AT_NAME": "run.json"}], ids=["after-one-move", "before-the-marker"])
+def test_a_sweep_killed_while_it_commits_is_completed_by_the_next_run(configs, previous, tmp_path, where):
+    """SIGKILL at any instant of the commit (the earlier run's marker already removed, some files moved): the
+    next run into the folder completes the killed run's commit from its staging, says so, and the folder then
+    holds that run's complete results; nothing of either run is left over."""
+    _killed_at_commit(["sweep", configs["second"], "--out", previous, "--quiet"], tmp_path, **where)
+    assert not (previous / "run.json").exists() or where.get("KILL_AT_NAME") is None
+    from tirecli.io import atomic
+
+    with atomic._claimed(previous, is_dir=True):  # what the next run finds when it takes the folder
+        pass
+    assert json.loads((previous / "run.json").read_text())["title"] == "second"
+    assert _files(previous) == _listed(previous)
+    assert sorted(os.listdir(tmp_path)) == ["o"]  # no staging, journal or lock left
+
+    _killed_at_commit(["sweep", configs["first"], "--out", previous, "--quiet"], tmp_path, **where)
+    r = run(["sweep", configs["second"], "--out", previous, "--quiet"], timeout=60)
+    assert r.code == 0, r.err
+    assert re.fullmatch(rf"note: --out {re.escape(str(previous))}: a run \(pid \d+, started [-\d: ]+: tirecli sweep .*first\.yaml"
+                        r".*\) was killed while moving its results into place; its move was completed, so .* held that "
+                        r"run's complete results\n", r.err), r.err
+    assert json.loads((previous / "run.json").read_text())["title"] == "second"
+    assert _files(previous) == _listed(previous)
+    assert sorted(os.listdir(tmp_path)) == ["o"]
+
+
+def test_a_report_killed_while_it_commits_is_completed_by_the_next_run(tmp_path):
+    out = tmp_path / "rep"
+    args = ["report", "--out", out, "--quiet", "--jobs", "1", "--cache", tmp_path / "cache"]
+    r = run([*args, "--only", "fm-table1"], timeout=120)
+    assert r.code == 0, r.err
+    _killed_at_commit([*args, "--only", "fm-fig1-left"], tmp_path, KILL_AT_NAME="summary.json")
+    assert not (out / "summary.json").exists()
+    from tirecli.io import atomic
+
+    with atomic._claimed(out, is_dir=True):
+        pass
+    summary = json.loads((out / "summary.json").read_text())
+    assert [c["id"].split("/")[0] for c in summary["checks"]] == ["fm-fig1-left"] * len(summary["checks"])
+    assert {str(p.relative_to(out)) for p in out.rglob("*") if p.is_file()} == atomic.listed_outputs(out)
+    assert sorted(os.listdir(tmp_path)) == ["cache", "rep"]
+
+
+def _dead_pid() -> int:
+    dead = subprocess.Popen([sys.executable, "-c", "pass"])
+    dead.wait()
+    return dead.pid
+
+
+def test_temporary_files_of_killed_runs_are_removed_by_the_next_run(configs, previous, tmp_path):
+    """A run killed with SIGKILL leaves its staging, its journal's and its files' temporary copies: the next run
+    into the same folder removes those whose process is dead (a campaign's folder too, and the report's cache),
+    and leaves a live process's and anything that is not tirecli's."""
+    dead, live = _dead_pid(), os.getpid()
+    beside = [tmp_path / f".o.tirecli-tmp-{dead}-abcdefgh", tmp_path / f"..o.tirecli-commit.tirecli-tmp-{dead}-abcdefgh"]
+    inside = [previous / "data" / f".sweep.csv.tirecli-tmp-{dead}-abcdefgh"]
+    stays = [previous / "data" / f".sweep.csv.tirecli-tmp-{live}-abcdefgh", previous / f"mine.tirecli-tmp-{dead}-abcdefgh"]
+    beside[0].mkdir()
+    (beside[0] / "run.json").write_text("{}")
+    for path in beside[1:] + inside + stays:
+        path.write_text("partial")
+    r = run(["sweep", configs["second"], "--out", previous, "--quiet"], timeout=60)
+    assert r.code == 0, r.err
+    assert not any(p.exists() for p in beside + inside) and all(p.exists() for p in stays)
+
+    camp = tmp_path / "c"
+    (camp / "points").mkdir(parents=True)
+    (tmp_path / "c.yaml").write_text(CAMPAIGN.replace("BASE", str(configs["first"])))
+    left = [camp / f".results.csv.tirecli-tmp-{dead}-abcdefgh", camp / "points" / f".part-000001.parquet.tirecli-tmp-{dead}-a1b2c3d4"]
+    for path in left:
+        path.write_text("partial")
+    r = run(["campaign", tmp_path / "c.yaml", "--out", camp, "--quiet"], timeout=60)
+    assert r.code == 0, r.err
+    assert not any(p.exists() for p in left)
+
+    from tirecli.io.cache import write_timings
+
+    cache = tmp_path / "cache"
+    (cache / "v1" / "memo").mkdir(parents=True)
+    left = [cache / "v1" / "memo" / f".abc.txt.tirecli-tmp-{dead}-abcdefgh", cache / "v1" / f".timings.json.tirecli-tmp-{dead}-abcdefgh"]
+    for path in left:
+        path.write_text("partial")
+    write_timings(cache, {"sweep": 1.0})
+    assert not any(p.exists() for p in left) and (cache / "v1" / "timings.json").is_file()
+
+
 # --------------------------------------------------------------------------- inputs inside --out
 
 
@@ -274,6 +391,25 @@ def test_inputs_inside_out_are_never_removed_or_overwritten(configs, previous):
     r = run(["sweep", previous / "run.json", "--out", previous], timeout=60)
     assert_clean_error(r, 2, r"--out .*o: the run would overwrite its input .*o/run\.json; choose another --out")
     assert_unchanged(before, previous)
+
+
+@pytest.mark.parametrize("campaign_name, base_name, overwritten", [
+    ("c.yaml", "results.csv", "results.csv"),         # the base config named like the results
+    ("summary.json", "base.yaml", "summary.json"),    # the campaign file named like its summary
+    ("points/c.yaml", "base.yaml", "points/c.yaml"),  # in the folder of stored points (pruned by the campaign)
+])
+def test_a_campaign_never_overwrites_its_inputs(configs, tmp_path, campaign_name, base_name, overwritten):
+    """As every other command: a campaign whose outputs in --out would overwrite its campaign file or its base
+    config is refused before it runs, naming the input, and nothing in --out changes."""
+    out = tmp_path / "o"
+    (out / "points").mkdir(parents=True)
+    shutil.copyfile(configs["first"], out / base_name)
+    base = os.path.relpath(out / base_name, (out / campaign_name).parent)
+    (out / campaign_name).write_text(CAMPAIGN.replace("BASE", base))
+    before = snapshot(out)
+    r = run(["campaign", out / campaign_name, "--out", out], cwd=tmp_path, timeout=60)
+    assert_clean_error(r, 2, rf"--out .*o: the run would overwrite its input .*o/{re.escape(overwritten)}\b.*choose another --out")
+    assert_unchanged(before, out)
 
 
 @pytest.mark.parametrize("args", [

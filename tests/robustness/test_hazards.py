@@ -183,7 +183,7 @@ def _fig2_case(*sets):
     from tirecli.config.loader import load_config
     from tirecli.studies import observe
 
-    p = observe.plan(load_config(EXAMPLES / "obs-fig2.yaml", list(sets)))
+    p = observe.plan(load_config(EXAMPLES / "obs-fig2.yaml", list(sets))).detail
     return p, p.cases[0]
 
 

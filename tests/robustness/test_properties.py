@@ -204,7 +204,7 @@ def test_set_overrides_give_a_clean_outcome(key, value):
     """``--set KEY=VALUE`` with a nasty VALUE: a valid config or a clean error (exit 2)."""
     from tirecli.config.loader import load_config
     from tirecli.errors import TirecliError
-    from tirecli.studies.base import check_study
+    from tirecli.studies.registry import check as check_study
 
     try:
         check_study(load_config(ROOT / "examples" / "fm-fig1-left.yaml", [f"{key}={value}"]))

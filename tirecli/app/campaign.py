@@ -29,6 +29,9 @@ from tirecli.errors import ConfigError, Interrupted
 
 #: Seconds between writes of finished points.
 FLUSH_SECONDS = 2.0
+#: What a campaign writes in its folder: files, and folders whose files it writes and removes.
+OUTPUT_FILES = ("results.parquet", "results.csv", "summary.json")
+OUTPUT_DIRS = ("figures", "points", "timeseries")
 
 
 @dataclass
@@ -140,28 +143,50 @@ def results_frame(campaign: Campaign, ids: list, records: dict) -> pd.DataFrame:
     return frame
 
 
+def _require_libraries() -> None:
+    """UsageError (exit 2, how to install it) for a library the campaign needs and does not have:
+    pyarrow (the point store and results.parquet); Dask with ``--scheduler`` is checked with the
+    address (:func:`tirecli.campaign.execute.check_scheduler`)."""
+    from tirecli.io.output import require_pyarrow
+
+    require_pyarrow("a campaign (its points and results are Parquet files)")
+
+
 def run_campaign(path: str | Path, out=None, jobs: int | None = None, scheduler: str | None = None,
-                 progress=None, note=None) -> CampaignSummary:
+                 progress=None, note=None, max_samples: int | None = None) -> CampaignSummary:
     """Run the campaign file ``path`` into ``out`` (module doc). ``note(text)`` reports what happens
-    (points to run, resumed)."""
-    from tirecli.campaign.execute import batch_size, run_batches
-    from tirecli.parallel import default_jobs
-    from tirecli.io.atomic import locked_dir, out_path
-    from tirecli.io.campaign import PointStore
+    (points to run, resumed). ``max_samples``: the sample budget of the campaign and of each of its runs
+    (``--max-samples``; default: the file's ``run.max_samples``, else :data:`tirecli.limits.DEFAULT_MAX_SAMPLES`)."""
+    from tirecli import limits
+    from tirecli.campaign.execute import check_scheduler
+    from tirecli.io.atomic import out_path
 
     t0 = time.perf_counter()
     out = out_path(out) if out is not None else None
-    campaign = load_campaign(path)
+    scheduler = check_scheduler(scheduler)  # an address that is no Dask scheduler fails before anything runs
+    _require_libraries()  # a missing library fails before the points are checked (the budget checks one)
+    campaign = load_campaign(path, max_samples)
+    with limits.budget(campaign.max_samples):
+        return _run_loaded(campaign, path, out, jobs, scheduler, progress, note, t0)
+
+
+def _run_loaded(campaign: Campaign, path, out, jobs, scheduler, progress, note, t0) -> CampaignSummary:
+    from tirecli.campaign.execute import batch_size, run_batches
+    from tirecli.io.atomic import keep_inputs, locked_dir
+    from tirecli.io.campaign import PointStore
+    from tirecli.parallel import default_jobs
+
     jobs = jobs or default_jobs()
     ids, study = check_points(campaign, jobs if not scheduler else min(jobs, default_jobs()))
     out = out or default_out(path)
     from tirecli.io.files import check_output_dir
 
-    # a bad location fails before the runs
-    check_output_dir(out, files=("results.parquet", "results.csv", "summary.json"), dirs=("figures", "points", "timeseries"))
+    # a bad location, or outputs that would overwrite the campaign's inputs, fail before the runs
+    check_output_dir(out, files=OUTPUT_FILES, dirs=OUTPUT_DIRS)
+    keep_inputs(out, OUTPUT_FILES, OUTPUT_DIRS)
     keep = campaign.keep == "timeseries"
     payload = {"base": campaign.base, "fixed": campaign.fixed, "outputs": campaign.outputs, "keep": keep,
-               "timeout": campaign.timeout}
+               "timeout": campaign.timeout, "max_samples": campaign.max_samples}
     with locked_dir(out) as (target, root):
         store = PointStore(root)
         stored = store.load()
@@ -270,13 +295,12 @@ def results_full(results: pd.DataFrame, n: int) -> pd.DataFrame:
 
 
 def _previous_outputs(root: Path) -> set:
-    import json
+    from tirecli.io.atomic import read_record
 
-    try:
-        rec = json.loads((root / "summary.json").read_text(encoding="utf-8"))
-        return {str(x) for x in rec.get("outputs", [])} if rec.get("kind") == "campaign" else set()
-    except (OSError, ValueError):
+    rec = read_record(root / "summary.json", root)
+    if not isinstance(rec, dict) or rec.get("kind") != "campaign" or not isinstance(rec.get("outputs"), list):
         return set()
+    return {str(x) for x in rec["outputs"]}
 
 
 def _write_figures(campaign, study: str, results, ana, root: Path) -> list:

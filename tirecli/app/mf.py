@@ -15,12 +15,7 @@ from tirecli.io import tir as tirio
 from tirecli.io.files import check_output_file, exists
 from tirecli.models.magic_formula.tire import VERSION_NAMES
 from tirecli.parameters import mf as mfp
-
-#: Columns of ``tirecli mf eval``: inputs (``p``, ``vx`` optional) and outputs, ISO-W, SI.
-INPUT_COLUMNS = ("kappa", "alpha", "gamma", "fz", "p", "vx")
-OUTPUT_COLUMNS = ("fx", "fy", "mz", "mx", "my")
-#: mfeval's further outputs, written after the forces where the tyre gives them (docs/models/magic_formula_tyre.md §17).
-EXTRA_COLUMNS = ("sigmax", "sigmay", "Kxk", "Kya", "Cx", "Cy", "Cz", "re", "a", "b")
+from tirecli.studies.mf_points import INPUT_COLUMNS, OUTPUT_COLUMNS
 
 
 def read_document(ref: str) -> tuple[tirio.TirDocument, str]:
@@ -215,7 +210,7 @@ def mf_eval(tire_ref: str, points: str | Path, out: str | Path, convention: str 
     ``vx`` [m/s] (defaults: the tyre's INFLPRES/NOMPRES and LONGVL). The result has the six input
     columns (inputs copied verbatim when the file is a plain CSV in that column order, else written
     exactly) followed by ``fx, fy, mz, mx, my`` (ISO-W, N and N m, 17 significant digits) and the
-    :data:`EXTRA_COLUMNS` the tyre's coefficients give (the others are left out and listed under
+    :data:`~tirecli.studies.mf_points.EXTRA_COLUMNS` the tyre's coefficients give (the others are left out and listed under
     ``"omitted"`` with what they need). Bad
     input (missing column, non-numeric or NaN cell, p <= 0) is a DataError naming the column and
     row, and nothing is written. A points file of more rows than the sample budget (``max_samples``,
@@ -237,8 +232,7 @@ def _evaluate_points(tire_ref, points, out: Path, convention, side, limits, mapp
     from tirecli.io.fastcsv import text_facts, write_table
     from tirecli.io.files import read_input_bytes
     from tirecli.limits import csv_max_bytes
-    from tirecli.models.magic_formula import evaluate
-    from tirecli.models.magic_formula.engine import nonfinite_point
+    from tirecli.studies.mf_points import PointError, evaluate_points, needs_speed
 
     check_size(points)  # a points file over the budget is refused before anything is loaded
     ps, tire = load_tire(tire_ref)
@@ -252,34 +246,25 @@ def _evaluate_points(tire_ref, points, out: Path, convention, side, limits, mapp
     if cols is None:  # not a plain numeric CSV: the general reader, with every check
         cols = read_columns(points, want, min_rows=1, optional=("p", "vx"), rename=mapping)
     n = len(cols["kappa"])
-    p, vx = cols.get("p"), cols.get("vx")
+    p = cols.get("p")
     if p is not None:
         bad = np.flatnonzero(p <= 0)
         if bad.size:
             raise DataError(f"{points}: column 'p' row {bad[0] + 1}: pressure must be > 0 Pa, got {p[bad[0]]:g}")
-    if vx is None and tire.family == "mf" and tire.reference_speed is None:
+    if needs_speed(tire, cols.get("vx")):
         raise DataError(f"{points}: no column 'vx' and the tyre has no LONGVL to default to")
-    p_def = tire.default_pressure if tire.nominal_pressure else None
-    vx_def = tire.reference_speed
-    res = evaluate(tire, cols["kappa"], cols["alpha"], cols["gamma"], cols["fz"],
-                   vx if vx is not None else vx_def, p if p is not None else p_def,
-                   convention=convention, side=side, limits=limits, threads=threads)
-    found = nonfinite_point(tire, res, {"kappa": cols["kappa"], "alpha": cols["alpha"], "gamma": cols["gamma"],
-                                        "fz": cols["fz"], "vx": vx if vx is not None else vx_def,
-                                        "p": p if p is not None else p_def}, limits)
-    if found is not None:  # never an empty cell: the row, its inputs and why
-        i, text, at_fault = found
-        cls = DataError if at_fault else RunError
-        raise cls(f"{points}: row {i + 1}: {text}; nothing was written")
-    extras, omitted = _extra_columns(tire, cols, vx if vx is not None else vx_def, p if p is not None else p_def,
-                                     res, convention, side, limits, points)
-    outputs = [getattr(res, k) for k in OUTPUT_COLUMNS] + list(extras.values())
+    try:
+        ev = evaluate_points(tire, cols, convention=convention, side=side, limits=limits, threads=threads)
+    except PointError as err:  # never an empty cell: the row, its inputs and why
+        cls = DataError if err.at_fault else RunError
+        raise cls(f"{points}: row {err.index + 1}: {err.text}; nothing was written") from None
+    res, outputs = ev.result, list(ev.outputs().values())
     text, facts = text_facts(data)
     del data
     head = text.split(b"\n", 1)[0]
     header = [h.strip() for h in head.decode("utf-8", "replace").split(",")]
-    const = {k: (b"" if d is None else repr(float(d)).encode()) for k, d in (("p", p_def), ("vx", vx_def))}
-    names = ",".join(INPUT_COLUMNS + OUTPUT_COLUMNS + tuple(extras))
+    const = {k: (b"" if d is None else repr(float(d)).encode()) for k, d in (("p", ev.p_default), ("vx", ev.vx_default))}
+    names = ",".join(INPUT_COLUMNS + OUTPUT_COLUMNS + tuple(ev.extras))
     if _echo_ok(facts, header, n, bool(mapping)) and b"\x01" not in text:  # (the filler byte of the formatter)
         nl = facts["newlines"]  # the newline before each data row
         lead = b"".join(b"," + const[k] for k in ("p", "vx") if k not in header)
@@ -293,29 +278,8 @@ def _evaluate_points(tire_ref, points, out: Path, convention, side, limits, mapp
         how = "rewritten exactly"
     return {"points": n, "tire": ps.name, "warnings": list((ps.extra or {}).get("warnings", [])), "version": tire.version, "side": tire.side, "mirrored": res.mirrored,
             "convention": res.convention, "limits": limits, "counts": res.counts, "inputs": how, "out": str(out),
-            "pressure_default": p_def if p is None else None, "speed_default": vx_def if vx is None else None,
-            "outside": res.outside, "extras": list(extras), "omitted": omitted}
-
-
-def _extra_columns(tire, cols, vx, p, res, convention, side, limits, points) -> tuple[dict, dict]:
-    """The :data:`EXTRA_COLUMNS` the tyre gives at the points (``{name: array}``), and the omitted ones
-    with what they need (``{name: reason}``); a non-finite value is an error naming its row."""
-    from tirecli.models.magic_formula.axes import needs_mirror
-    from tirecli.models.magic_formula.extras import available, evaluate_extras, missing_reason
-
-    have = available(tire)
-    omitted = {k: missing_reason(tire, k) for k in EXTRA_COLUMNS if not have[k]}
-    gamma = cols["gamma"]
-    if needs_mirror(tire.side, side):  # the file's side: every extra is even in gamma, Cz in (Fy, gamma)
-        gamma = -gamma
-    ext = evaluate_extras(tire, cols["kappa"], cols["alpha"], gamma, cols["fz"], vx, p, fx=res.fx,
-                          fy=-res.fy if res.mirrored else res.fy, convention=convention, limits=limits)
-    for k, v in ext.items():
-        bad = np.flatnonzero(~np.isfinite(v))
-        if bad.size:
-            raise RunError(f"{points}: row {bad[0] + 1}: the tyre's coefficients give no finite {k} there "
-                           f"({bad.size} row(s)); nothing was written")
-    return ext, omitted
+            "pressure_default": ev.p_default, "speed_default": ev.vx_default,
+            "outside": res.outside, "extras": list(ev.extras), "omitted": ev.omitted}
 
 
 __all__ = ["tir_show", "tir_check", "tir_convert", "mf_eval", "load_tire", "read_document"]

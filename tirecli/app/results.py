@@ -1,5 +1,7 @@
-"""The result writer: a study result with its figures into a run's output directory (the layout of
-:mod:`tirecli.io.output`: ``run.json``, ``data/``, ``figures/``), and what a result assumes.
+"""The result writer: a study result with its figures, in the layout of a run command (:func:`write_result`:
+``run.json``, ``data/NAME.csv``, ``figures/ID.*``, extra files such as ``fitted.yaml``) or of the report
+(:func:`write_study`: ``studies/STUDY.json``, ``data/STUDY/NAME.csv``; figures by :func:`write_figure`);
+and what a result assumes.
 
 The files are written by :mod:`tirecli.io` (atomically, into the run's staging); this module decides
 what a run's outputs are.
@@ -37,10 +39,39 @@ def scenario_assumptions(result) -> list[str]:
     return out
 
 
+def data_comments(result) -> list[str]:
+    """The comment lines of a result's CSV files: the SYNTHETIC label when it holds synthetic data."""
+    return [output.SYNTHETIC_NOTE] if result.synthetic else []
+
+
+def write_figure(directory, fid: str, fig, comments=(), **options) -> list:
+    """Write a drawn figure into ``directory``: a :class:`~tirecli.figures.registry.Table` as ``ID.csv``, a
+    matplotlib figure as ``ID.png`` and ``ID.svg`` (``options``: ``dpi``, ``formats`` of
+    :func:`tirecli.io.output.save_figure`); the paths written."""
+    if isinstance(fig, Table):
+        import pandas as pd
+
+        return [output.write_csv(directory / f"{fid}.csv", pd.DataFrame(fig.rows, columns=fig.columns), comments)]
+    return output.save_figure(fig, directory, fid, **options)
+
+
+def write_data(directory, result, data_format: str = "csv", progress=None) -> list:
+    """Write a result's frames as ``directory/NAME.csv`` (or ``.parquet``); the paths written."""
+    comments = data_comments(result)
+    paths = []
+    for name, frame in result.data.items():
+        paths.append(output.write_parquet(directory / f"{name}.parquet", frame, comments)
+                     if data_format == "parquet" else output.write_csv(directory / f"{name}.csv", frame, comments))
+        if progress is not None:
+            progress.advance(1)
+    return paths
+
+
 def write_result(stage, result, figures: dict, checks: list, command: str, wall_time: float,
                  extra: dict | None = None, progress=None, data_format: str = "csv") -> dict:
-    """Write a study result with its drawn figures into a run's staging; return the paths they will
-    have in the output directory once the run is committed.
+    """Write a study result with its drawn figures into a run's staging (the layout of a run command:
+    ``run.json``, ``data/NAME.csv``, ``figures/ID.*``, the result's extra files); return the paths they
+    will have in the output directory once the run is committed.
 
     Parameters
     ----------
@@ -59,28 +90,17 @@ def write_result(stage, result, figures: dict, checks: list, command: str, wall_
     out = stage.root
     (out / "data").mkdir(exist_ok=True)
     (out / "figures").mkdir(exist_ok=True)
-    comments = [output.SYNTHETIC_NOTE] if result.synthetic else []
+    comments = data_comments(result)
     if progress is not None:
         progress.start(len(result.data) + len(figures), "writing")
-    data_paths, fig_paths = [], []
+    fig_paths = []
     try:
         # the figures first: a table a helper process is still formatting (SpooledFrame.extend) comes last
         for fid, fig in figures.items():
-            if isinstance(fig, Table):
-                import pandas as pd
-
-                fig_paths.append(output.write_csv(out / "figures" / f"{fid}.csv",
-                                           pd.DataFrame(fig.rows, columns=fig.columns), comments))
-            else:
-                fig_paths += output.save_figure(fig, out / "figures", fid)
+            fig_paths += write_figure(out / "figures", fid, fig, comments)
             if progress is not None:
                 progress.advance(1)
-        for name, frame in result.data.items():
-            data_paths.append(output.write_parquet(out / "data" / f"{name}.parquet", frame, comments)
-                              if data_format == "parquet" else
-                              output.write_csv(out / "data" / f"{name}.csv", frame, comments))
-            if progress is not None:
-                progress.advance(1)
+        data_paths = write_data(out / "data", result, data_format, progress)
     finally:
         if progress is not None:
             progress.close()
@@ -119,4 +139,20 @@ def write_result(stage, result, figures: dict, checks: list, command: str, wall_
             "run": stage.final(run)}
 
 
-__all__ = ["write_result", "assumed_list", "scenario_assumptions"]
+def write_study(root, name: str, result, wall_time: float) -> list:
+    """Write the result of the report's study config ``name`` in the report's layout: ``data/NAME/FRAME.csv``
+    and the run record ``studies/NAME.json`` (its figures are written one by one as they are drawn,
+    :func:`write_figure`); the data paths written."""
+    (root / "data" / name).mkdir(parents=True, exist_ok=True)
+    paths = write_data(root / "data" / name, result)
+    output.write_json(root / "studies" / f"{name}.json", {
+        "study": result.study, "config": result.config.label, "sha256": result.config.digest(),
+        "parameters": result.parameter_records(), "assumed": assumed_list(result),
+        "citations": result.citations(), "meta": result.meta, "synthetic": result.synthetic,
+        "wall_time_s": round(wall_time, 4),
+    })
+    return paths
+
+
+__all__ = ["write_result", "write_study", "write_figure", "write_data", "data_comments", "assumed_list",
+           "scenario_assumptions"]

@@ -1,8 +1,10 @@
 """Application layer: what one command does, independent of the CLI framework.
 
-``run_config`` loads a config, runs its study, draws the figures the result asks for,
-evaluates their reference checks and writes the output contract (:mod:`tirecli.app.results`).
-The Typer commands in :mod:`tirecli.cli` only parse arguments and call these functions.
+``run_config`` loads a config, plans its study (every problem at its key and line, the figure ids it
+lists included, the run sized against the sample budget), runs it, draws the figures the result asks
+for with their reference checks (:mod:`tirecli.app.draw`) and writes the output contract
+(:mod:`tirecli.app.results`). The Typer commands in :mod:`tirecli.cli` only parse arguments, call
+these functions and print the study's summary (``RunSummary.lines``).
 """
 from __future__ import annotations
 
@@ -11,22 +13,23 @@ import sys
 import time
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Callable
 
 from tirecli import limits
+from tirecli.app.draw import close_figures, draw
 from tirecli.app.results import write_result
+from tirecli.app.plan import plan_config
 from tirecli.config.budget import resolve_budget
 from tirecli.config.loader import Config, load_config
 from tirecli.errors import UsageError
-from tirecli.figures import registry
 from tirecli.io import output
-from tirecli.studies import base as studies_base
-from tirecli.studies.base import Check, StudyResult, run_study
-from tirecli.studies.checks import checks_for
+from tirecli.studies import registry as studies
+from tirecli.studies.base import Check, StudyResult
+from tirecli.studies.study import Line, Study
 
 DEFAULT_OUT = Path("tirecli-out")
-
-# the figure ids a config names are looked up in the figure registry, a layer above the studies
-studies_base.FIGURE_LOOKUP = registry.get
+#: What every run command writes in its output directory (and a study's ``files``).
+RUN_OUTPUTS = ("run.json", "data", "figures")
 
 
 @dataclass
@@ -38,10 +41,16 @@ class RunSummary:
     paths: dict
     checks: list
     wall_time: float
+    study: Study | None = None
 
     @property
     def failed_checks(self) -> list[Check]:
         return [c for c in self.checks if not c.passed]
+
+    @property
+    def lines(self) -> list[Line]:
+        """The study's summary of the run: the lines the CLI prints (:attr:`Study.summary`)."""
+        return (self.study or studies.get(self.result.study)).lines(self.result)
 
 
 def command_line() -> str:
@@ -49,68 +58,26 @@ def command_line() -> str:
     return "tirecli " + " ".join(shlex.quote(a) for a in sys.argv[1:])
 
 
-def draw(result: StudyResult, ids=None, progress=None) -> tuple[dict, list]:
-    """Draw the figures ``ids`` (default: the result's) and evaluate the checks of those asked for.
-
-    A figure's checks compare the run with what the paper shows for *its* scenario, so they run only
-    for figures asked for by name: ``ids`` given, or listed under the config's ``figures:`` (every
-    built-in paper config lists its figures). A custom config without ``figures:`` gets the study's
-    default figures and its own facts, and no paper checks.
-    """
-    figs, checks = {}, []
-    asked = set(ids) if ids else set(_listed_figures(result))
-    ids = list(ids or result.figures)
-    if progress is not None:
-        progress.start(len(ids), "figures")
-    try:
-        for fid in ids:
-            fdef = registry.get(fid)
-            try:
-                figs[fid] = fdef.draw(result)
-            except UsageError as exc:  # a figure of another kind of run: name the config line
-                raise _figure_problem(result, fid, exc) from None
-            fchecks = checks_for(fid) if fid in asked else None
-            if fchecks is not None:
-                for c in fchecks(result):
-                    c.id = f"{fid}/{c.id}"
-                    checks.append(c)
-            if progress is not None:
-                progress.advance(1)
-    finally:
-        if progress is not None:
-            progress.close()
-    return figs, checks
-
-
-def _listed_figures(result: StudyResult) -> list:
-    """The figure ids the result's config lists under ``figures:`` (empty without a config or the key)."""
-    listed = result.config.data.get("figures") if result.config is not None else None
-    return list(listed) if isinstance(listed, list) else []
-
-
-def _figure_problem(result: StudyResult, fid: str, exc: UsageError) -> UsageError:
-    """The error of figure ``fid`` at its place in the config's ``figures:`` list, if it is there."""
-    from tirecli.errors import ConfigError
-
-    listed = _listed_figures(result)
-    if fid in listed:
-        return ConfigError(result.config.origins.problem(("figures", listed.index(fid)), f"{fid}: {exc}"))
-    return UsageError(f"figure {fid}: {exc}" if fid not in str(exc) else str(exc))
-
-
-def close_figures(figs: dict) -> None:
-    for fig in figs.values():
-        if hasattr(fig, "clf"):
-            fig.clf()
-
-
 def default_out(config: Config, command: str) -> Path:
     stem = Path(config.label).stem if not config.label.startswith("<") else command
     return DEFAULT_OUT / f"{command}-{stem}"
 
 
-def run_config(command: str, config_path: str | Path, overrides=(), out: str | Path | None = None,
-               progress=None, max_samples: int | None = None, data_format: str = "csv") -> RunSummary:
+def execute(config: Config, command: str | None = None, progress=None, max_samples: int | None = None,
+            on_study: Callable[[Study], None] | None = None) -> StudyResult:
+    """Plan and run the study of ``config`` (as ``tirecli COMMAND`` when a command is given) within its
+    sample budget (``max_samples``, else the config's ``run.max_samples``, else the default);
+    ``on_study(entry)`` is called once the study is known, before it is planned."""
+    with limits.budget(resolve_budget(config, max_samples)):
+        study = studies.get(studies.study_name(config, command))
+        if on_study is not None:
+            on_study(study)
+        return studies.run(plan_config(config, command), progress)
+
+
+def run_config(command: str, config_path: str | Path | Config, overrides=(), out: str | Path | None = None,
+               progress=None, max_samples: int | None = None, data_format: str = "csv",
+               on_study: Callable[[Path, Study], None] | None = None, command_text: str | None = None) -> RunSummary:
     """Run the study of ``config_path`` as ``tirecli COMMAND`` and write its outputs.
 
     The run holds the output directory's lock from the study to the last file and writes into a
@@ -119,8 +86,10 @@ def run_config(command: str, config_path: str | Path, overrides=(), out: str | P
 
     Parameters
     ----------
-    command : str
-        The command (``sweep``, ``simulate``, ...); the config's ``study`` must match it.
+    command : str or None
+        The command (``sweep``, ``simulate``, ...); the config's ``study`` must be one it runs (None: any).
+    config_path : path or Config
+        The config file (or a loaded config: ``overrides`` are then already applied).
     overrides : sequence of str
         ``KEY=VALUE`` overrides (``--set``).
     out : path or None
@@ -132,6 +101,11 @@ def run_config(command: str, config_path: str | Path, overrides=(), out: str | P
         :data:`tirecli.limits.DEFAULT_MAX_SAMPLES`).
     data_format : str
         ``csv`` (default) or ``parquet`` (needs pyarrow): the format of ``data/NAME.*``.
+    on_study : callable or None
+        ``on_study(out, entry)``, called once the study is known, before it runs (e.g. to refuse a
+        ``--junit`` file among the study's outputs).
+    command_text : str or None
+        The command line recorded in ``run.json`` (default: this process's).
     """
     from tirecli.io.atomic import out_path, staged_dir
     from tirecli.io.files import check_output_dir
@@ -139,21 +113,23 @@ def run_config(command: str, config_path: str | Path, overrides=(), out: str | P
     t0 = time.perf_counter()
     output.check_data_format(data_format)  # a missing pyarrow fails before the run
     out = out_path(out) if out is not None else None  # an empty --out fails before the study runs
-    config = load_config(config_path, overrides)
-    out = out or default_out(config, command)
+    config = config_path if isinstance(config_path, Config) else load_config(config_path, overrides)
+    out = out or default_out(config, command or "run")
     # before the run: a bad location fails in a second, not after it
     check_output_dir(out, files=("run.json",), dirs=("data", "figures"))
-    budget = resolve_budget(config, max_samples)
+    budget = resolve_budget(config, max_samples)  # a bad run.max_samples fails before the output is locked
+    entry = []
     with staged_dir(out) as stage:
-        with limits.budget(budget):
-            result = run_study(config, expected=command, progress=progress)
+        result = execute(config, command, progress, budget,
+                         on_study=lambda s: (entry.append(s), on_study and on_study(out, s)))
         figs, checks = draw(result, progress=progress)
         wall = time.perf_counter() - t0
-        paths = write_result(stage, result, figs, checks, command_line(), wall, progress=progress,
-                                    data_format=data_format)
+        paths = write_result(stage, result, figs, checks, command_text or command_line(), wall, progress=progress,
+                             data_format=data_format)
         close_figures(figs)
     paths.update(removed=stage.removed, kept=stage.kept)
-    return RunSummary(result=result, out=out, paths=paths, checks=checks, wall_time=time.perf_counter() - t0)
+    return RunSummary(result=result, out=out, paths=paths, checks=checks, wall_time=time.perf_counter() - t0,
+                      study=entry[0])
 
 
 def show_parameter_set(ref: str) -> str:
@@ -190,7 +166,6 @@ def validate_file(path: str | Path, max_samples: int | None = None) -> str:
     ``max_samples`` as in :func:`run_config`); ConfigError lists problems."""
     from tirecli.io.yamlio import load_yaml
     from tirecli.parameters.sets import parse_set
-    from tirecli.studies.base import check_study
 
     if str(path).lower().endswith(".tir"):  # a Magic Formula property file
         from tirecli.app.mf import load_tire
@@ -203,13 +178,14 @@ def validate_file(path: str | Path, max_samples: int | None = None) -> str:
         from tirecli.campaign.check import check_points
         from tirecli.campaign.spec import load_campaign
 
-        campaign = load_campaign(path)
-        ids, study = check_points(campaign)
+        campaign = load_campaign(path, max_samples)
+        with limits.budget(campaign.max_samples):
+            ids, study = check_points(campaign)
         return f"{path}: valid campaign {campaign.name!r}: {len(ids)} points of the {study} study"
     if isinstance(data, dict) and "kind" in data and "study" not in data:
         ps = parse_set(data, origins, label=str(path))
         return f"{path}: valid {ps.kind} parameter set {ps.name!r} ({len(ps.values)} values)"
     config = load_config(path)
     with limits.budget(resolve_budget(config, max_samples)):
-        name = check_study(config)
+        name = plan_config(config).study
     return f"{path}: valid {name} config"

@@ -70,6 +70,9 @@ def sobol_indices(design, results: pd.DataFrame, outputs: list) -> dict:
     empty point in a cell gets a note instead (the estimator needs every run)."""
     import warnings
 
+    from tirecli.errors import require
+
+    require("SALib", "method: saltelli (Sobol' indices)")
     from SALib.analyze import sobol
 
     keys = design.sample_keys

@@ -10,6 +10,7 @@ import numpy as np
 
 from tirecli.campaign.spec import Campaign, document_hash, inputs_digest, point_config, point_id
 from tirecli.errors import ConfigError, Problem, UsageError
+from tirecli.io.files import note_input
 
 
 #: A campaign with at least this many points is checked on ``jobs`` processes.
@@ -18,7 +19,7 @@ _CHECKING = None
 
 
 def check_points(campaign: Campaign, jobs: int = 1) -> tuple[list, str]:
-    """Check every point's config as its command would (:func:`tirecli.studies.base.check_study`)
+    """Check every point's config as its command would (:func:`tirecli.app.plan.plan_config`)
     without running it; returns ``(point ids, study name)``. All problems of all points are raised
     together as one ConfigError (each distinct problem once, with how many points have it). Large
     campaigns are checked on ``jobs`` processes (Linux)."""
@@ -31,13 +32,12 @@ def check_points(campaign: Campaign, jobs: int = 1) -> tuple[list, str]:
         import multiprocessing
         from concurrent.futures import ProcessPoolExecutor
 
-        from tirecli.campaign.execute import _init_worker
+        from tirecli.campaign.execute import pool_options
 
         bounds = np.linspace(0, n, 4 * jobs + 1).astype(int)
         _CHECKING = campaign  # inherited by the forked workers
         try:
-            with ProcessPoolExecutor(jobs, mp_context=multiprocessing.get_context("fork"), initializer=_init_worker,
-                                     initargs=(None,)) as pool:
+            with ProcessPoolExecutor(jobs, mp_context=multiprocessing.get_context("fork"), **pool_options(None)) as pool:
                 parts = list(pool.map(_check_range_global, zip(bounds[:-1], bounds[1:])))
         finally:
             _CHECKING = None
@@ -59,6 +59,8 @@ def check_points(campaign: Campaign, jobs: int = 1) -> tuple[list, str]:
         raise ConfigError(problems)
     if len(studies) > 1:
         raise ConfigError(campaign.origins.problem(("base",), f"the points run different studies: {', '.join(sorted(studies))}"))
+    for path in read:  # also those read by the workers that checked: no output may overwrite them
+        note_input(path)
     digest = inputs_digest(read, exclude={campaign.label})
     return [point_id(h, digest) for h in hashes], studies.pop()
 
@@ -69,8 +71,8 @@ def _check_range_global(bounds):
 
 def _check_range(campaign: Campaign, lo: int, hi: int):
     """Check points ``lo`` to ``hi - 1``: ``(document hashes, studies, {problem: [points]}, files read)``."""
+    from tirecli.app.plan import plan_config
     from tirecli.io.files import tracked_inputs
-    from tirecli.studies.base import check_study
 
     hashes, studies, seen = [], set(), {}
     with tracked_inputs() as read:
@@ -78,7 +80,7 @@ def _check_range(campaign: Campaign, lo: int, hi: int):
             h = None
             try:
                 cfg = point_config(campaign.base, campaign.fixed + campaign.point_overrides(campaign.design.points[i]))
-                studies.add(check_study(cfg))
+                studies.add(plan_config(cfg).study)
                 h = document_hash(cfg)
             except ConfigError as err:
                 for p in err.problems:

@@ -16,6 +16,7 @@ Ctrl-C stops the workers; the records received so far are kept by the caller.
 """
 from __future__ import annotations
 
+import contextlib
 import math
 import multiprocessing
 import os
@@ -78,10 +79,23 @@ def pin_threads() -> None:
         pass
 
 
-def _init_worker(payload) -> None:
-    """A pool worker: Ctrl-C is the parent's to handle (it stops the pool), SIGTERM ends the worker;
-    one thread per evaluation (:func:`pin_threads`)."""
+def pool_options(payload) -> dict:
+    """The ``initializer`` and ``initargs`` of a campaign's process pool (:func:`_init_worker`), taken in the
+    process and thread that starts the workers."""
+    from tirecli.parallel import fork_point
+
+    return {"initializer": _init_worker, "initargs": (payload, fork_point())}
+
+
+def _init_worker(payload, point) -> None:
+    """A pool worker: it ends with the campaign's process however that ends
+    (:func:`tirecli.parallel.die_with_parent`: no worker computes on after a SIGKILL of the campaign); Ctrl-C
+    is the parent's to handle (it stops the pool), SIGTERM ends the worker; one thread per evaluation
+    (:func:`pin_threads`)."""
     global _PAYLOAD
+    from tirecli.parallel import die_with_parent
+
+    die_with_parent(point)
     signal.signal(signal.SIGINT, signal.SIG_IGN)
     signal.signal(signal.SIGTERM, signal.SIG_DFL)
     pin_threads()
@@ -93,9 +107,13 @@ def _pool_batch(batch):
 
 
 def _dask_batch(payload, batch):
-    """A batch on a Dask worker (its threads pinned once: :func:`pin_threads`)."""
+    """A batch on a Dask worker (its threads pinned once: :func:`pin_threads`), under the campaign's sample
+    budget (a Dask worker is no fork of this process: the budget travels with the payload)."""
+    from tirecli import limits
+
     pin_threads()
-    return run_batch(payload, batch)
+    with limits.budget(payload.get("max_samples")):
+        return run_batch(payload, batch)
 
 
 def _mp_context():
@@ -122,8 +140,7 @@ def _run_pool(payload, batches, jobs, on_records) -> dict:
     from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
 
     workers = min(jobs, len(batches))
-    pool = ProcessPoolExecutor(max_workers=workers, mp_context=_mp_context(), initializer=_init_worker,
-                               initargs=(payload,))
+    pool = ProcessPoolExecutor(max_workers=workers, mp_context=_mp_context(), **pool_options(payload))
     todo = deque(batches)
     running = set()
     try:
@@ -153,14 +170,128 @@ def _stop_pool(pool) -> None:
         p.join(timeout=2)
 
 
+def require_scheduler() -> None:
+    """UsageError (one line, how to install it) when Dask's distributed is not installed: checked
+    before a campaign with ``--scheduler`` does any work."""
+    from tirecli.errors import require
+
+    require("distributed", "--scheduler")
+
+
+#: Address schemes of a Dask scheduler that ``--scheduler`` accepts, and the default port of one.
+SCHEMES = ("tcp", "tls", "ws", "wss")
+DASK_PORT = 8786
+#: Seconds to reach the scheduler's port, then to receive its handshake.
+CONNECT_SECONDS = 3.0
+
+
+def check_scheduler(address: str | None) -> str | None:
+    """The ``--scheduler`` option, checked before anything runs: ``local``, or the address of a Dask
+    scheduler that answers as one (``tcp://HOST:PORT``; ``HOST:PORT`` means tcp). Returns the address
+    to use (None: no scheduler). UsageError (exit 2, naming the address) within a few seconds for an
+    empty or unreadable address, a scheme that is not a Dask one, Dask not installed, a host that
+    does not resolve, a port that refuses or does not answer, and a port that answers but not with a
+    Dask scheduler's handshake (any other server: it would make the Dask client wait for ever)."""
+    if address is None:
+        return None
+    text = address.strip()
+    shown = repr(address) if len(address) <= 80 else repr(address[:77] + "...")
+    expected = f"expected 'local' or a Dask scheduler's address such as tcp://HOST:{DASK_PORT}"
+    if not text:
+        raise UsageError(f"--scheduler {shown}: empty; {expected}")
+    if text == "local":
+        _need_dask()
+        return text
+    host, port, scheme = _parse_address(text, shown, expected)
+    _need_dask()
+    if scheme == "tcp":
+        _probe_dask(host, port, shown)
+    else:  # encrypted or websocket transport: the port is reachable (the handshake is Dask's own)
+        with _connected(host, port, shown):
+            pass
+    return f"{scheme}://{'[' + host + ']' if ':' in host else host}:{port}"
+
+
+def _parse_address(text: str, shown: str, expected: str) -> tuple[str, int, str]:
+    from urllib.parse import urlsplit
+
+    if "://" not in text:
+        if ":" not in text:
+            raise UsageError(f"--scheduler {shown}: {expected}")
+        text = "tcp://" + text
+    try:
+        parts = urlsplit(text)
+        port = parts.port
+    except ValueError:
+        raise UsageError(f"--scheduler {shown}: cannot read the address ({expected})") from None
+    scheme = parts.scheme.lower()
+    if scheme not in SCHEMES:
+        raise UsageError(f"--scheduler {shown}: {scheme or 'no'} is not a Dask address scheme "
+                         f"(expected {', '.join(s + '://' for s in SCHEMES)} or 'local')")
+    if not parts.hostname or parts.path not in ("", "/") or parts.query or parts.fragment:
+        raise UsageError(f"--scheduler {shown}: cannot read the address ({expected})")
+    if port == 0:
+        raise UsageError(f"--scheduler {shown}: port 0 is not a port to connect to")
+    return parts.hostname, port or DASK_PORT, scheme
+
+
+def _need_dask() -> None:
+    require_scheduler()
+
+
+@contextlib.contextmanager
+def _connected(host: str, port: int, shown: str):
+    """A TCP connection to ``host:port`` within :data:`CONNECT_SECONDS` (UsageError naming why not)."""
+    import socket
+
+    try:
+        sock = socket.create_connection((host, port), timeout=CONNECT_SECONDS)
+    except socket.gaierror:
+        raise UsageError(f"--scheduler {shown}: cannot connect (host {host!r} not found)") from None
+    except (TimeoutError, socket.timeout):
+        raise UsageError(f"--scheduler {shown}: cannot connect (no answer within {CONNECT_SECONDS:g} s)") from None
+    except OSError as exc:
+        raise UsageError(f"--scheduler {shown}: cannot connect ({(exc.strerror or str(exc)).lower()})") from None
+    try:
+        yield sock
+    finally:
+        sock.close()
+
+
+def _probe_dask(host: str, port: int, shown: str) -> None:
+    """A Dask scheduler speaks first: on a new connection it sends its handshake, a message in Dask's
+    framing (8 bytes little-endian: the message's length, then 8 bytes: its number of frames). Anything
+    else within :data:`CONNECT_SECONDS` (silence, an HTTP or SSH server) is not a Dask scheduler."""
+    import select
+    import struct
+    import time
+
+    not_dask = f"--scheduler {shown}: something answers there, but not a Dask scheduler"
+    with _connected(host, port, shown) as sock:
+        head = b""
+        deadline = time.monotonic() + CONNECT_SECONDS
+        while len(head) < 16:
+            left = deadline - time.monotonic()
+            if left <= 0 or not select.select([sock], [], [], left)[0]:
+                raise UsageError(f"{not_dask} (no Dask handshake within {CONNECT_SECONDS:g} s)")
+            try:
+                chunk = sock.recv(16 - len(head))
+            except OSError as exc:
+                raise UsageError(f"{not_dask} ({(exc.strerror or str(exc)).lower()})") from None
+            if not chunk:
+                raise UsageError(f"{not_dask} (it closed the connection)")
+            head += chunk
+    length, frames = struct.unpack("<QQ", head)
+    if not (16 <= length <= 1 << 20 and 1 <= frames <= 64):
+        raise UsageError(f"{not_dask} (its first bytes are no Dask handshake)")
+
+
 def dask_client(scheduler: str, jobs: int):
     """A Dask client: ``local`` starts a LocalCluster of ``jobs`` single-threaded workers, an address
-    connects to that scheduler. UsageError when dask.distributed is not installed or the scheduler
-    cannot be reached."""
-    try:
-        from distributed import Client, LocalCluster
-    except ImportError:
-        raise UsageError("--scheduler needs Dask: pip install 'tirecli[campaign]' (dask[distributed])") from None
+    (checked first by :func:`check_scheduler`) connects to that scheduler. UsageError when
+    dask.distributed is not installed or the scheduler cannot be reached."""
+    require_scheduler()
+    from distributed import Client, LocalCluster
     import logging
 
     if scheduler == "local":
@@ -204,4 +335,4 @@ def _run_dask(payload, batches, jobs, scheduler, on_records) -> dict:
             "workers": workers}
 
 
-__all__ = ["run_batches", "batch_size", "dask_client"]
+__all__ = ["run_batches", "batch_size", "dask_client", "check_scheduler"]

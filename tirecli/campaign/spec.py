@@ -38,9 +38,11 @@ from typing import Any
 
 import numpy as np
 
+from tirecli import limits
+from tirecli.config.budget import run_spec
 from tirecli.config.loader import Config, load_config, parse_key_path, set_value
 from tirecli.config.schema import MISSING, Bool, Context, Grid, ListOf, Map, Nullable, Num, Raw, Spec, Str
-from tirecli.errors import ConfigError, Problem, UsageError
+from tirecli.errors import ConfigError, Problem, UsageError, require, token
 from tirecli.io.yamlio import Origins, format_key
 
 METHODS = ("random", "latin-hypercube", "saltelli")
@@ -152,6 +154,7 @@ SPEC = Map(fields={
     "figures": Bool(default=True, doc="draw the analysis figures"),
     "timeout": Nullable(spec=Num(unit="s", gt=0), default=None,
                         doc="a point running longer fails with a timeout (process pool and in-process runs)"),
+    "run": run_spec(),  # run.max_samples: the campaign's sample budget (its points x the samples of each run)
 })
 
 
@@ -225,6 +228,9 @@ class Campaign:
     timeout: float | None
     document: dict
     origins: Origins
+    #: The sample budget of the campaign and of each of its runs (``--max-samples``, else ``run.max_samples``;
+    #: None: the default): run them under :func:`tirecli.limits.budget` of it.
+    max_samples: int | None = None
 
     def point_overrides(self, values: tuple) -> list:
         """The overrides of the point with ``values`` (in ``design.keys`` order)."""
@@ -280,7 +286,7 @@ def point_id(doc_hash: str, inputs_digest: str = "") -> str:
 
 def _load_base(raw, origins: Origins, campaign_dir: Path, label: str) -> Config:
     from tirecli.config.loader import _finish
-    from tirecli.studies.base import builtin_config, builtin_config_names
+    from tirecli.studies.configs import builtin_config, builtin_config_names
 
     if isinstance(raw, dict):
         sub = Origins(default_file=origins.default_file)
@@ -312,7 +318,9 @@ def _grid_values(key: str, raw, origins: Origins, ctx: Context):
     return [raw]
 
 
-def _design(doc: dict, origins: Origins, ctx: Context) -> Design:
+def _design(doc: dict, origins: Origins, ctx: Context, budget=None) -> Design:
+    """The design of the campaign document ``doc``; ``budget(points)`` (optional) is called with the number of
+    points before any is made, to refuse a design over the sample budget."""
     grid = {}
     for key, raw in (doc["vary"] or {}).items():
         vals = _grid_values(key, raw, origins, ctx)
@@ -340,6 +348,10 @@ def _design(doc: dict, origins: Origins, ctx: Context) -> Design:
     if total > MAX_POINTS:
         raise ConfigError(origins.problem(("vary",) if grid_keys else ("sample",),
                                           f"{total:,} points: more than {MAX_POINTS:,}"))
+    if sample_keys and sample["method"] == "saltelli":
+        require("SALib", "method: saltelli")  # before the budget checks a point's run
+    if budget is not None:
+        budget(total)
     cells = list(itertools.product(*[grid[k] for k in grid_keys])) if grid_keys else [()]
     unit = None
     samples: list = [()]
@@ -371,6 +383,8 @@ def unit_sample(method: str, n: int, d: int, seed: int, names=None) -> np.ndarra
         return qmc.LatinHypercube(d=d, rng=rng).random(n)
     import warnings
 
+
+    require("SALib", "method: saltelli")  # before any point is made
     from SALib.sample import sobol
 
     problem = {"num_vars": d, "names": list(names or [f"x{i}" for i in range(d)]), "bounds": [[0.0, 1.0]] * d}
@@ -379,41 +393,58 @@ def unit_sample(method: str, n: int, d: int, seed: int, names=None) -> np.ndarra
         return np.asarray(sobol.sample(problem, n, calc_second_order=False, seed=seed), dtype=float)
 
 
-def load_campaign(path: str | Path) -> Campaign:
-    """Read and check a campaign file (the design too, not the points: :func:`check_points`)."""
+def _check_outputs_checked(doc: dict, ctx: Context) -> None:
+    """Each campaign check names one of the outputs: a check on an output the campaign does not compute
+    would have no value to check (and pass)."""
+    outputs, checks = doc.get("outputs"), doc.get("checks")
+    if not isinstance(outputs, list) or not isinstance(checks, list):
+        return
+    for j, check in enumerate(checks):
+        name = check.get("output") if isinstance(check, dict) else MISSING
+        if isinstance(name, str) and name not in outputs:
+            ctx.fail(("checks", j, "output"), f"{token(name)} is not one of the campaign's outputs "
+                                              f"({', '.join(map(str, outputs))}): add it to outputs: or check another")
+
+
+def load_campaign(path: str | Path, max_samples: int | None = None) -> Campaign:
+    """Read and check a campaign file (the design too, not the points: :func:`check_points`); its points count
+    against the sample budget (``max_samples``, else the file's ``run.max_samples``, else the default)."""
     from tirecli.config.loader import TIR_USE
-    from tirecli.io.yamlio import load_yaml_document
+    from tirecli.io.yamlio import load_yaml_document, require_kind
 
     path = Path(path)
     data, origins = load_yaml_document(path, "a campaign file", TIR_USE)
     if not isinstance(data, dict):
         raise ConfigError(Problem(str(path), 1, "", "expected a YAML mapping of keys at the top level"))
+    require_kind(data, origins, "a campaign file", {*SPEC.fields, "study"},
+                 "a campaign key (campaign, base, vary, sample, outputs, ...)")
     if "campaign" not in data and "study" in data:
         raise ConfigError(origins.problem(("study",), f"a study config, not a campaign (run it with 'tirecli "
                                           f"{data.get('study')}', or name it as base: of a campaign file)"))
     ctx = Context(origins)
     doc = SPEC.check(data, (), ctx)
+    _check_outputs_checked(doc, ctx)
     ctx.raise_if_any()
     base = _load_base(doc["base"], origins, path.parent, str(path))
-    design = _design(doc, origins, Context(origins))
-    overrides, fixed = {}, []
-    problems = []
-    for key in design.keys + list(doc["set"] or {}):
-        where = ("vary", key) if key in design.grid_keys else ("sample", key) if key in design.sample_keys else ("set", key)
+    fixed, problems = _fixed_overrides(doc, origins)
+
+    def budget(points: int) -> None:
+        if not problems:
+            _check_budget(base, fixed, points, origins)
+
+    if max_samples is None and doc["run"] is not None:
+        max_samples = doc["run"]["max_samples"]
+    with limits.budget(max_samples):
+        design = _design(doc, origins, Context(origins), budget)
+    overrides = {}
+    for key in design.keys:
+        where = ("vary", key) if key in design.grid_keys else ("sample", key)
         try:
             kp = parse_key_path(key)
         except UsageError as err:
             problems.append(origins.problem(where, str(err).replace("--set: ", "")))
             continue
-        if key in (doc["set"] or {}):
-            fixed.append(Override(key, kp, _plain(doc["set"][key]), origins.of(where)))
-        else:
-            overrides[key] = (kp, origins.of(where))
-    for j, key in enumerate(doc["unset"]):
-        try:
-            fixed.insert(0, Override(key, parse_key_path(key), None, origins.of(("unset", j)), remove=True))
-        except UsageError as err:
-            problems.append(origins.problem(("unset", j), str(err).replace("--set: ", "")))
+        overrides[key] = (kp, origins.of(where))
     for k in (doc["set"] or {}):
         if k in design.keys:
             problems.append(origins.problem(("set", k), "also varied: a key is either fixed (set) or varied"))
@@ -422,20 +453,59 @@ def load_campaign(path: str | Path) -> Campaign:
     return Campaign(name=doc["campaign"], title=doc["title"], description=doc["description"], label=str(path),
                     base=base, fixed=fixed, overrides=overrides, design=design, outputs=list(doc["outputs"]),
                     keep=doc["keep"], checks=doc["checks"], batch=doc["batch"], figures=doc["figures"],
-                    timeout=doc["timeout"], document=data, origins=origins)
+                    timeout=doc["timeout"], document=data, origins=origins, max_samples=max_samples)
+
+
+def _fixed_overrides(doc: dict, origins: Origins) -> tuple[list, list]:
+    """The overrides of every point (``set:`` and ``unset:``, removals first) and the problems of their keys."""
+    fixed, problems = [], []
+    for key in doc["set"] or {}:
+        try:
+            fixed.append(Override(key, parse_key_path(key), _plain(doc["set"][key]), origins.of(("set", key))))
+        except UsageError as err:
+            problems.append(origins.problem(("set", key), str(err).replace("--set: ", "")))
+    for j, key in enumerate(doc["unset"]):
+        try:
+            fixed.insert(0, Override(key, parse_key_path(key), None, origins.of(("unset", j)), remove=True))
+        except UsageError as err:
+            problems.append(origins.problem(("unset", j), str(err).replace("--set: ", "")))
+    return fixed, problems
+
+
+def point_samples(base: Config, fixed: list) -> float:
+    """The samples one point's run needs, as its study estimates them for the base with the fixed overrides
+    (:func:`tirecli.limits.recorded_estimates`; at least 1: the point's row of the results). A base the study
+    refuses counts 1 (each point's own check then names the problem)."""
+    from tirecli.studies.registry import check as check_study
+
+    with limits.recorded_estimates() as seen, limits.budget(limits.MAX_MAX_SAMPLES):
+        try:
+            check_study(point_config(base, fixed))
+        except (ConfigError, UsageError):
+            pass
+    return max([1.0, *seen])
+
+
+def _check_budget(base: Config, fixed: list, points: int, origins: Origins) -> None:
+    """Count the campaign's points against the sample budget like every other run, before its design is made:
+    ``points`` x the samples of one point's run (:func:`point_samples`); over the budget, ConfigError at the
+    sample size (or the grid) with the estimate and the option that raises it."""
+    per_point = point_samples(base, fixed)
+    what = f"{points:,} point(s) x {limits.count_text(per_point)} samples per run"
+    limits.Estimate().add(points * per_point, (("sample", "n"), ("sample",), ("vary",)), what, 0.0).check(origins)
 
 
 def inputs_digest(paths, exclude=()) -> str:
     """SHA-256 over the contents of the files ``paths`` (sorted), except ``exclude``."""
     import os
 
+    from tirecli.io.files import read_own_file
+
     skip = {os.path.realpath(p) for p in exclude}
     h = hashlib.sha256()
-    for p in sorted(set(paths) - skip):
-        try:
-            h.update(Path(p).read_bytes())
-        except OSError:
-            h.update(b"?")
+    for p in sorted(set(paths) - skip):  # read as they were (a FIFO or a device swapped in since hashes as unreadable)
+        data = read_own_file(p, limits.csv_max_bytes(), follow=True)
+        h.update(b"?" if data is None else data)
     return h.hexdigest()
 
 

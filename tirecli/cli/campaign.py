@@ -6,7 +6,7 @@ from typing import Optional
 
 import typer
 
-from tirecli.cli.common import JunitOpt, echo, jobs_option, progress, result_line, strict_exit
+from tirecli.cli.common import JunitOpt, MaxSamplesOpt, echo, jobs_option, max_samples, progress, result_line, strict_exit
 
 CampaignArg = typer.Argument(..., metavar="CAMPAIGN", help="YAML campaign file (see docs/campaigns.md).", show_default=False)
 
@@ -20,6 +20,7 @@ def campaign(
                                             help="Run on Dask: 'local' (a LocalCluster of --jobs workers) or tcp://HOST:8786."),
     strict: bool = typer.Option(False, "--strict", help="Exit 1 when a campaign check fails (or a point failed)."),
     junit: Optional[str] = JunitOpt,
+    max_samples_: Optional[str] = MaxSamplesOpt,
 ) -> None:
     """Run a study at every point of a grid and/or a sample over config keys, and tabulate its facts.
 
@@ -37,7 +38,8 @@ def campaign(
 
         # a bad --junit fails before the campaign runs
         jx.target(junit, inputs=[config], outputs=_campaign_outputs(out or default_out(config)))
-    summary = run_campaign(config, out, jobs_option(jobs), scheduler, progress(), note=echo)
+    summary = run_campaign(config, out, jobs_option(jobs, scheduler), scheduler, progress(), note=echo,
+                           max_samples=max_samples(max_samples_))
     rec = summary.record
     pts = rec["points"]
     echo(f"campaign {rec['campaign']}: {pts['ok']} ok, {pts['failed']} failed of {pts['total']} points "

@@ -29,12 +29,49 @@ MaxSamplesOpt = typer.Option(None, "--max-samples", metavar="N",
 def echo(msg: str = "") -> None:
     """Print to stdout unless --quiet."""
     if not STATE["quiet"]:
-        typer.echo(msg)
+        _print(msg)
 
 
 def result_line(msg: str) -> None:
     """Print a result line (always, even with --quiet: it is the command's answer)."""
-    typer.echo(msg)
+    _print(msg)
+
+
+def _print(msg: str) -> None:
+    """Print a line to stdout. When its reader has gone (``tirecli params list | head -1``), the rest of
+    the output is dropped quietly and the command goes on (a run still writes its results): the exit
+    code is the command's own, as if the reader had read everything (see :func:`tirecli.cli.main.main`)."""
+    if STATE.get("stdout_closed"):
+        return
+    try:
+        typer.echo(msg)
+    except BrokenPipeError:
+        stdout_closed()
+
+
+def stdout_closed() -> None:
+    """Stdout's reader has gone: send what remains (the interpreter's final flush included) to the null device."""
+    import os
+
+    STATE["stdout_closed"] = True
+    try:
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(devnull, sys.stdout.fileno())
+        os.close(devnull)
+    except (OSError, ValueError, AttributeError):
+        pass
+
+
+def stdout_reader_gone() -> bool:
+    """Whether stdout is a pipe whose reading end is closed (poll reports an error on the write end)."""
+    import select
+
+    try:
+        poller = select.poll()
+        poller.register(sys.stdout.fileno(), select.POLLOUT)
+        return any(ev & select.POLLERR for _, ev in poller.poll(0))
+    except (OSError, ValueError, AttributeError):
+        return False
 
 
 def table(rows: list[tuple]) -> list[str]:
@@ -115,12 +152,29 @@ def overrides(values: Optional[List[str]]) -> list[str]:
     return list(values or [])
 
 
-def jobs_option(value: Optional[int]) -> Optional[int]:
-    """The value of ``--jobs`` (UsageError if it is below 1), for ``report`` and ``campaign`` alike."""
-    from tirecli.errors import UsageError
+#: The most workers ``--jobs`` may name for a campaign on a remote Dask cluster (its batches are sized for them).
+MAX_CLUSTER_JOBS = 100_000
 
-    if value is not None and value < 1:
-        raise UsageError(f"--jobs {value}: give a number of processes >= 1")
+
+def jobs_option(value: Optional[int], scheduler: Optional[str] = None) -> Optional[int]:
+    """The value of ``--jobs`` (UsageError if it is below 1, or more processes than
+    :func:`tirecli.parallel.max_jobs` start here), for ``report`` and ``campaign`` alike; with a remote
+    ``scheduler`` (a campaign's ``--scheduler`` other than ``local``) the workers are the cluster's, and
+    at most :data:`MAX_CLUSTER_JOBS`."""
+    from tirecli.errors import UsageError
+    from tirecli.parallel import JOBS_PER_CORE, default_jobs, max_jobs
+
+    if value is None:
+        return None
+    shown = str(value) if len(str(value)) <= 20 else f"{str(value)[:17]}..."
+    if value < 1:
+        raise UsageError(f"--jobs {shown}: give a number of processes >= 1")
+    if scheduler and scheduler.strip() and scheduler.strip() != "local":
+        if value > MAX_CLUSTER_JOBS:
+            raise UsageError(f"--jobs {shown}: more workers than a cluster has (at most {MAX_CLUSTER_JOBS:,})")
+    elif value > max_jobs():
+        raise UsageError(f"--jobs {shown}: more processes than this machine can use (at most {max_jobs()}: "
+                         f"{JOBS_PER_CORE} per core of the {default_jobs()} this process may use)")
     return value
 
 
@@ -161,10 +215,15 @@ def run(command: str, config: Path, set_: Optional[List[str]], out: Optional[str
 
     budget = max_samples(max_samples_)
     target = jx.target(junit, inputs=[config], outputs=run_outputs(out)) if junit is not None else None
+
+    def outputs_of(out_dir, study):  # the study's own files too (fitted.yaml), once it is known
+        if target is not None:
+            jx.target(junit, inputs=[config], outputs=run_outputs(out, study.files))
+
     t0 = time.perf_counter()
     try:
         return run_config(command, config, overrides(set_) + list(extra), out, progress(), budget,
-                          data_format=data_format)
+                          data_format=data_format, on_study=outputs_of)
     except (UsageError, Interrupted):
         raise
     except Exception as exc:
@@ -181,12 +240,33 @@ def run(command: str, config: Path, set_: Optional[List[str]], out: Optional[str
         raise
 
 
-def run_outputs(out: Optional[str]) -> list[Path]:
-    """What a run command writes in ``--out`` (files, and folders it writes into), for refusing a
-    ``--junit`` there before the run (none when the folder is the default, known only after loading)."""
+def run_outputs(out, files=()) -> list[Path]:
+    """What a run command writes in ``--out`` (files, and folders it writes into; ``files``: the study's
+    own, known once the config is read), for refusing a ``--junit`` there before the run (none when the
+    folder is the default, known only after loading)."""
+    from tirecli.app.run import RUN_OUTPUTS
+
     if out is None or not str(out).strip():
         return []
-    return [Path(out) / name for name in ("run.json", "data", "figures", "fitted.yaml", "calibrated.yaml")]
+    return [Path(out) / name for name in (*RUN_OUTPUTS, *files)]
+
+
+def run_command(command: str, config: Path, set_: Optional[List[str]], out: Optional[str], junit: Optional[str],
+                strict: bool, max_samples_: Optional[str] = None, extra: list[str] | tuple = (),
+                data_format: str = "csv") -> None:
+    """A run command (``sweep``, ``simulate``, ``compare``, ``fit``, ``observe``): the run (:func:`run`), the
+    study's summary lines, the extra files written, then :func:`finish`."""
+    summary = run(command, config, set_, out, junit, extra=extra, max_samples_=max_samples_, data_format=data_format)
+    for line in summary.lines:
+        if line.kind == "warning":
+            warn(line.text)
+        elif line.kind == "note":
+            echo(line.text)
+        else:
+            result_line(line.text)
+    for name in summary.result.files:
+        result_line(f"wrote {Path(summary.out) / name}")
+    finish(summary, command, config, junit, strict, overridden=bool(set_))
 
 
 def finish(summary, command: str, config: Path, junit: Optional[str], strict: bool, overridden: bool) -> None:
@@ -215,6 +295,15 @@ def strict_exit(records: list[dict], strict: bool) -> None:
         raise RunError(f"{failed} of {len(records)} reference check(s) failed (--strict)")
 
 
+def failed_check_line(rec: dict) -> str:
+    """``check failed: ID: DESCRIPTION: VALUE vs reference R (tolerance T)`` (``upper bound`` or ``lower
+    bound`` for a check that bounds the value) of a check record (:meth:`tirecli.studies.base.Check.record`)."""
+    word = {"max": "upper bound", "min": "lower bound"}.get(rec.get("bound"), "reference")
+    value = "n/a" if rec.get("value") is None else f"{rec['value']:.6g}"
+    return (f"check failed: {rec['id']}: {rec.get('description') or ''}: {value} vs {word} {rec['reference']:.6g} "
+            f"(tolerance {rec['tolerance']:g})")
+
+
 def report_run(summary, what: str, overridden: bool = False) -> None:
     """The closing lines of a run command: where outputs are, and failed checks.
 
@@ -238,6 +327,5 @@ def report_run(summary, what: str, overridden: bool = False) -> None:
                     f"(the checks hold the paper's scenario; --set overrides change it): see checks in {out / 'run.json'}")
     else:
         for c in failed:
-            result_line(f"check failed: {c.id}: {c.value:.6g} vs reference {c.reference:.6g} "
-                        f"(tolerance {c.tolerance:g})")
+            result_line(failed_check_line(c.record()))
     result_line(f"wrote {out / 'run.json'}")

@@ -4,7 +4,7 @@ from __future__ import annotations
 from pathlib import Path
 from typing import List, Optional
 
-from tirecli.cli.common import ConfigArg, JunitOpt, MaxSamplesOpt, OutOpt, SetOpt, StrictOpt, finish, result_line, run
+from tirecli.cli.common import ConfigArg, JunitOpt, MaxSamplesOpt, OutOpt, SetOpt, StrictOpt, run_command
 
 
 def compare(config: Path = ConfigArg, out: Optional[str] = OutOpt, set_: Optional[List[str]] = SetOpt,
@@ -18,9 +18,4 @@ def compare(config: Path = ConfigArg, out: Optional[str] = OutOpt, set_: Optiona
     carcass, calibrated, family, fz, kappa, alpha, phi, fx, fy, mz, x, y, delta; ISO-W, SI),
     calibrated.yaml when calibrating, and the figures as PNG and SVG.
     """
-    summary = run("compare", config, set_, out, junit, max_samples_=max_samples_)
-    for line in summary.result.meta.get("summary", []):
-        result_line(f"  {line}")
-    if "calibrated.yaml" in summary.result.files:
-        result_line(f"wrote {Path(summary.out) / 'calibrated.yaml'}")
-    finish(summary, "compare", config, junit, strict, overridden=bool(set_))
+    run_command("compare", config, set_, out, junit, strict, max_samples_)

@@ -6,7 +6,7 @@ from typing import List, Optional
 
 import typer
 
-from tirecli.cli.common import ConfigArg, JunitOpt, MaxSamplesOpt, OutOpt, SetOpt, StrictOpt, finish, result_line, run
+from tirecli.cli.common import ConfigArg, JunitOpt, MaxSamplesOpt, OutOpt, SetOpt, StrictOpt, run_command
 
 DataOpt = typer.Option(None, "--data", "-d", metavar="CSV",
                        help="Data file instead of the config's data source (columns t, v, s or romega, mu).")
@@ -29,26 +29,5 @@ def fit(config: Path = ConfigArg, out: Optional[str] = OutOpt, set_: Optional[Li
     """
     from tirecli.studies.fit import overrides_for
 
-    summary = run("fit", config, set_, out, junit, extra=overrides_for(str(data) if data else None, map_, config),
-                  max_samples_=max_samples_)
-    df = summary.result.data["parameters"]
-    meta = summary.result.meta
-    two = meta.get("distributed") is not None
-    for fit_name, rows in df.groupby("fit", sort=False):
-        if two:
-            result_line("FM procedure (steady state, then sigma1):" if fit_name != "distributed"
-                        else "distributed model (all at once, model in the loop):")
-        for _, r in rows.iterrows():
-            flag = " (on a bound)" if r["at_bound"] else ""
-            if not r.get("identified", True):
-                result_line(f"  {r['parameter']:7s} {r['estimate']:12.6g} NOT IDENTIFIED by these data (no interval)")
-                continue
-            result_line(f"  {r['parameter']:7s} {r['estimate']:12.6g} +/- {r['se']:.3g} {r['unit']:4s} "
-                        f"CI [{r['ci_low']:.6g}, {r['ci_high']:.6g}]{flag}")
-        if fit_name != "distributed":
-            result_line(f"  residual RMS (steady state): {meta['steady_state']['residual_rms']:.3g}")
-        else:
-            result_line(f"  residual RMS of mu(t): {meta['distributed']['residual_rms']:.3g} "
-                        f"({meta['distributed']['samples_used']} samples)")
-    result_line(f"wrote {Path(summary.out) / 'fitted.yaml'}")
-    finish(summary, "fit", config, junit, strict, overridden=bool(set_))
+    run_command("fit", config, set_, out, junit, strict, max_samples_,
+                extra=overrides_for(str(data) if data else None, map_, config))

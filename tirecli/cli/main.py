@@ -6,6 +6,11 @@ unusable input or output path); 130 Ctrl-C (or SIGTERM). Errors print one line e
 without a traceback (at most the offending token of an input, see :mod:`tirecli.errors`);
 ``--debug`` shows the traceback. A run that fails or is interrupted leaves its earlier outputs as
 they were and says so.
+
+A closed output pipe (``tirecli params list | head -1``) is not an error: the rest of the output is
+dropped quietly, the command finishes its work (a run still writes its results) and exits with its
+own code, 0 when all went well, as ``ls`` or ``git`` do when they are not killed by SIGPIPE (Python
+ignores that signal, so a tirecli ends through its exit code, never as "killed by SIGPIPE" (141)).
 """
 from __future__ import annotations
 
@@ -17,7 +22,7 @@ import traceback
 
 import typer
 
-from tirecli import __version__
+from tirecli._version import __version__
 from tirecli.cli import campaign, common, compare, data, figures, fit, mf, observe, params, report, simulate, sweep, tir
 
 app = typer.Typer(
@@ -155,6 +160,7 @@ def main(argv: list[str] | None = None) -> int:
     args = list(sys.argv[1:] if argv is None else argv)
     common.STATE["debug"] = "--debug" in args
     common.STATE["quiet"] = "--quiet" in args or "-q" in args
+    common.STATE["stdout_closed"] = False
     args = [a for a in args if a not in ("--debug", "--quiet", "-q")]
     code = 0
     ctrl_c = _CtrlC()
@@ -164,6 +170,9 @@ def main(argv: list[str] | None = None) -> int:
         code = rv if isinstance(rv, int) and not isinstance(rv, bool) else 0
     except SystemExit as exc:
         code = exc.code if isinstance(exc.code, int) else (0 if exc.code is None else 1)
+        pipe = exc.__context__
+        if code == 1 and isinstance(pipe, OSError) and pipe.errno == errno.EPIPE:  # Click's exit 1 on a broken pipe
+            code = _broken_pipe(pipe)
         if ctrl_c.seen and code != 0:  # Typer's own handling of a Ctrl-C outside a run
             _error("interrupted")
             code = 130
@@ -193,15 +202,25 @@ def main(argv: list[str] | None = None) -> int:
         code = 2
         if common.STATE["debug"]:
             traceback.print_exc()
-    except BrokenPipeError:  # the reader of our output went away (``tirecli params list | head -1``)
-        _quiet_streams()
-        code = 1
+    except BrokenPipeError as exc:
+        code = _broken_pipe(exc)
     except OSError as exc:
         if exc.errno not in _ENVIRONMENT_ERRNOS:
             _internal(exc)
             code = 1
         else:  # a file or directory the environment refuses: an environment problem, not a failure of tirecli
             _error(_os_error_line(exc))
+            code = 2
+            if common.STATE["debug"]:
+                traceback.print_exc()
+    except ModuleNotFoundError as exc:  # an optional library that a code path imported without asking first
+        from tirecli.errors import OPTIONAL, missing_dependency
+
+        if (exc.name or "").split(".")[0] not in OPTIONAL:
+            _internal(exc)
+            code = 1
+        else:
+            _error(missing_dependency(exc.name, "this command"))
             code = 2
             if common.STATE["debug"]:
                 traceback.print_exc()
@@ -213,6 +232,17 @@ def main(argv: list[str] | None = None) -> int:
     return code
 
 
+def _broken_pipe(exc: OSError) -> int:
+    """The exit code of a broken pipe: 0, quietly, when it is stdout's (its reader went away:
+    ``tirecli --help | head -1``, see the module doc); an internal error (1) when it is a pipe of the
+    work itself (a worker's)."""
+    if common.STATE.get("stdout_closed") or common.stdout_reader_gone():
+        common.stdout_closed()
+        return 0
+    _internal(exc)
+    return 1
+
+
 def _internal(exc: BaseException) -> None:
     from tirecli.errors import clip
 
@@ -221,17 +251,6 @@ def _internal(exc: BaseException) -> None:
            + (f"; {note}" if note else ""))
     if common.STATE["debug"]:
         traceback.print_exc()
-
-
-def _quiet_streams() -> None:
-    """Replace stdout with /dev/null so that the interpreter's final flush does not fail again."""
-    import os
-
-    try:
-        devnull = os.open(os.devnull, os.O_WRONLY)
-        os.dup2(devnull, sys.stdout.fileno())
-    except (OSError, ValueError, AttributeError):
-        pass
 
 
 if __name__ == "__main__":  # pragma: no cover

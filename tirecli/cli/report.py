@@ -6,7 +6,8 @@ from typing import List, Optional
 
 import typer
 
-from tirecli.cli.common import JunitOpt, StrictOpt, echo, jobs_option, progress, result_line, strict_exit
+from tirecli.cli.common import (JunitOpt, StrictOpt, echo, failed_check_line, jobs_option, progress, result_line,
+                                strict_exit)
 
 
 def report(
@@ -22,8 +23,9 @@ def report(
                                        help="Processes for the studies and figures [default: every core]; "
                                             "1 runs them all in this process."),
     cache: Optional[str] = typer.Option(None, "--cache", metavar="DIR", show_default=False,
-                                        help="Folder of the study cache [default: DIR/.tirecli-cache of --out]: a "
-                                             "study whose config, parameters and tirecli version are unchanged "
+                                        help="Folder of the study cache [default: $TIRECLI_CACHE_DIR, else "
+                                             "$XDG_CACHE_HOME/tirecli, else ~/.cache/tirecli; never inside --out]: "
+                                             "a study whose config, parameters and tirecli version are unchanged "
                                              "is not run again."),
     no_cache: bool = typer.Option(False, "--no-cache", help="Run every study (the cache is refreshed, not read)."),
     formats: str = typer.Option("png", "--formats", metavar="LIST",
@@ -44,7 +46,7 @@ def report(
         jx.target(junit, outputs=_report_outputs(out))  # a bad --junit fails before the studies run
     summary = build_report(out, only=only or None, progress=progress(), campaigns=[campaign] if campaign else [],
                            jobs=jobs_option(jobs), cache=_cache_dir(cache), use_cache=not no_cache,
-                           formats=_formats(formats))
+                           formats=_formats(formats), note=lambda text: echo(f"note: {text}"))
     failed = [c for c in summary["checks"] if not c["passed"]]
     n = summary["n_figures"]
     what = f"{n} figure{'' if n == 1 else 's'}" if n or not campaign else ""
@@ -52,7 +54,7 @@ def report(
         what += (" and " if what else "") + f"the campaign section of {campaign}"
     echo(f"{what}, {len(summary['checks'])} reference checks, {len(failed)} failed, {summary['wall_time_s']:.1f} s")
     for c in failed:
-        echo(f"check failed: {c['id']}: {c['value']} vs reference {c['reference']} (tolerance {c['tolerance']})")
+        echo(failed_check_line(c))
     result_line(f"wrote {Path(out) / 'index.html'}")
     if junit is not None:
         result_line(f"wrote {jx.write(junit, report_suites(summary), 'tirecli report', done=f'the report is in {out}', outputs=_report_outputs(out))}")
@@ -62,18 +64,24 @@ def report(
 def _report_outputs(out) -> list[Path]:
     """What the report writes in ``out`` (files, and folders it writes into): no place for ``--junit``."""
     return [Path(out) / name for name in ("index.html", "summary.json", "data", "docs", "figures", "studies",
-                                          "campaigns", ".tirecli-cache")]
+                                          "campaigns")]
 
 
 def _cache_dir(value: Optional[str]) -> Optional[str]:
+    """``--cache DIR`` checked (UsageError for an empty name or a place that cannot be a folder); without
+    it, ``$TIRECLI_CACHE_DIR`` is checked the same way when set (None: the default folder)."""
+    import os
+
     from tirecli.errors import UsageError
+    from tirecli.io.cache import ENV
+    from tirecli.io.files import check_output_dir
 
     if value is not None and not value.strip():
         raise UsageError("--cache '': empty; give a folder")
     if value is not None:  # a file there would leave the report without a cache, silently
-        from tirecli.io.files import check_output_dir
-
         check_output_dir(value, option="--cache")
+    elif os.environ.get(ENV, "").strip():
+        check_output_dir(os.environ[ENV].strip(), option=ENV)
     return value
 
 

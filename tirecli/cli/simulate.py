@@ -4,7 +4,7 @@ from __future__ import annotations
 from pathlib import Path
 from typing import List, Optional
 
-from tirecli.cli.common import ConfigArg, JunitOpt, MaxSamplesOpt, OutOpt, SetOpt, StrictOpt, finish, result_line, run
+from tirecli.cli.common import ConfigArg, JunitOpt, MaxSamplesOpt, OutOpt, SetOpt, StrictOpt, run_command
 
 
 def simulate(config: Path = ConfigArg, out: Optional[str] = OutOpt, set_: Optional[List[str]] = SetOpt,
@@ -19,13 +19,4 @@ def simulate(config: Path = ConfigArg, out: Optional[str] = OutOpt, set_: Option
     ('mcps-standstill', Figs. 4-5) or data/relaxation.csv ('mcps-relaxation'), with their facts in
     run.json. Figures as PNG and SVG.
     """
-    summary = run("simulate", config, set_, out, junit, max_samples_=max_samples_)
-    for line in summary.result.meta.get("summary", []):
-        result_line(f"  {line}")
-    for ev in summary.result.meta.get("events", []):
-        locks = ", ".join(f"{a:.4f}-{b:.4f} s" if b is not None else f"from {a:.4f} s" for a, b in ev["wheel_lock"]) or "none"
-        stop = f"stop at {ev['stop_time']:.3f} s after {ev['stopping_distance']:.2f} m" if ev["stop_time"] is not None \
-            else f"v = {ev['v_final']:.3g} m/s at {ev['t_final']:.3g} s"
-        result_line(f"  {ev['case']}: peak |s| {ev['peak_abs_slip']:.4f} at {ev['t_peak_abs_slip']:.3f} s, "
-             f"peak |mu| {ev['peak_abs_mu']:.4f}, wheel lock: {locks}, {stop}")
-    finish(summary, "simulate", config, junit, strict, overridden=bool(set_))
+    run_command("simulate", config, set_, out, junit, strict, max_samples_)

@@ -6,11 +6,11 @@ from typing import List, Optional
 
 import typer
 
-from tirecli.cli.common import ConfigArg, JunitOpt, MaxSamplesOpt, OutOpt, SetOpt, StrictOpt, finish, run
+from tirecli.cli.common import ConfigArg, JunitOpt, MaxSamplesOpt, OutOpt, SetOpt, StrictOpt, run_command
 
 FormatOpt = typer.Option("csv", "--format", metavar="csv|parquet",
                          help="Format of the data files: csv (data/NAME.csv) or parquet (data/NAME.parquet, "
-                              "smaller and faster for large sweeps; needs pyarrow: pip install 'tirecli[campaign]').")
+                              "smaller and faster for large sweeps; pyarrow, in the default install).")
 
 
 def sweep(config: Path = ConfigArg, out: Optional[str] = OutOpt, set_: Optional[List[str]] = SetOpt,
@@ -22,5 +22,4 @@ def sweep(config: Path = ConfigArg, out: Optional[str] = OutOpt, set_: Optional[
     tires data/peaks.csv (the root-found peak and sliding level of each curve) and the figures
     as PNG and SVG; with --format parquet the data files are .parquet.
     """
-    summary = run("sweep", config, set_, out, junit, max_samples_=max_samples_, data_format=data_format)
-    finish(summary, "sweep", config, junit, strict, overridden=bool(set_))
+    run_command("sweep", config, set_, out, junit, strict, max_samples_, data_format=data_format)

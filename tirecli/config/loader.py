@@ -149,6 +149,20 @@ def config_from_text(text: str, label: str, base_dir: Path | None = None, overri
     return _finish(data, origins, base_dir or Path.cwd(), label, overrides)
 
 
+def config_from_mapping(data: dict, label: str = "<config>", base_dir: Path | None = None, overrides=()) -> Config:
+    """A config from a mapping with the content of a YAML config (the public API's ``tirecli.run({...})``):
+    a copy of it (tuples read as lists), relative paths against ``base_dir`` (default: the current
+    directory); problems name ``label`` and the key (no line)."""
+    def plain(obj):
+        if isinstance(obj, dict):
+            return {k: plain(v) for k, v in obj.items()}
+        if isinstance(obj, (list, tuple)):
+            return [plain(v) for v in obj]
+        return obj
+
+    return _finish(plain(data), Origins(default_file=label), base_dir or Path.cwd(), label, overrides)
+
+
 def _finish(data, origins, base_dir, label, overrides) -> Config:
     if not isinstance(data, dict):
         raise ConfigError(Problem(label, 1, "", "expected a YAML mapping of keys at the top level"))

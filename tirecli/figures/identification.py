@@ -4,7 +4,7 @@ from __future__ import annotations
 import numpy as np
 
 from tirecli.figures.registry import Table, register
-from tirecli.figures.style import COLORS, figure, finish, new_figure, synthetic_mark
+from tirecli.figures.style import COLORS, figure, finish, new_figure, readable_3d, synthetic_mark
 from tirecli.figures.transient import SYN, require
 
 
@@ -100,7 +100,7 @@ def _caption_fig6(result):
     base = ("SYNTHETIC data: the noise-free 100 Hz samples of braking #2 of Fig. 4 (distributed model, Table 2) with "
             "t <= 2.6 s and |s| > 0.005 (post-release samples dropped), and the steady-state surface FM eq. (4) "
             "(alpha = 2, L = 0.2 m) fitted to them by bounded least squares from Table 1 starting values (FM procedure"
-            + (", middle" if f is not None else "") + "). sigma0 and mu_s are well determined; mu_c and v_s are poorly determined (correlated, and the "
+            + (", panel (c)" if f is not None else "") + "). sigma0 and mu_s are well determined; mu_c and v_s are poorly determined (correlated, and the "
             "samples stop at the force peak), so the transient bias of ~2e-3 RMS moves them far from Table 2 - an "
             "independent fit reports the same effect (mu_c 1.17, v_s 3.7 on its data, docs/models/lugre_friction.md §10); beyond the sampled slips the fitted surface is an "
             "extrapolation.")
@@ -113,8 +113,9 @@ def _caption_fig6(result):
     lvl = int(round(100 * f.confidence))
     cover = (f"Table 2 lies inside all {lvl}% intervals of this fit" if not outside
              else f"Table 2 lies outside the {lvl}% intervals of {', '.join(outside)}")
-    return (base + " Right: the fit with the distributed model in the least-squares loop (all six parameters to mu(t) of "
-            f"the whole braking, the model driven by the sampled v(t), r omega(t)): mu_c = {e.get('mu_c', float('nan')):.3g}, "
+    return (base + " (a) and (b): the surface of the distributed-model fit in 3-D and as a map from above, with the "
+            "samples; (c): the FM procedure's fit; (d): the fit with the distributed model in the least-squares loop (all "
+            f"six parameters to mu(t) of the whole braking, the model driven by the sampled v(t), r omega(t)): mu_c = {e.get('mu_c', float('nan')):.3g}, "
             f"v_s = {e.get('v_s', float('nan')):.3g} m/s, residual RMS {f.residual_rms:.2g}. It removes the model bias: "
             f"{cover}. What is left of the residual is the data's own numerical error (the generating run's tolerance "
             "and the 100 Hz sampling of the fast wheel transients), to which mu_c and v_s remain sensitive (wide "
@@ -137,26 +138,37 @@ def draw_fm_fig6(result):
     panels = [(p_fm, "FM procedure: steady-state fit (stage 1)")]
     if f is not None:
         panels.append((result.payload["fitted"], "distributed model in the loop (stage 3)"))
-    wide = len(panels) == 2
-    fig = figure(figsize=(15.5 if wide else 11.5, 4.9))
-    a = fig.add_axes((0.0, 0.04, 0.33 if wide else 0.47, 0.86), projection="3d")
     s_abs, v, m = np.abs(d["s"][used]), d["v"][used], np.abs(d["mu"][used])
     ss = np.linspace(0.0, 0.3, 61)
-    vv = np.linspace(float(v.min()), float(v.max()), 21)
+    vv = np.linspace(float(v.min()), float(v.max()), 41)
     S, V = np.meshgrid(ss, vv)
-    p3 = panels[-1][0]
-    a.plot_surface(S, V, _surface_mu(p3, S, V), cmap="viridis", alpha=0.55, linewidth=0)
-    a.scatter(s_abs, v, m, color=COLORS[1], s=6, depthshade=False, label="synthetic samples")
-    a.set_xlabel("slip |s| [-]")
-    a.set_ylabel("speed v [m/s]")
+    p3, name3 = panels[-1][0], ("distributed-model fit" if f is not None else "FM procedure's fit")
+    M = _surface_mu(p3, S, V)
+    # two rows that fit a page: the paper's 3-D view and the same surface as a map (top), the fitted
+    # curves of each fit against the samples (bottom); one legend and one speed scale for the figure.
+    # A fixed layout: the constrained engine measures the 3-D panel's ticks at length (seconds per figure).
+    fig = figure(figsize=(10.0, 8.6))
+    a = fig.add_axes((0.0, 0.53, 0.47, 0.40), projection="3d")
+    a.plot_surface(S, V, M, cmap="viridis", alpha=0.55, linewidth=0, rasterized=True)
+    a.scatter(s_abs, v, m, color=COLORS[1], s=6, depthshade=False)
+    a.set_xlabel("slip |s| [-]", fontsize=9)
+    a.set_ylabel("speed v [m/s]", fontsize=9)
     a.zaxis.set_rotate_label(False)
-    a.set_zlabel("|mu| [-]", rotation=90)
+    a.set_zlabel("|mu| [-]", rotation=90, fontsize=9)
+    readable_3d(a)
     a.view_init(elev=22, azim=-50)
-    a.set_title("samples and fitted surface" + (" (distributed-model fit)" if wide else ""), fontsize=10)
-    x0, w = (0.41, 0.23) if wide else (0.56, 0.33)
+    a.set_title(f"(a) samples and the {name3}'s surface", fontsize=10)
+    c = fig.add_axes((0.57, 0.565, 0.28, 0.345))
+    filled = c.contourf(S, V, M, levels=np.arange(0.0, float(M.max()) + 0.1, 0.1), cmap="viridis", alpha=0.85)
+    lines = c.contour(S, V, M, levels=filled.levels[2::2], colors="#FFFFFF", linewidths=0.6)
+    c.clabel(lines, fmt="%.1f", fontsize=7)
+    fig.colorbar(filled, cax=fig.add_axes((0.87, 0.565, 0.013, 0.345)), label="|mu| of the surface [-]")
+    c.plot(s_abs, v, ".", color=COLORS[1], ms=3, label="synthetic samples (|s|, v) of braking #2")
+    finish(c, "slip |s| [-]", "speed v [m/s]", "(b) the same surface from above: |mu| over (|s|, v)", legend=False)
     axes = []
-    for i, (p, title) in enumerate(panels):
-        b = fig.add_axes((x0 + i * (w + 0.045), 0.11, w, 0.78))
+    lefts = (0.07, 0.5) if len(panels) == 2 else (0.285,)
+    for i, ((p, title), x0) in enumerate(zip(panels, lefts)):
+        b = fig.add_axes((x0, 0.12, 0.35, 0.33), sharey=axes[0] if axes else None)
         axes.append(b)
         sc = b.scatter(s_abs, m, c=v, s=8, cmap="viridis")
         for k, vk in enumerate((float(v.max()), 0.5 * (float(v.min()) + float(v.max())), float(v.min()))):
@@ -165,12 +177,14 @@ def draw_fm_fig6(result):
                    label=f"Table 2, v = {vk:.1f} m/s")
         b.set_xlim(0, 0.3)
         b.set_ylim(bottom=0)
-        finish(b, "slip |s| [-]", "|mu| [-]" if i == 0 else "", f"{title}:\nfit (solid), Table 2 (dotted)",
-               legend=i == 0, loc="lower right")
-    top = max(ax.get_ylim()[1] for ax in axes)
-    for ax in axes:
-        ax.set_ylim(0, top)
-    fig.colorbar(sc, cax=fig.add_axes((x0 + len(panels) * (w + 0.045) - 0.03, 0.11, 0.012, 0.78)), label="v [m/s]")
+        finish(b, "slip |s| [-]", "|mu| [-]" if i == 0 else "", f"({'cd'[i]}) {title}:\nfit (solid), Table 2 (dotted)",
+               legend=False)
+    fig.colorbar(sc, cax=fig.add_axes((lefts[-1] + 0.37, 0.12, 0.013, 0.33)), label="sample speed v [m/s]")
+    handles, labels = axes[0].get_legend_handles_labels()
+    handles += c.get_legend_handles_labels()[0]
+    labels += c.get_legend_handles_labels()[1]
+    fig.legend(handles, labels, loc="lower center", bbox_to_anchor=(0.5, 0.0), ncol=4, fontsize=8, frameon=False,
+               markerscale=2)
     synthetic_mark(fig, SYN)
     return fig
 

@@ -234,7 +234,7 @@ def _draw_golden(block):
         from matplotlib.ticker import MaxNLocator
 
         ax.xaxis.set_major_locator(MaxNLocator(integer=True))
-        finish(ax, f"row of {block}.csv (docs/models/magic_formula_tyre.md §15.4)", "|tirecli - golden| [N, N m] (zero shown at 1e-16)",
+        finish(ax, f"row number [-] in {block}.csv (docs/models/magic_formula_tyre.md §15.4)", "|tirecli - golden| [N, N m] (zero shown at 1e-16)",
                f"golden rows {block}: {result.meta.get('convention')} convention", ncol=6, loc="upper center")
         return fig
 

@@ -17,7 +17,7 @@ import math
 import numpy as np
 
 from tirecli.figures.registry import Table, register
-from tirecli.figures.style import COLORS, LINESTYLES, finish, new_figure
+from tirecli.figures.style import COLORS, LINESTYLES, MAX_COLUMNS, direct_labels, finish, new_figure, suptitle
 
 DEG = math.pi / 180.0
 
@@ -33,7 +33,7 @@ def require(result, study: str, fid: str, family: str | None = None) -> None:
 
 
 def _reference(result) -> bool:
-    from tirecli.studies.mcps import reference_tire
+    from tirecli.studies.mcps.common import reference_tire
 
     return reference_tire(result.parameter_sets["tire"])
 
@@ -187,7 +187,8 @@ def _caption_fig10(result):
         al = ", ".join(f"{a / DEG:.3g}" for a in comb["alpha"])
         fam = f"alpha_s = {al} deg with kappa swept from {min(comb['kappa']):g} to {max(comb['kappa']):g}"
     return (f"Families at constant slip angle, {fam} [assumed scenario], at {_loads_text(result)} (the first load is "
-            "drawn): -Fy (left) and Mz (right) against Fx, paper-style signs. The side force falls as |Fx| grows for both "
+            "drawn): -Fy (top row) and Mz (bottom row) against Fx, paper-style signs, one column per model (shared "
+            "ordinates), one colour per slip angle, named at the curve's end. The side force falls as |Fx| grows for both "
             "models. The aligning torque differs: in MCPS (complete model) braking drives Mz towards 0 while driving keeps "
             "it large, through the belt offsets in MW = MA + x FAy - y FAx (eq. 16); the solid carcass gives a nearly "
             f"symmetric curve. Magic Formula side: {_mf_text(result)}; its combined-slip rules do not describe this "
@@ -236,10 +237,12 @@ def _standstill_text(result):
 
 
 def _caption_fig4(result):
-    return (f"Blocked wheel (V = 0, rigid belt; {_standstill_text(result)}; {_tire_text(result)}). Left: the lateral "
-            "force density f_y(xi, t) of the road on the tire (ISO-W; odd in xi); right: profiles at the yaw reversals "
-            "over F'_ky. Near the centre f_y grows with |xi| psi; the edges saturate first, with an overshoot on first "
-            "loading (4/3 F'_ky without the frame term) and a larger one after each reversal (limit 5/3 F'_ky).")
+    return (f"Blocked wheel (V = 0, rigid belt; {_standstill_text(result)}; {_tire_text(result)}). Top: the lateral "
+            "force density f_y(xi, t) of the road on the tire (ISO-W; odd in xi) as a map over the patch and time (the "
+            "paper's surface seen from above; dotted: |f_y| = F'_ky); below: profiles at the yaw reversals over F'_ky "
+            "(the lines of their colours on the map). Near the centre f_y grows with |xi| psi; the edges saturate "
+            "first, with an overshoot on first loading (4/3 F'_ky without the frame term) and a larger one after each "
+            "reversal (limit 5/3 F'_ky).")
 
 
 def _caption_fig5(result):
@@ -323,22 +326,50 @@ def draw_fig9(result):
                 "angles and slips, MCPS against PaMaF: similar Fy-Fx curves, clearly different Mz-Fx curves.",
 )
 def draw_fig10(result):
+    import textwrap
+
     d, fz = _first_load(result, "mcps-fig10", "combined")
-    fig, (a, b) = new_figure(ncols=2, width=11.0, height=4.6)
+    variants = _variants(d)
+    # one column per model (at most MAX_COLUMNS, then a second block of rows), -Fy above Mz (the same scales
+    # in every panel, so MCPS and the Magic Formula read across); one colour per slip angle, named at the
+    # curve's driving end
+    ncols = min(len(variants), MAX_COLUMNS)
+    blocks = -(-len(variants) // ncols)
+    fig, axes = new_figure(nrows=2 * blocks, ncols=ncols, width=3.7 * ncols + 0.6, height=3.6 * 2 * blocks)
+    axes = np.asarray(axes).reshape(2 * blocks, ncols)
     alphas = sorted(d["alpha"].unique(), key=abs)
-    for label, sel, style in _variants(d):
-        ls = style["ls"] if label != "MF" else ":"
-        for i, al in enumerate(alphas):
+    colour = {al: COLORS[i % len(COLORS)] for i, al in enumerate(alphas)}
+    ends = {}
+    for j, (label, sel, style) in enumerate(variants):
+        a, b = axes[2 * (j // ncols), j % ncols], axes[2 * (j // ncols) + 1, j % ncols]
+        for al in alphas:
             g = d[sel & (d["alpha"] == al)].sort_values("kappa")
-            lab = f"{label if label != 'MF' else _mf_label(result)}, alpha_s = {al / DEG:.3g} deg"
-            kw = {"color": COLORS[i % len(COLORS)], "ls": ls, "lw": style["lw"]}
-            a.plot(g["fx"], -g["fy"], label=lab, **kw)
+            kw = {"color": colour[al], "ls": style["ls"], "lw": style["lw"]}
+            a.plot(g["fx"], -g["fy"], **kw)
             b.plot(g["fx"], g["mz"], **kw)
-    finish(a, "Fx [N] (< 0 braking)", "side force -Fy [N]", "side force against Fx", legend=False)
-    finish(b, "Fx [N] (< 0 braking)", "aligning torque Mz [N m]", "aligning torque against Fx", legend=False)
-    h, lab = a.get_legend_handles_labels()
-    fig.legend(h, lab, loc="outside lower center", ncol=3, fontsize=7, frameon=False)
-    fig.suptitle(f"MCPS Fig. 10: combined slip at {fz:g} N, {_tire_name(result)}", fontsize=10)
+            last = g.iloc[-1]
+            for ax, y in ((a, -last["fy"]), (b, last["mz"])):
+                ends.setdefault(ax, []).append((last["fx"], y, f"{al / DEG:.3g} deg", colour[al]))
+        name = _mf_label(result) if label == "MF" else label
+        finish(a, "", "side force -Fy [N]" if j % ncols == 0 else "", "\n".join(textwrap.wrap(name, 38)), legend=False)
+        finish(b, "Fx [N] (< 0 braking)", "aligning torque Mz [N m]" if j % ncols == 0 else "", legend=False)
+        a.tick_params(labelbottom=False)
+        if j % ncols:
+            a.tick_params(labelleft=False)
+            b.tick_params(labelleft=False)
+    for ax in axes.ravel():
+        ax.set_visible(ax in ends)
+    lo, hi = float(d["fx"].min()), float(d["fx"].max())
+    for row in range(2):
+        panels = [ax for ax in axes[row::2].ravel() if ax in ends]
+        ylo = min(ax.get_ylim()[0] for ax in panels)
+        yhi = max(ax.get_ylim()[1] for ax in panels)
+        for ax in panels:
+            ax.set_xlim(lo - 0.04 * (hi - lo), hi + 0.2 * (hi - lo))  # room right of the curves for their names
+            ax.set_ylim(ylo, yhi)
+            direct_labels(ax, ends[ax])
+    suptitle(fig, f"MCPS Fig. 10: combined slip at {fz:g} N, {_tire_name(result)}; families at constant slip angle "
+                  "alpha_s (named at their ends)")
     return fig
 
 
@@ -472,34 +503,33 @@ def draw_fig4(result):
     times = np.unique(df["t"].to_numpy())
     xi = np.unique(df["xi"].to_numpy())
     Z = df.sort_values(["t", "xi"])["fy"].to_numpy().reshape(times.size, xi.size) / 1e3
-    from matplotlib.figure import Figure
-
-    fig = Figure(figsize=(11.0, 4.8))  # fixed layout: the constrained engine is slow with 3-D axes
-    fig.subplots_adjust(left=0.02, right=0.98, bottom=0.2, top=0.88, wspace=0.12)
-    ax3 = fig.add_subplot(1, 2, 1, projection="3d")
-    X, Tm = np.meshgrid(1e3 * xi, times)
-    ax3.plot_surface(X, Tm, Z, cmap="coolwarm", linewidth=0, antialiased=True, rcount=36, ccount=27, rasterized=True)
-    ax3.set_xlabel("xi [mm]", fontsize=8)
-    ax3.set_ylabel("t [s]", fontsize=8)
-    ax3.set_zlabel("f_y [kN/m]", fontsize=8)
-    ax3.tick_params(labelsize=7)
-    ax3.view_init(elev=25, azim=-60)
-    ax3.set_title("f_y(xi, t), road on tire", fontsize=10)
-    ax = fig.add_subplot(1, 2, 2)
-    ax.set_position([0.56, 0.2, 0.42, 0.66])
+    # the paper's surface f_y(xi, t) as a map over the same plane (top), the profiles at the reversals
+    # below it on the same xi axis; the reversal times are lines of the profiles' colours on the map
+    fig, (a, b) = new_figure(nrows=2, width=6.8, height=8.2, sharex=True, height_ratios=(1.25, 1.0))
+    lim = max(float(np.abs(Z).max()), 5.0 / 3.0 * Fk / 1e3)
+    mesh = a.pcolormesh(1e3 * xi, times, Z, cmap="RdBu_r", vmin=-lim, vmax=lim, shading="nearest", rasterized=True)
+    fig.colorbar(mesh, ax=a, label="f_y [kN/m]", pad=0.02)
+    a.contour(1e3 * xi, times, Z, levels=[-Fk / 1e3, Fk / 1e3], colors="#000000", linewidths=0.7, linestyles=":")
+    a.plot([], [], color="#000000", lw=0.7, ls=":", label="|f_y| = F'_ky (map)")
     st = result.data["standstill"]
     ends = st.groupby("leg")["t"].max().to_numpy()
     for i, te in enumerate(ends[:4]):
         k = int(np.argmin(np.abs(times - te)))
         ps = float(st["psi"].iloc[int(np.argmin(np.abs(st["t"].to_numpy() - te)))])
-        ax.plot(1e3 * xi, Z[k] * 1e3 / Fk, color=COLORS[i % len(COLORS)], label=f"t = {te:.2f} s, psi = {ps:+.3g} rad")
+        col = COLORS[i % len(COLORS)]
+        a.axhline(times[k], color=col, lw=1.4)
+        b.plot(1e3 * xi, Z[k] * 1e3 / Fk, color=col, lw=1.5, label=f"t = {te:.2f} s, psi = {ps:+.3g} rad")
     for lev in (4 / 3, 5 / 3):
         for s_ in (1, -1):
-            ax.axhline(s_ * lev, color="#777777", lw=0.7, ls=":")
-    finish(ax, "patch abscissa xi [mm] (forward)", "f_y / F'_ky [-]", "profiles at the reversals (dotted: 4/3, 5/3)",
+            b.axhline(s_ * lev, color="#777777", lw=0.7, ls=":")
+    finish(a, "", "time t [s]", "f_y(xi, t), road on tire (lines: the reversals drawn below)", legend=False)
+    finish(b, "patch abscissa xi [mm] (forward)", "f_y / F'_ky [-]", "profiles at the reversals (dotted: 4/3, 5/3)",
            legend=False)
-    _legend_below(fig, ax, ncol=2)
-    fig.suptitle(f"MCPS Fig. 4: lateral friction force distribution at standstill, {_tire_name(result)}", fontsize=10)
+    a.grid(False)
+    handles = b.get_legend_handles_labels()[0] + a.get_legend_handles_labels()[0]
+    labels = b.get_legend_handles_labels()[1] + a.get_legend_handles_labels()[1]
+    fig.legend(handles, labels, loc="outside lower center", ncol=2, fontsize=8, frameon=False)
+    suptitle(fig, f"MCPS Fig. 4: lateral friction force distribution at standstill, {_tire_name(result)}")
     return fig
 
 

@@ -87,7 +87,7 @@ def draw_obs_fig2(result):
 
 
 def _slow_mode_note(result) -> str:
-    """The slow mode of the first 'theta known' case (computed by the study, :func:`tirecli.studies.observe.slow_mode`)."""
+    """The slow mode of the first 'theta known' case (computed by the study, :func:`tirecli.studies.observe.running.slow_mode`)."""
     for case, _, _ in _runs(result):
         if case.label.startswith("theta known"):
             sm = result.payload.get("slow_mode", {}).get(case.label)
@@ -155,29 +155,36 @@ def draw_obs_speed_error(result):
 )
 def draw_obs_gain_study(result):
     from tirecli.errors import UsageError
+    from tirecli.parameters.kinds import KINDS
 
     require(result, "observe", "obs-gain-study")
     if "gain_study" not in result.data:
         raise UsageError("figure 'obs-gain-study' needs a 'gain_study' block in the config")
     gs = result.data["gain_study"]
+    gain = result.meta["gain_study"]["gain"]
+    unit = KINDS["observer"].fields[gain].unit or "-"
+    values = gs["value"].to_numpy(dtype=float)
     fig, (a, b) = new_figure(nrows=2, width=7.0, height=7.0)
-    for k, (case, tr, _) in enumerate(_plot_runs(result)):
+    for k, ((_, tr, _), value) in enumerate(zip(_plot_runs(result), values)):  # the runs in the order of the values
         if k == 0:
             a.plot(tr.t, tr.theta, "k", lw=1.6, label="theta (true)")
-        a.plot(tr.t, tr.theta_hat, "--", color=COLORS[k % len(COLORS)], label=case.label)
-    gain = result.meta["gain_study"]["gain"]
-    b.plot(gs["value"], gs["settle_time_s"], "o-", color=COLORS[0])
-    if np.all(gs["value"] > 0):
+        a.plot(tr.t, tr.theta_hat, "--", color=COLORS[k % len(COLORS)], label=f"{gain} = {_short(value)} {unit}")
+    b.plot(values, gs["settle_time_s"], "o-", color=COLORS[0])
+    if np.all(values > 0):
         b.set_xscale("log")
+        b.set_xticks(values, [_short(x) for x in values])
+        b.minorticks_off()
     tol = result.payload["metrics"]["settle_tolerance"]
     finish(a, "time t [s]", "theta (OBS) [-]", "(a) adhesion estimate", loc="lower right")
-    from tirecli.parameters.kinds import KINDS
-
-    unit = KINDS["observer"].fields[gain].unit
-    finish(b, f"{gain} [{unit}]" if unit else gain, "settling time [s]", f"(b) time to |theta_hat - theta| < {tol:g} after the first change",
+    finish(b, f"observer gain {gain} [{unit}]", "settling time [s]", f"(b) time to |theta_hat - theta| < {tol:g} after the first change",
            legend=False)
     _mark_synthetic(result, fig)
     return fig
+
+
+def _short(x: float) -> str:
+    """A gain value in few characters: ``5e4``, ``1.5e5``, ``20``."""
+    return f"{x:.3g}".replace("e+0", "e").replace("e+", "e").replace("e-0", "e-")
 
 
 # --------------------------------------------------------------------------- sensor effects

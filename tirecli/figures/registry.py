@@ -2,8 +2,9 @@
 
 A figure function draws from a :class:`~tirecli.studies.base.StudyResult` and returns a
 matplotlib ``Figure`` (or a :class:`Table`); it never saves and checks nothing (a figure's
-reference checks are registered under its id in :mod:`tirecli.studies.checks`). Commands draw the
-figures a result asks for; ``tirecli report`` runs each entry's built-in study and draws them all.
+reference checks are listed under its id by its study's registry entry, ``Study.checks``). Commands
+draw the figures a result asks for (:mod:`tirecli.app.draw`); ``tirecli report`` runs each entry's
+study config and draws them all.
 """
 from __future__ import annotations
 

@@ -4,7 +4,7 @@ from __future__ import annotations
 import numpy as np
 
 from tirecli.figures.registry import Table, register
-from tirecli.figures.style import COLORS, LINESTYLES, figure, finish, legend_room, new_figure
+from tirecli.figures.style import COLORS, LINESTYLES, figure, finish, legend_room, new_figure, readable_3d
 from tirecli.studies.sweep_curves import curve, curve_peak, first_model
 
 #: Caption sentence of the peak markers.
@@ -227,6 +227,7 @@ def _surface(result, title):
     ax.set_ylabel("speed v [m/s]")
     ax.zaxis.set_rotate_label(False)
     ax.set_zlabel("|mu| [-]", rotation=90)
+    readable_3d(ax, fontsize=9)
     ax.set_title(title, fontsize=10)
     ax.view_init(elev=22, azim=-50)
     fig.subplots_adjust(left=0.02, right=0.95, bottom=0.05, top=0.93)

@@ -9,6 +9,15 @@ from __future__ import annotations
 COLORS = ["#0072B2", "#D55E00", "#009E73", "#CC79A7", "#E69F00", "#56B4E9", "#000000", "#F0E442"]
 LINESTYLES = ["-", "--", "-.", ":"]
 
+#: The widest figure [in]: the six-panel Magic Formula sweeps (12.5 in, 1375 px at the report's 110 px per inch).
+MAX_WIDTH = 12.5
+#: The widest shape (width / height) of a figure. A wider strip is shrunk to the width of a phone (or of a
+#: text column) until its panels are too low to read; its panels belong in rows. :func:`new_figure` makes a
+#: figure at least ``width / MAX_ASPECT`` high.
+MAX_ASPECT = 2.5
+#: At most this many panels side by side (each then keeps about 3.5 in of a figure's width or more).
+MAX_COLUMNS = 3
+
 
 def figure(**kw):
     """A matplotlib ``Figure`` (Agg backend unless one was chosen)."""
@@ -21,8 +30,8 @@ def figure(**kw):
 
 
 def new_figure(ncols: int = 1, nrows: int = 1, width: float = 6.4, height: float = 4.2, **kw):
-    """A figure and its axes array (squeezed like ``plt.subplots``)."""
-    fig = figure(figsize=(width, height), layout="constrained")
+    """A figure and its axes array (squeezed like ``plt.subplots``), at least ``width / MAX_ASPECT`` high."""
+    fig = figure(figsize=(width, max(height, width / MAX_ASPECT)), layout="constrained")
     axes = fig.subplots(nrows, ncols, squeeze=True, **kw)
     return fig, axes
 
@@ -45,17 +54,53 @@ def finish(ax, xlabel: str, ylabel: str, title: str | None = None, legend: bool 
         ax.legend(fontsize=8, **legend_kw)
 
 
-def suptitle(fig, text: str, fontsize: float = 10):
+def readable_3d(ax, nbins: int = 4, fontsize: float = 8) -> None:
+    """Few, legible tick labels on the three axes of a 3-D panel (at most ``nbins + 1`` per axis, at
+    ``fontsize`` points): matplotlib's default crowds 7-9 labels along each foreshortened edge."""
+    from matplotlib.ticker import MaxNLocator
+
+    for axis in (ax.xaxis, ax.yaxis, ax.zaxis):
+        axis.set_major_locator(MaxNLocator(nbins=nbins))
+    ax.tick_params(labelsize=fontsize)
+
+
+def direct_labels(ax, ends, fontsize: float = 8, min_gap: float = 0.07) -> None:
+    """Name curves at their ends instead of in a legend.
+
+    ``ends`` is a list of ``(x, y, text, color)``: each text is written just right of its curve's end
+    ``(x, y)`` in the curve's colour. Texts closer than ``min_gap`` of the panel's height are moved apart
+    (kept inside the panel). Set the panel's limits first (and leave room right of the curves): the
+    texts are placed in data coordinates.
+    """
+    if not ends:
+        return
+    x0, x1 = ax.get_xlim()
+    y0, y1 = ax.get_ylim()
+    gap = min_gap * (y1 - y0)
+    order = sorted(range(len(ends)), key=lambda k: ends[k][1])
+    ys = [min(max(ends[k][1], y0 + 0.5 * gap), y1 - 0.5 * gap) for k in order]
+    for i in range(1, len(ys)):  # push up what sits too close above its neighbour...
+        ys[i] = max(ys[i], ys[i - 1] + gap)
+    if ys[-1] > y1 - 0.5 * gap:  # ...and back down from the top edge
+        ys[-1] = y1 - 0.5 * gap
+        for i in range(len(ys) - 2, -1, -1):
+            ys[i] = min(ys[i], ys[i + 1] - gap)
+    for k, y in zip(order, ys):
+        x, _, text, color = ends[k]
+        ax.text(x + 0.012 * (x1 - x0), y, text, color=color, fontsize=fontsize, ha="left", va="center")
+
+
+def suptitle(fig, text: str, fontsize: float = 10, **kw):
     """The figure's title, wrapped to the figure's width: a constrained layout makes room for
     several lines but never shortens one, and a line wider than the figure runs off both edges.
 
     The wrap width assumes an average character of 0.6 em (DejaVu Sans, mixed text), in points:
-    ``width [in] * 72 / (0.6 * fontsize)`` characters.
+    ``width [in] * 72 / (0.6 * fontsize)`` characters. ``kw`` go to ``Figure.suptitle`` (e.g. ``y``, ``va``).
     """
     import textwrap
 
     chars = max(20, int(fig.get_figwidth() * 72.0 / (0.6 * fontsize)))
-    return fig.suptitle("\n".join(textwrap.wrap(text, chars)) or text, fontsize=fontsize)
+    return fig.suptitle("\n".join(textwrap.wrap(text, chars)) or text, fontsize=fontsize, **kw)
 
 
 def legend_room(ax, frac: float = 0.3, where: str = "bottom") -> None:

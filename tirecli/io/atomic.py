@@ -13,6 +13,14 @@ directory never mixes two runs.
   parameter set, a data file: :func:`tirecli.io.files.inputs_read`) is never removed or
   overwritten (a run that would overwrite one is refused before anything moves), and files no
   tirecli run listed are never touched.
+* A commit is journaled: before the first file moves, ``.DIR.tirecli-commit`` (beside the lock) records
+  what the commit will do (the staging directory, the markers and files of the earlier run it removes).
+  A run killed in the middle of its commit (SIGKILL, a power cut) leaves a folder without a marker and
+  the rest of its files staged; the next run into ``DIR`` completes that commit first (every step of it
+  can be done again), says so on stderr (``note: --out DIR: a run (pid N, ...) was killed while moving
+  its results into place; its move was completed ...``) and goes on from there. So after a kill at any
+  instant ``DIR`` holds the previous complete run, the new complete run, or a state the next run
+  completes.
 * :func:`staged_file` does the same for a single output file (``mf eval``, ``tir convert``).
 * Both hold a lock file ``.NAME.tirecli-lock`` beside the target for the whole run: a second run
   into the same target is refused naming the process that holds it. The lock is an advisory
@@ -23,6 +31,11 @@ directory never mixes two runs.
   Ctrl-C becomes :class:`~tirecli.errors.Interrupted` (exit 130, ``interrupted: previous results
   in DIR kept``), a run failure carries the note that the previous results were kept. Ctrl-C is
   held back during the final renames (milliseconds), so the move into place is never cut in half.
+
+A run killed with SIGKILL leaves its lock file (stale: the next run takes it over and removes it at its
+end), its staging directory and the temporary files it was writing (named ``.NAME.tirecli-tmp-PID-XXXXXXXX``,
+PID the process that made them): the next run into the same target removes them when that process is dead
+(:func:`clean_temps`), the report's study cache when it next writes its timings.
 
 When the target's parent directory is not writable (``--out .`` below a read-only directory) or
 ``DIR`` is a mount point, the lock and the staging directory live inside ``DIR`` instead
@@ -35,6 +48,7 @@ import contextlib
 import errno
 import functools
 import json
+import logging
 import os
 import re
 import shutil
@@ -47,10 +61,13 @@ import time
 from pathlib import Path
 
 from tirecli.errors import Interrupted, UsageError
-from tirecli.io.files import inputs_read
+from tirecli.io.files import inputs_read, read_own_file
 
 LOCK = "tirecli-lock"
 TMP = "tirecli-tmp-"
+#: The journal of a commit in progress (``.DIR.tirecli-commit`` beside the lock): what a run killed while moving
+#: its files into place left to do, so that the next run completes it.
+JOURNAL = "tirecli-commit"
 #: Commit markers: the JSON record a run writes last, listing its outputs (``outputs``).
 MARKERS = ("run.json", "summary.json")
 
@@ -84,13 +101,72 @@ def _prefix(name: str) -> str:
     return f".{name[:50]}."  # the name's head: the temporary names stay within NAME_MAX
 
 
+def temp_prefix(head: str) -> str:
+    """The prefix of a temporary name tirecli makes (``mkstemp``/``mkdtemp`` add 8 random characters):
+    ``HEAD`` + ``tirecli-tmp-`` + this process's id, so that a leftover of a killed run is known for
+    one, and known to be dead (:func:`clean_temps`)."""
+    return f"{head}{TMP}{os.getpid()}-"
+
+
+#: A temporary name of tirecli's (:func:`temp_prefix`): ``.NAME.tirecli-tmp-PID-XXXXXXXX`` (or, inside an output
+#: directory, ``.tirecli-tmp-PID-XXXXXXXX``).
+_TEMP = re.compile(r"\.(?:.*\.)?" + re.escape(TMP) + r"(\d+)-[a-z0-9_]{8}")
+
+
+def _alive(pid: int) -> bool:
+    """Whether process ``pid`` runs on this host (another user's process counts as running)."""
+    if pid == os.getpid():
+        return True
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return False
+    except (PermissionError, OverflowError, ValueError):
+        return pid > 0
+    return True
+
+
+#: How far :func:`clean_temps` looks below a directory: levels, and entries in all (an ``--out`` given as a
+#: large folder is not walked through; tirecli writes its outputs at most a few levels deep).
+CLEAN_DEPTH, CLEAN_ENTRIES = 4, 20_000
+
+
+def clean_temps(directory, recursive: bool = False, older_than: float = 0.0) -> list[str]:
+    """Remove the temporary files and directories tirecli left in ``directory`` (and below it, ``recursive``:
+    :data:`CLEAN_DEPTH` levels, :data:`CLEAN_ENTRIES` entries at most) when killed: only names of
+    :func:`temp_prefix`'s form whose process is dead (and, with ``older_than``, older than that many seconds).
+    Nothing else is touched, links are not followed. Returns what was removed."""
+    removed = []
+    stack, seen = [(Path(directory), 0)], 0
+    while stack and seen < CLEAN_ENTRIES:
+        d, depth = stack.pop()
+        try:
+            entries = list(os.scandir(d))
+        except OSError:
+            continue
+        seen += len(entries)
+        for entry in entries:
+            m = _TEMP.fullmatch(entry.name)
+            if m is not None and not _alive(int(m.group(1))):
+                try:
+                    if older_than and time.time() - entry.stat(follow_symlinks=False).st_mtime < older_than:
+                        continue
+                except OSError:
+                    continue
+                _remove(Path(entry.path))
+                removed.append(entry.path)
+            elif recursive and depth < CLEAN_DEPTH and entry.is_dir(follow_symlinks=False):
+                stack.append((Path(entry.path), depth + 1))
+    return removed
+
+
 @contextlib.contextmanager
 def atomic_write(path, mode: str = "w", encoding: str = "utf-8", errors: str | None = None, newline: str | None = None):
     """Open a unique temporary file beside ``path`` for writing (text, or bytes with ``mode='wb'``);
     when the block ends it replaces ``path`` (``os.replace``). On an error or Ctrl-C it is removed
     and ``path`` is untouched."""
     path = Path(path)
-    fd, tmp = tempfile.mkstemp(prefix=_prefix(path.name) + TMP, dir=path.parent)
+    fd, tmp = tempfile.mkstemp(prefix=temp_prefix(_prefix(path.name)), dir=path.parent)
     try:
         if "b" in mode:
             fh = os.fdopen(fd, "wb")
@@ -243,9 +319,11 @@ def _missing_parents(real: Path) -> list[Path]:
 
 
 def _clean_leftovers(home: Path, prefix: str) -> None:
-    """Remove the staging left by a run that was killed (called under the lock: no live run owns one;
-    only names exactly as ``mkdtemp``/``mkstemp`` make them)."""
-    own = re.compile(re.escape(prefix + TMP) + r"[a-z0-9_]{8}")
+    """Remove the staging (and the commit journal's temporary file) left by a run that was killed (called under
+    the lock: no live run owns one; only names exactly as :func:`temp_prefix` and ``mkdtemp``/``mkstemp`` make
+    them, of an earlier tirecli too, without the process id)."""
+    heads = (prefix, _prefix(prefix + JOURNAL))
+    own = re.compile("(?:" + "|".join(re.escape(h + TMP) for h in heads) + r")(?:\d+-)?[a-z0-9_]{8}")
     for name in os.listdir(home):
         if own.fullmatch(name):
             _remove(home / name)
@@ -253,7 +331,7 @@ def _clean_leftovers(home: Path, prefix: str) -> None:
 
 def _has_content(real: Path) -> bool:
     """Whether the output directory holds anything (besides a lock and staging of tirecli's own)."""
-    own = ("." + LOCK, "." + TMP)
+    own = ("." + LOCK, "." + TMP, "." + JOURNAL)
     return real.is_dir() and any(not name.startswith(own) for name in os.listdir(real))
 
 
@@ -272,7 +350,10 @@ def _claimed(out, is_dir: bool):
         raise UsageError(f"--out {target}: cannot create it ({exc.strerror or exc})") from None
     try:
         with _Lock(home / (prefix + LOCK), target):
+            _recover(home, prefix, real, target)
             _clean_leftovers(home, prefix)
+            if is_dir and real.is_dir():  # files a killed run was writing into the folder (a campaign's, a copy)
+                clean_temps(real, recursive=True)
             yield target, real, home, prefix
     finally:
         if not real.exists():
@@ -321,15 +402,30 @@ def _inside(real: Path, rel: str) -> bool:
     return os.path.commonpath([full, str(real)]) == str(real)
 
 
+def _record_cap() -> int:
+    """Largest run record read back [bytes] (a commit marker, a campaign's summary): a data CSV's cap."""
+    from tirecli.limits import csv_max_bytes
+
+    return csv_max_bytes()
+
+
+def read_record(path: Path, within: Path):
+    """The JSON of a run record tirecli wrote (a commit marker, a campaign's ``summary.json``), read through
+    the input gate (:func:`tirecli.io.files.read_own_file`: a regular file inside ``within``); None when it
+    is absent, not a regular file or not JSON."""
+    data = read_own_file(path, _record_cap(), within=within)
+    try:
+        return json.loads(data.decode("utf-8")) if data is not None else None
+    except (ValueError, UnicodeDecodeError):
+        return None
+
+
 def listed_outputs(real: Path) -> set[str]:
     """The files the earlier tirecli run in ``real`` listed in its commit marker(s), with the
     markers themselves (paths relative to ``real``)."""
     listed = set()
     for marker in MARKERS:
-        try:
-            record = json.loads((real / marker).read_text(encoding="utf-8"))
-        except (OSError, ValueError):
-            continue
+        record = read_record(real / marker, real)
         if not isinstance(record, dict) or record.get("tool") != "tirecli":
             continue
         listed.add(marker)
@@ -353,8 +449,9 @@ class Stage:
         After the commit: files of the earlier run removed, and those kept as inputs of this run.
     """
 
-    def __init__(self, target: Path, real: Path, root: Path, marker: str):
+    def __init__(self, target: Path, real: Path, root: Path, marker: str, journal: Path | None = None):
         self.target, self.real, self.root, self.marker = target, real, root, marker
+        self.journal = journal
         self.removed: list[str] = []
         self.kept: list[str] = []
 
@@ -384,38 +481,127 @@ class Stage:
         for p in sorted(self.root.rglob("*")):
             if p.is_dir():
                 (self.real / p.relative_to(self.root)).mkdir(parents=True, exist_ok=True)
-        for rel in markers:  # from here until the new marker is in place, DIR says it is incomplete
-            self._unlink(rel, report=rel not in files)
-        for rel in files:
-            if rel != self.marker:
-                _move(self.root / rel, self.real / rel)
-        for rel in stale:
-            self._unlink(rel)
-        if self.marker in files:
-            _move(self.root / self.marker, self.real / self.marker)
-
-    def _unlink(self, rel: str, report: bool = True) -> None:
-        """Remove an earlier output (``report``: list it in :attr:`removed`) and directories it leaves empty."""
-        path = self.real / rel
-        if path.is_file() or path.is_symlink():
-            path.unlink()
-            if report:
-                self.removed.append(rel)
-            _prune(path.parent, self.real)
+        marker = self.marker if self.marker in files else None
+        if self.journal is not None:  # from here on, a run killed leaves what remains to do to the next run
+            _write_journal(self.journal, self.root, marker, markers, stale)
+        self.removed = _roll_forward(self.root, self.real, marker, markers, stale, files)
+        if self.journal is not None:
+            with contextlib.suppress(OSError):
+                os.unlink(self.journal)
 
     def _check(self, files: list[str], inputs: frozenset) -> None:
         """Refuse, before anything moves, a commit that would overwrite an input of this run or a
         directory, or needs a directory where a file is."""
+        keep_inputs(self.target, files, inputs=inputs)
         for rel in files:
             dst = self.real / rel
             for up in reversed(Path(rel).parents[:-1]):
                 if (self.real / up).exists() and not (self.real / up).is_dir():
                     raise UsageError(f"--out {self.target}: {self.target / up} is not a directory")
-            if os.path.realpath(dst) in inputs:
-                raise UsageError(f"--out {self.target}: the run would overwrite its input {self.target / rel}; "
-                                 "choose another --out")
             if dst.is_dir() and not dst.is_symlink():
                 raise UsageError(f"--out {self.target}: {self.target / rel} is a directory")
+
+
+def keep_inputs(out, files=(), dirs=(), inputs: frozenset | None = None) -> None:
+    """Refuse (UsageError, before anything is written) a run whose outputs in ``out`` would overwrite one of its
+    inputs (:func:`tirecli.io.files.inputs_read`, or ``inputs``): a file of ``files`` (relative to ``out``)
+    that is an input, or an input inside one of the folders ``dirs`` the run writes and prunes."""
+    inputs = inputs_read() if inputs is None else inputs
+    target = Path(out)
+    real = Path(os.path.realpath(target))
+    for rel in files:
+        if os.path.realpath(real / rel) in inputs:
+            raise UsageError(f"--out {target}: the run would overwrite its input {target / rel}; choose another --out")
+    for rel in dirs:
+        top = os.path.realpath(real / rel)
+        for path in sorted(inputs):
+            if os.path.commonpath([path, top]) == top:
+                shown = target / rel / os.path.relpath(path, top)
+                raise UsageError(f"--out {target}: the run would overwrite its input {shown} (it writes {target / rel}); "
+                                 "choose another --out")
+
+
+def _unlink_output(real: Path, rel: str) -> bool:
+    """Remove an earlier output ``rel`` of ``real`` and the directories it leaves empty; whether it was there."""
+    path = real / rel
+    if path.is_file() or path.is_symlink():
+        path.unlink()
+        _prune(path.parent, real)
+        return True
+    return False
+
+
+def _roll_forward(root: Path, real: Path, marker: str | None, markers, stale, files=None) -> list[str]:
+    """The moves of a commit, in their order: the earlier run's ``markers`` removed (from here until the new
+    marker is in place, ``real`` says it is incomplete), the files staged under ``root`` moved in, the earlier
+    run's ``stale`` outputs removed, the new ``marker`` last. Each step can be done again (a file moved is no
+    longer staged, a file removed is gone), so a commit cut short is completed by running it again
+    (:func:`_recover`). Returns the earlier outputs removed (markers the run rewrites not counted)."""
+    files = sorted(str(p.relative_to(root)) for p in root.rglob("*") if p.is_file()) if files is None else files
+    removed = []
+    for rel in markers:
+        if _unlink_output(real, rel) and rel not in files:
+            removed.append(rel)
+    for rel in files:
+        if rel != marker and (root / rel).exists():
+            (real / rel).parent.mkdir(parents=True, exist_ok=True)
+            _move(root / rel, real / rel)
+    for rel in stale:
+        if _unlink_output(real, rel):
+            removed.append(rel)
+    if marker is not None:
+        _move(root / marker, real / marker)
+    return removed
+
+
+def _write_journal(path: Path, root: Path, marker: str | None, markers, stale) -> None:
+    record = {"tool": "tirecli", "staging": root.name, "marker": marker, "markers": list(markers),
+              "stale": list(stale), "pid": os.getpid(), "host": socket.gethostname(), "started": time.time(),
+              "command": "tirecli " + " ".join(sys.argv[1:])}
+    with atomic_write(path) as fh:
+        fh.write(json.dumps(record) + "\n")
+
+
+#: Where tirecli reports what it found and did on its own (the commit of a killed run completed); without a
+#: logging configuration the message goes to stderr as it is.
+_log = logging.getLogger("tirecli")
+
+
+def _recover(home: Path, prefix: str, real: Path, target: Path) -> None:
+    """Complete the commit of a run killed while moving its files into ``real`` (its journal is there; called
+    under the lock, so that run is dead): ``real`` then holds that run's complete results, and a note says so."""
+    journal = home / (prefix + JOURNAL)
+    if not os.path.lexists(journal):
+        return
+    record = read_record(journal, home)
+    own = re.compile(re.escape(prefix + TMP) + r"(?:\d+-)?[a-z0-9_]{8}")
+    staging = str(record.get("staging", "")) if isinstance(record, dict) else ""
+    root = home / staging
+    who = _who(record)
+    marker = record.get("marker") if isinstance(record, dict) else None
+    if not own.fullmatch(staging) or not root.is_dir() or not isinstance(marker, (str, type(None))):
+        _log.warning(f"note: --out {target}: a run ({who}) was killed while moving its results into place, and "
+                     "what it left to do is gone: the folder may hold files of two runs until this run replaces them")
+    elif marker is not None and not (root / marker).exists():
+        pass  # it had finished: only its journal was left
+    else:
+        lists = [record.get(k) if isinstance(record.get(k), list) else [] for k in ("markers", "stale")]
+        markers, stale = ([rel for rel in rels if _inside(real, rel)] for rels in lists)
+        _roll_forward(root, real, marker if marker is None or _inside(real, marker) else None, markers, stale)
+        _log.warning(f"note: --out {target}: a run ({who}) was killed while moving its results into place; "
+                     f"its move was completed, so {target} held that run's complete results")
+    with contextlib.suppress(OSError):
+        os.unlink(journal)
+
+
+def _who(record) -> str:
+    """``pid N, started TIME: COMMAND`` of a journal's run."""
+    try:
+        started = time.strftime("%Y-%m-%d %H:%M:%S", time.localtime(float(record["started"])))
+        command = str(record.get("command", ""))
+        return f"pid {int(record['pid'])}, started {started}: {command if len(command) <= 80 else command[:77] + '...'}"
+    except (TypeError, ValueError, KeyError, OverflowError):
+        return "a run whose record cannot be read"
 
 
 def _move(src: Path, dst: Path) -> None:
@@ -447,9 +633,9 @@ def staged_dir(out, marker: str = "run.json"):
     left byte-identical (see the module docstring)."""
     with _claimed(out, is_dir=True) as (target, real, home, prefix):
         kept = f"previous results in {target} kept" if _has_content(real) else None
-        root = Path(tempfile.mkdtemp(prefix=prefix + TMP, dir=home))
+        root = Path(tempfile.mkdtemp(prefix=temp_prefix(prefix), dir=home))
         os.chmod(root, _mode(0o777))
-        stage = Stage(target, real, root, marker)
+        stage = Stage(target, real, root, marker, journal=home / (prefix + JOURNAL))
         with _guarded(target, kept, lambda: _remove(root)) as state:
             yield stage
             with _stops_deferred():
@@ -465,7 +651,7 @@ def staged_file(out):
     it was. The run holds the lock of ``out`` throughout; an input of the run is never overwritten."""
     with _claimed(out, is_dir=False) as (target, real, home, prefix):
         kept = f"previous {target} kept" if real.exists() else None
-        fd, tmp = tempfile.mkstemp(prefix=prefix + TMP, dir=home)
+        fd, tmp = tempfile.mkstemp(prefix=temp_prefix(prefix), dir=home)
         os.close(fd)
         tmp = Path(tmp)
         with _guarded(target, kept, lambda: _remove(tmp)) as state:

@@ -1,14 +1,18 @@
 """The report's study cache: the outputs of a built-in study and of its figures, kept between reports.
 
 ``tirecli report`` keeps what each study and figure wrote (data CSVs, the study's run record, the
-figure files and the card's facts: caption, parameters, check records) under a cache directory,
-by default ``DIR/.tirecli-cache`` (``--cache`` chooses another). A later report whose study has
-the same key copies those files instead of running the study and drawing its figures again.
+figure files and the card's facts: caption, parameters, check records) under a cache directory
+outside the report (:func:`default_dir`: ``$TIRECLI_CACHE_DIR``, else ``$XDG_CACHE_HOME/tirecli``,
+else ``~/.cache/tirecli``; ``--cache`` chooses another). A later report whose study has the same key
+copies those files instead of running the study and drawing its figures again.
 
 Only plain files are kept (CSV, JSON, PNG, SVG): nothing is unpickled or executed, so a cache
 entry can at worst be wrong, never run code. An entry records the SHA-256 of each of its files and
 is used only if every file is present and matches; anything unreadable or inconsistent is a miss
-(the study runs again and the entry is replaced). Entries are written as a temporary directory
+(the study runs again and the entry is replaced). Cached files are read through the input gate
+(:func:`tirecli.io.files.read_own_file`): a FIFO, a device, a link (to ``/dev/zero`` or out of the
+cache) or a file over the size cap in place of an entry's file is a miss too, never a wait or a read
+without end. Entries are written as a temporary directory
 renamed into place, files through :func:`tirecli.io.atomic.atomic_write`: a reader sees a whole
 entry or none, also with two reports sharing one ``--cache``.
 
@@ -35,14 +39,35 @@ import shutil
 import tempfile
 from pathlib import Path
 
-from tirecli.io.atomic import TMP, atomic_write
+from tirecli import limits
+from tirecli.io.atomic import atomic_write, clean_temps, temp_prefix
+from tirecli.io.files import read_own_file
 
 #: Bumped when the layout or the meaning of an entry changes (older entries are then ignored).
 FORMAT = 1
 #: Entries kept per study (the newest; older ones are of earlier code, configs or parameters).
 KEEP = 3
-#: Default cache folder inside the report's directory (not a report output: a report never removes it).
-DEFAULT_NAME = ".tirecli-cache"
+#: The environment variable that names the cache folder (``--cache`` takes precedence).
+ENV = "TIRECLI_CACHE_DIR"
+#: The cache folder that earlier versions kept inside the report's folder (the report now names one it
+#: finds there, and never removes it).
+OLD_NAME = ".tirecli-cache"
+
+
+def default_dir() -> Path | None:
+    """The study cache's folder when ``--cache`` is not given: ``$TIRECLI_CACHE_DIR``, else
+    ``$XDG_CACHE_HOME/tirecli`` (an absolute path), else ``~/.cache/tirecli``; None when there is no
+    home directory (the report then runs without a cache)."""
+    env = os.environ.get(ENV, "").strip()
+    if env:
+        return Path(env)
+    xdg = os.environ.get("XDG_CACHE_HOME", "").strip()
+    if xdg and os.path.isabs(xdg):
+        return Path(xdg) / "tirecli"
+    try:
+        return Path.home() / ".cache" / "tirecli"
+    except (RuntimeError, KeyError, OSError):
+        return None
 
 
 def sha256(data: bytes) -> str:
@@ -53,9 +78,9 @@ def sha256(data: bytes) -> str:
 def code_fingerprint() -> str:
     """SHA-256 over tirecli's Python source (relative path and bytes of each ``.py`` file): a change
     of any code invalidates every entry, whatever the version number says."""
-    import tirecli
+    from tirecli import _version
 
-    root = Path(tirecli.__file__).resolve().parent
+    root = Path(_version.__file__).resolve().parent
     h = hashlib.sha256()
     for path in sorted(root.rglob("*.py")):
         h.update(str(path.relative_to(root)).encode() + b"\0")
@@ -76,26 +101,37 @@ def key_of(parts: dict) -> str:
     return sha256(json.dumps(parts, sort_keys=True, default=str).encode())[:24]
 
 
-def _read_json(path: Path):
+def _entry_cap() -> int:
+    """Largest cached file read [bytes]: a data CSV's cap at the budget in force (a larger one is a miss)."""
+    return limits.csv_max_bytes()
+
+
+def _read(path: Path, root: Path) -> bytes | None:
+    """The bytes of a cached file through the input gate (:func:`tirecli.io.files.read_own_file`): a
+    regular file inside the cache ``root`` (no link, FIFO or device, nothing leading out of the cache),
+    of at most :func:`_entry_cap` bytes; None otherwise (a miss: the study runs again)."""
+    return read_own_file(path, _entry_cap(), within=root)
+
+
+def _read_json(path: Path, root: Path):
+    data = _read(path, root)
     try:
-        return json.loads(path.read_text(encoding="utf-8"))
-    except (OSError, ValueError, UnicodeDecodeError):
+        return None if data is None else json.loads(data.decode("utf-8"))
+    except (ValueError, UnicodeDecodeError):
         return None
 
 
-def _valid_files(root: Path, files, keep: dict | None = None) -> bool:
-    """Whether ``files`` (relative path -> SHA-256) are all present under ``root`` with those hashes;
-    ``keep`` (path -> bytes) receives the contents checked, so that a copy needs no second read."""
+def _valid_files(root: Path, files, cache: Path, keep: dict | None = None) -> bool:
+    """Whether ``files`` (relative path -> SHA-256) are all present under ``root`` with those hashes (read
+    through the gate of the cache folder ``cache``: :func:`_read`); ``keep`` (path -> bytes) receives the
+    contents checked, so that a copy needs no second read."""
     if not isinstance(files, dict):
         return False
     for rel, digest in files.items():
         if not _safe_rel(rel):
             return False
-        try:
-            data = (root / rel).read_bytes()
-        except OSError:
-            return False
-        if sha256(data) != digest:
+        data = _read(root / rel, cache)
+        if data is None or sha256(data) != digest:
             return False
         if keep is not None:
             keep[root / rel] = data
@@ -126,12 +162,12 @@ class StudyCache:
     def manifest(self, deps_now) -> dict | None:
         """The study entry's manifest when the entry is complete and the built-in data it read are
         unchanged (``deps_now(name)``: the current SHA-256 of built-in set ``name``); else None."""
-        m = _read_json(self.dir / "manifest.json")
+        m = _read_json(self.dir / "manifest.json", self.base)
         if not isinstance(m, dict) or m.get("format") != FORMAT or m.get("key") != self.key:
             return None
         if not _deps_hold(m.get("deps"), deps_now) or not isinstance(m.get("record"), dict):
             return None
-        if not _valid_files(self.dir / "files", m.get("files"), self._checked):
+        if not _valid_files(self.dir / "files", m.get("files"), self.base, self._checked):
             return None
         return m
 
@@ -139,10 +175,10 @@ class StudyCache:
         """The cached card of figure ``fid`` (``fkey``: formats and resolution), its files checked and
         the built-in sets read for it (``card['deps']``, as in :meth:`manifest`) unchanged; or None."""
         d = self.dir / f"fig-{fid}-{fkey}"
-        card = _read_json(d / "card.json")
+        card = _read_json(d / "card.json", self.base)
         if not isinstance(card, dict) or card.get("id") != fid or not _deps_hold(card.get("deps"), deps_now):
             return None
-        if not _valid_files(d, card.get("hashes"), self._checked):
+        if not _valid_files(d, card.get("hashes"), self.base, self._checked):
             return None
         return card
 
@@ -159,8 +195,12 @@ class StudyCache:
     def _copy(self, src: Path, dst: Path) -> None:
         """Write ``src`` to ``dst``: the bytes checked by :meth:`manifest` or :meth:`figure` (read now if not checked)."""
         data = self._checked.pop(src, None)
+        if data is None:
+            data = _read(src, self.base)
+        if data is None:  # changed since it was checked: the entry is no longer whole
+            raise OSError(f"cache entry {src} changed while in use")
         dst.parent.mkdir(parents=True, exist_ok=True)
-        _write(dst, src.read_bytes() if data is None else data)
+        _write(dst, data)
 
     # ------------------------------------------------------------------ writing
 
@@ -218,7 +258,7 @@ class StudyCache:
     def _new_dir(self, target: Path):
         """A temporary directory beside ``target``, renamed to ``target`` (replacing an older entry)."""
         target.parent.mkdir(parents=True, exist_ok=True)
-        tmp = Path(tempfile.mkdtemp(prefix=f".{target.name[:40]}.{TMP}", dir=target.parent))
+        tmp = Path(tempfile.mkdtemp(prefix=temp_prefix(f".{target.name[:40]}."), dir=target.parent))
         try:
             yield tmp
             old = None
@@ -248,13 +288,21 @@ def _write(path: Path, data: bytes | str) -> None:
 
 
 def read_timings(root: str | Path) -> dict:
-    """Seconds each study (with its figures) took when it last ran (study -> seconds); empty when unknown."""
-    data = _read_json(Path(root) / f"v{FORMAT}" / "timings.json")
+    """Seconds each study (with its figures) took when it last ran (study -> seconds); empty when unknown
+    (or ``root`` is None: no cache)."""
+    if root is None:
+        return {}
+    data = _read_json(Path(root) / f"v{FORMAT}" / "timings.json", Path(root))
     return {k: float(v) for k, v in data.items() if isinstance(v, (int, float))} if isinstance(data, dict) else {}
 
 
 def write_timings(root: str | Path, timings: dict) -> None:
-    """Record the seconds of the studies that ran (merged with the earlier record); errors ignored."""
+    """Record the seconds of the studies that ran (merged with the earlier record); errors ignored;
+    nothing without a cache (``root`` None). Temporary files and entries of reports killed while writing
+    into the cache (their process dead) are removed."""
+    if root is None:
+        return
+    clean_temps(Path(root) / f"v{FORMAT}", recursive=True)
     with contextlib.suppress(OSError):
         path = Path(root) / f"v{FORMAT}" / "timings.json"
         merged = dict(read_timings(root), **{k: round(float(v), 3) for k, v in timings.items()})
@@ -274,8 +322,8 @@ def memo_text(root: str | Path | None, parts: dict, make) -> str:
     if root is None:
         return make()
     path = Path(root) / f"v{FORMAT}" / "memo" / f"{key_of(dict(parts, code=code_fingerprint()))}.txt"
-    with contextlib.suppress(OSError, ValueError, UnicodeDecodeError):
-        head, _, text = path.read_bytes().decode("utf-8").partition("\n")
+    with contextlib.suppress(ValueError, UnicodeDecodeError, AttributeError):
+        head, _, text = _read(path, Path(root)).decode("utf-8").partition("\n")
         if head == sha256(text.encode("utf-8")):
             return text
     text = make()

@@ -38,11 +38,21 @@ def write_parquet(path: str | Path, frame) -> Path:
     return output.write_parquet(path, frame)
 
 
-def read_parquet(path: str | Path):
+def read_parquet(path: str | Path, within: str | Path | None = None):
+    """A Parquet file of the campaign folder ``within`` (its parent by default) through the input gate
+    (:func:`tirecli.io.files.read_own_file`); ValueError when it is not a regular file of that folder."""
+    import io
+
     import pandas as pd
 
+    from tirecli import limits
+    from tirecli.io.files import read_own_file
+
     require_pyarrow("a campaign (Parquet files)")
-    return pd.read_parquet(path, engine="pyarrow")
+    data = read_own_file(path, limits.csv_max_bytes(), within=Path(path).parent if within is None else within)
+    if data is None:
+        raise ValueError(f"{path}: not a regular file of the campaign")
+    return pd.read_parquet(io.BytesIO(data), engine="pyarrow")
 
 
 def _records_frame(records: list):
@@ -76,7 +86,7 @@ class PointStore:
         frames = []
         for p in self.parts():
             try:
-                frames.append(read_parquet(p))
+                frames.append(read_parquet(p, self.root))
             except Exception:  # noqa: BLE001 - a damaged part (e.g. a full disk): its points run again
                 continue
         if not frames:

@@ -6,6 +6,10 @@ long, a permission problem or a symlink loop is a :class:`~tirecli.errors.Config
 file; the file is stat-ed before it is opened and opened without blocking, so nothing waits on a
 FIFO or reads an endless device.
 
+Files tirecli keeps for itself (the report's study cache, run records, a campaign's stored points)
+are read through the same gate (:func:`read_own_file`): anything but a regular file of sane size
+inside its folder reads as absent, never blocks and is never followed out of the folder.
+
 Every input file read is recorded (:func:`note_input`, :func:`inputs_read`): an output never
 overwrites or removes one.
 
@@ -159,18 +163,47 @@ def read_input_bytes(path: str | Path, expected: str, max_bytes: int | None = No
     """
     _check_name(path)
     note_input(path)
+    return _read_regular(path, expected, max_bytes)
+
+
+def read_own_file(path: str | Path, max_bytes: int, within: str | Path | None = None,
+                  follow: bool = False) -> bytes | None:
+    """The bytes of a file tirecli keeps for itself (a cache entry, a run record, a campaign's stored
+    points), through the same gate as every input, or None when it is anything else: not a regular
+    file (a FIFO, a device, a directory), a symbolic link (unless ``follow``), a path that leads out
+    of the directory ``within``, larger than ``max_bytes``, unreadable, or empty. Never blocks,
+    never reads more than ``max_bytes``, never raises: the caller treats None as absent (a cache
+    entry is then computed again)."""
     try:
-        st = os.stat(path)
+        _check_name(path)
+        if within is not None:
+            top = os.path.realpath(within)
+            if os.path.commonpath([os.path.realpath(path), top]) != top:
+                return None
+        return _read_regular(path, "a file", max_bytes, follow=follow)
+    except (ConfigError, OSError, ValueError):
+        return None
+
+
+def _read_regular(path, expected: str, max_bytes: int | None, follow: bool = True) -> bytes:
+    """Read a regular file without blocking (a FIFO or a device is refused before it is opened, and
+    again after: it may have been swapped in between); ConfigError naming the file otherwise."""
+    try:
+        st = os.stat(path) if follow else os.lstat(path)
     except FileNotFoundError:
         if os.path.islink(path):
             raise _input_error(path, "file not found (a broken symbolic link)") from None
         raise _input_error(path, "file not found") from None
     except OSError as exc:
         raise _input_error(path, os_reason(exc)) from None
+    if not follow and stat.S_ISLNK(st.st_mode):
+        raise _input_error(path, f"is a symbolic link, expected {expected}")
     _require_regular(path, st, expected)
     if max_bytes is not None and st.st_size > max_bytes:
         raise _input_error(path, too_large(Path(path), expected, max_bytes))
     flags = os.O_RDONLY | getattr(os, "O_NONBLOCK", 0) | getattr(os, "O_NOCTTY", 0) | getattr(os, "O_CLOEXEC", 0)
+    if not follow:
+        flags |= getattr(os, "O_NOFOLLOW", 0)
     try:
         fd = os.open(path, flags)
     except OSError as exc:

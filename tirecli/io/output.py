@@ -159,7 +159,9 @@ class SpooledFrame:
         ctx = multiprocessing.get_context("fork")
         recv, send = ctx.Pipe(duplex=False)
         self._fh.flush()
-        proc = ctx.Process(target=_spool_in_helper, args=(self, parts, first, send, recv), daemon=True,
+        from tirecli.parallel import fork_point
+
+        proc = ctx.Process(target=_spool_in_helper, args=(self, parts, first, send, recv, fork_point()), daemon=True,
                            name="tirecli-spool")
         proc.start()
         send.close()
@@ -235,14 +237,18 @@ class SpooledFrame:
 _PENDING = object()
 
 
-def _spool_in_helper(spool: SpooledFrame, parts, first, conn, parent_end) -> None:
+def _spool_in_helper(spool: SpooledFrame, parts, first, conn, parent_end, point) -> None:
     """The helper process of :meth:`SpooledFrame.extend`: send ``("first", first())`` (with ``first``),
     write the parts, send ``("done", rows)``; on an error ``("error", exception)`` instead
-    (:func:`_sendable_error`). ``parent_end``, the parent's end of the pipe, is closed here: a parent
-    killed outright (``kill -9``, out of memory) leaves the pipe without a reader, so that the helper
-    ends at its next message instead of waiting for ever to send one larger than the pipe's buffer."""
+    (:func:`_sendable_error`). The helper ends with its parent however that ends
+    (:func:`tirecli.parallel.die_with_parent`, ``point`` taken in the parent): a killed ``observe`` left it
+    computing ``first`` for an hour. ``parent_end``, the parent's end of the pipe, is closed here, so a
+    message to a parent gone fails at once."""
     import signal
 
+    from tirecli.parallel import die_with_parent
+
+    die_with_parent(point)
     parent_end.close()
     signal.signal(signal.SIGINT, signal.SIG_IGN)  # Ctrl-C is the parent's to handle
     signal.signal(signal.SIGTERM, signal.SIG_DFL)
@@ -320,13 +326,11 @@ def check_data_format(data_format: str) -> None:
 
 
 def require_pyarrow(what: str):
-    """The pyarrow module (the Parquet library of the ``campaign`` extra), or a one-line UsageError
-    ``WHAT needs pyarrow: pip install ...`` where it cannot be imported."""
-    try:
-        import pyarrow
-    except ImportError:
-        raise UsageError(f"{what} needs pyarrow: pip install 'tirecli[campaign]'") from None
-    return pyarrow
+    """The pyarrow module (the Parquet library), or a one-line UsageError ``WHAT needs pyarrow, which is
+    not installed: ...`` (:func:`tirecli.errors.require`) where it cannot be imported."""
+    from tirecli.errors import require
+
+    return require("pyarrow", what)
 
 
 def write_parquet(path: str | Path, frame, comments: list[str] | tuple = ()) -> Path:
@@ -518,7 +522,7 @@ def lib_version(name: str) -> str:
 def environment() -> dict:
     """Versions that matter for reproducing a run (read from the installed packages' metadata: a
     report taken from the cache imports neither scipy, pandas nor matplotlib)."""
-    from tirecli import __version__
+    from tirecli._version import __version__
 
     return {
         "tirecli": __version__,

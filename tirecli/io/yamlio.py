@@ -385,6 +385,21 @@ def load_yaml_document(path: str | Path, what: str, use: str) -> tuple[Any, Orig
     return load_yaml(path)
 
 
+def require_kind(data: Any, origins: Origins, what: str, keys, shown: str, also: str = "") -> None:
+    """The gate of a parsed document's kind, before any message names a key or a value of it.
+
+    A mapping none of whose top-level keys is one of ``keys`` is some other file (a password or
+    shadow file read as YAML, a list of accounts, another tool's config): it is refused as not
+    ``what`` (``"a campaign file"``), saying how many keys it has and which ones were expected
+    (``shown``), never which ones it has: no message echoes the text of a file that is not of the
+    kind expected. ``also`` is inserted before the count (``"no 'study' key, and "``). Anything but a
+    mapping is left to the caller (its message names no content either).
+    """
+    if isinstance(data, dict) and not set(map(str, data)) & {str(k) for k in keys}:
+        raise ConfigError(origins.problem((), f"not {what}: {also}none of its {len(data)} top-level key(s) "
+                                              f"is {shown}"))
+
+
 def dump_yaml(data: Any) -> str:
     """YAML text for plain data (keys kept in insertion order)."""
     return yaml.dump(data, Dumper=Dumper, sort_keys=False, allow_unicode=True, default_flow_style=False)

@@ -7,5 +7,7 @@
   exactly along characteristics;
 - :mod:`tirecli.numerics.runs` — one entry point per run kind (coupled, open loop);
 - :mod:`tirecli.numerics.observer_integrator` — quarter car + adhesion observer (OBS): a structured
-  fixed-step scheme and a Radau reference.
+  fixed-step scheme and a Radau reference;
+- :mod:`tirecli.numerics.mf_fit` — Magic Formula 6.1 coefficients fitted to measured points, stage by
+  stage, with intervals and identifiability.
 """

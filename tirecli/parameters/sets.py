@@ -36,7 +36,7 @@ from typing import Any
 
 from tirecli.config.schema import MISSING, Context, Map, Num, Str, check_document
 from tirecli.errors import ConfigError, Problem, token
-from tirecli.io.yamlio import Origins, load_yaml, parse_yaml
+from tirecli.io.yamlio import Origins, load_yaml, parse_yaml, require_kind
 from tirecli.limits import MAX_TITLE_CHARS
 from tirecli.parameters.kinds import KINDS, Kind
 
@@ -193,10 +193,7 @@ def parse_set(data: Any, origins: Origins, label: str) -> ParameterSet:
     """Check a parameter-set document (already parsed) and build the :class:`ParameterSet`."""
     if not isinstance(data, dict):
         raise ConfigError(origins.problem((), "expected a parameter set (a mapping with name, kind, citation, values)"))
-    if not set(map(str, data)) & set(_SET_FILE.fields):
-        # some other file (a config, a list of accounts, ...): say what it is not, without listing its keys
-        raise ConfigError(origins.problem((), f"not a parameter set: none of its {len(data)} top-level key(s) is "
-                                              "name, kind, citation or values"))
+    require_kind(data, origins, "a parameter set", _SET_FILE.fields, "name, kind, citation or values")
     head = {k: v for k, v in data.items() if k != "values"}
     head["values"] = {}
     meta = check_document(head, _SET_FILE, origins)

@@ -9,7 +9,6 @@ Writes ``DIR/index.html`` (self-contained: figures embedded as PNG, no network r
 """
 from __future__ import annotations
 
-import base64
 import threading
 import time
 import traceback
@@ -17,17 +16,18 @@ from pathlib import Path
 
 import jinja2
 
-from tirecli import __version__
+from tirecli._version import __version__
 from tirecli.figures.registry import PAPERS, load_all
 from tirecli.io import output
 from tirecli.io.atomic import out_path, staged_dir
 from tirecli.io.cache import read_bytes, read_timings, write_timings
 from tirecli.io.files import check_output_dir
 from tirecli.parallel import default_jobs
-from tirecli.report.cards import card_files
+from tirecli.report.cards import card_files, page_image
 from tirecli.report import work
 from tirecli.report.docs import card_doc, link_sources, write_docs
-from tirecli.studies.base import Check, builtin_config
+from tirecli.studies.base import Check
+from tirecli.studies.configs import builtin_config
 
 PAPER_ORDER = ["FM", "OBS", "MF", "MCPS"]
 
@@ -67,7 +67,7 @@ def _select(reg: dict, only) -> list:
 
 
 def build_report(out: str | Path, only=None, progress=None, campaigns=(), jobs: int | None = None,
-                 cache: str | Path | None = None, use_cache: bool = True, formats=("png",)) -> dict:
+                 cache: str | Path | None = None, use_cache: bool = True, formats=("png",), note=None) -> dict:
     """Build the report into ``out``; returns the summary (also written as ``summary.json``).
 
     A study that fails is shown as an error card and recorded as a failed check, so the report
@@ -76,11 +76,12 @@ def build_report(out: str | Path, only=None, progress=None, campaigns=(), jobs: 
     only their sections.
 
     ``jobs``: processes for the studies and figures (None: every core; 1: this process only).
-    ``cache``: folder of the study cache (:mod:`tirecli.io.cache`; None: ``out/.tirecli-cache``);
-    ``use_cache=False`` runs every study (and refreshes the cache). ``formats``: the figure files
-    (``png``, and ``svg`` if asked).
+    ``cache``: folder of the study cache (:mod:`tirecli.io.cache`; None: :func:`tirecli.io.cache.default_dir`,
+    outside the report); ``use_cache=False`` runs every study (and refreshes the cache). ``formats``: the
+    figure files (``png``, and ``svg`` if asked). ``note(text)`` is told what a user may wonder about (a
+    first run that builds matplotlib's font cache, a cache of an earlier version left in ``out``).
     """
-    from tirecli.io.cache import DEFAULT_NAME
+    from tirecli.io.cache import OLD_NAME, default_dir
 
     t_start = time.perf_counter()
     out = out_path(out)
@@ -94,8 +95,13 @@ def build_report(out: str | Path, only=None, progress=None, campaigns=(), jobs: 
             load_campaign(path)
     # a bad location fails before the studies run
     check_output_dir(out, files=("index.html", "summary.json"), dirs=("data", "figures"))
+    if cache is None:
+        cache = default_dir()
     settings = {"jobs": jobs or default_jobs(), "use_cache": use_cache, "formats": formats,
-                "cache": str(cache if cache is not None else out / DEFAULT_NAME)}
+                "cache": str(cache) if cache is not None else None, "note": note or (lambda text: None)}
+    if (out / OLD_NAME).is_dir() and (cache is None or Path(cache).resolve() != (out / OLD_NAME).resolve()):
+        settings["note"](f"{out / OLD_NAME} is the study cache of an earlier tirecli, no longer used (the cache is "
+                         f"now {cache if cache is not None else 'off'}): delete that folder to save its space")
     with staged_dir(out, marker="summary.json") as stage:
         return _write_report(stage, entries, t_start, progress, campaigns, settings)
 
@@ -160,6 +166,12 @@ def _write_report(stage, entries: list, t_start: float, progress, campaigns=(), 
                 bar("study-done", task["study"])
         for _ in [f for f in entries if f.study in errors] + list(errors):  # configs that did not load
             bar("study-done", "")
+        if todo:  # matplotlib's first use on this machine: said once, and done before the workers fork
+            from tirecli.io.fonts import build_font_cache, font_cache_missing
+
+            if font_cache_missing():
+                settings["note"]("building matplotlib's font cache (first run only)")
+                build_font_cache()
         earlier = read_timings(settings["cache"])
         # the slowest units (study and figures, as last measured; unknown ones) start first
         todo.sort(key=lambda t: -earlier.get(t["study"], float("inf")))
@@ -198,8 +210,8 @@ def _write_report(stage, entries: list, t_start: float, progress, campaigns=(), 
         card.update({k: v for k, v in res["cards"][f.id].items() if k not in ("id", "deps")})
         all_checks += card["checks"]
         png = next((p for p in card["files"] if p.endswith(".png")), None)
-        if png is not None:  # the page embeds the file written (or copied from the cache), not a new rendering
-            card["image"] = base64.b64encode(read_bytes(out / png)).decode("ascii")
+        if png is not None and not card.get("image"):  # made by the worker that drew it (kept in the cache)
+            card["image"] = page_image(read_bytes(out / png))
         cards.append(card)
 
     for card in cards:  # the card's links (PNG, SVG, data CSVs, run record) and display size

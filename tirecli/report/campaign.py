@@ -22,6 +22,19 @@ def _design_text(design: dict) -> str:
     return "; ".join(parts)
 
 
+def _output(path, folder) -> bytes:
+    """A file the campaign just wrote in ``folder``, read through the input gate
+    (:func:`tirecli.io.files.read_own_file`: a regular file of that folder, never a FIFO or a device)."""
+    from tirecli import limits
+    from tirecli.errors import RunError
+    from tirecli.io.files import read_own_file
+
+    data = read_own_file(path, limits.csv_max_bytes(), within=folder)
+    if data is None:
+        raise RunError(f"{path}: the campaign's output is no longer a regular file of {folder} (replaced meanwhile?)")
+    return data
+
+
 def campaign_sections(paths, root: Path, env, progress=None) -> tuple[str, list]:
     """Run the campaigns ``paths`` and render their sections: ``(html, check records)``; their
     results tables are copied under ``root/campaigns/``."""
@@ -35,8 +48,8 @@ def campaign_sections(paths, root: Path, env, progress=None) -> tuple[str, list]
         name = rec["campaign"]
         rel = f"campaigns/{name}/results.csv"
         (root / "campaigns" / name).mkdir(parents=True, exist_ok=True)
-        write_text(root / rel, Path(summary.paths["csv"]).read_text(encoding="utf-8"))
-        figs = [{"name": Path(p).stem, "image": base64.b64encode(Path(p).read_bytes()).decode("ascii")}
+        write_text(root / rel, _output(summary.paths["csv"], summary.out).decode("utf-8"))
+        figs = [{"name": Path(p).stem, "image": base64.b64encode(_output(p, summary.out)).decode("ascii")}
                 for p in summary.paths["figures"] if str(p).endswith(".png")]
         records = []
         for c in summary.checks:

@@ -24,7 +24,7 @@ import time
 import traceback
 from pathlib import Path
 
-from tirecli.app.results import assumed_list, scenario_assumptions
+from tirecli.app.results import data_comments, scenario_assumptions, write_figure, write_study
 from tirecli.io import output
 
 #: Formats the report can save its figures in (PNG is always one: the page embeds it).
@@ -49,7 +49,7 @@ def set_digest(name: str) -> str | None:
 def _named_configs(config, seen: dict) -> dict:
     """Built-in configs named anywhere in ``config`` (e.g. the simulation a fit reads), with the
     SHA-256 of their text, recursively."""
-    from tirecli.studies.base import builtin_config, builtin_config_names
+    from tirecli.studies.configs import builtin_config, builtin_config_names
 
     names = set(builtin_config_names())
 
@@ -73,7 +73,7 @@ def _named_configs(config, seen: dict) -> dict:
 
 def study_key(name: str, config) -> str:
     """The cache key of a study run from ``config`` (see :mod:`tirecli.io.cache`)."""
-    from tirecli import __version__
+    from tirecli._version import __version__
     from tirecli.io.cache import FORMAT, code_fingerprint, key_of
 
     return key_of({
@@ -135,10 +135,11 @@ def probe(task: dict) -> dict | None:
 def run_unit(task: dict, note=None) -> dict:
     """Run the unit's study, write its data, run record and figures into the staging folder, keep
     them in the cache; returns its facts (see :func:`probe`)."""
-    from tirecli.figures.registry import load_all
-    from tirecli.io.cache import StudyCache
+    from tirecli.app.draw import draw_figures
+    from tirecli.io.cache import StudyCache, read_bytes
     from tirecli.parameters import sets
-    from tirecli.studies.base import run_study
+    from tirecli.report.cards import page_image
+    from tirecli.studies import registry
 
     note = note or (lambda kind, name: None)
     name, root = task["study"], Path(task["root"])
@@ -146,33 +147,28 @@ def run_unit(task: dict, note=None) -> dict:
     t0 = time.perf_counter()
     sets.BUILTINS_READ.clear()
     try:
-        res = run_study(task["config"])
+        res = registry.run_study(task["config"])
     except Exception as exc:  # noqa: BLE001 - reported in the page and as a failed check
         for _ in range(1 + len(task["figures"])):  # its figures will not be drawn
             note("study-done", name)
         return {"study": name, "error": f"{type(exc).__name__}: {exc}\n" + traceback.format_exc(limit=4),
                 "wall": time.perf_counter() - t0, "cached": False, "record": None, "cards": {}}
     wall = time.perf_counter() - t0
-    (root / "data" / name).mkdir(parents=True, exist_ok=True)
-    comments = [output.SYNTHETIC_NOTE] if res.synthetic else []
-    for dname, frame in res.data.items():
-        output.write_csv(root / "data" / name / f"{dname}.csv", frame, comments)
-    output.write_json(root / "studies" / f"{name}.json", {
-        "study": res.study, "config": res.config.label, "sha256": res.config.digest(),
-        "parameters": res.parameter_records(), "assumed": assumed_list(res),
-        "citations": res.citations(), "meta": res.meta, "synthetic": res.synthetic,
-        "wall_time_s": round(wall, 4),
-    })
+    write_study(root, name, res, wall)
     note("study-done", name)
-    reg = load_all()
     study_reads, cards = set(sets.BUILTINS_READ), {}
-    for fid in task["figures"]:
+
+    def starting(fid):
         note("figure", fid)
         sets.BUILTINS_READ.clear()
-        cards[fid] = _plain(_draw_card(reg[fid], res, root, task["formats"]))
+
+    for drawn in draw_figures(res, task["figures"], catch=True, before=starting):
+        cards[drawn.id] = _plain(_card(drawn, res, root, task["formats"]))
+        png = next((p for p in cards[drawn.id]["files"] if p.endswith(".png")), None)  # the page's copy, made here
+        cards[drawn.id]["image"] = page_image(read_bytes(root / png)) if png else None
         # the card holds for the built-in sets read by the study and by this figure and its checks
-        cards[fid]["deps"] = {n: set_digest(n) for n in sorted(study_reads | sets.BUILTINS_READ)}
-        note("figure-done", fid)
+        cards[drawn.id]["deps"] = {n: set_digest(n) for n in sorted(study_reads | sets.BUILTINS_READ)}
+        note("figure-done", drawn.id)
     record = {"data": list(res.data), "wall_time_s": round(wall, 4)}
     if task["cache"]:
         cache = StudyCache(task["cache"], name, task["key"])
@@ -184,36 +180,21 @@ def run_unit(task: dict, note=None) -> dict:
             "unit_wall": time.perf_counter() - t0}
 
 
-def _draw_card(f, res, root: Path, formats) -> dict:
-    """Draw figure ``f`` of result ``res`` into ``root/figures``: the card's facts."""
-    from tirecli.figures.registry import Table
-    from tirecli.studies.base import Check
-    from tirecli.studies.checks import checks_for
+def _card(drawn, res, root: Path, formats) -> dict:
+    """The card of a drawn figure (:class:`tirecli.app.draw.Drawn`) of result ``res``, its files written
+    into ``root/figures``: the card's facts."""
+    from tirecli.figures.registry import REGISTRY, Table
 
-    card = {"id": f.id, "caption": f.caption_for(res), "synthetic": res.synthetic,
-            "assumed": scenario_assumptions(res),
+    card = {"id": drawn.id, "caption": REGISTRY[drawn.id].caption_for(res) if drawn.id in REGISTRY else "",
+            "synthetic": res.synthetic, "assumed": scenario_assumptions(res),
             "parameters": [{"group": g, "set": ps.name, "citation": ps.citation, "rows": ps.rows()}
                            for g, ps in res.parameter_sets.items()],
-            "checks": [], "files": [], "table": None, "error": None}
-    try:
-        fig = f.draw(res)
-        fchecks = checks_for(f.id)
-        checks = fchecks(res) if fchecks else []
-    except Exception as exc:  # noqa: BLE001 - an error card and a failed check
-        card["error"] = f"{type(exc).__name__}: {exc}\n" + traceback.format_exc(limit=4)
-        checks, fig = [Check("figure-drawn", f"figure {f.id} drawn", float("nan"), 0.0, 0.0, "-", "report")], None
-    for c in checks:
-        c.id = f"{f.id}/{c.id}"
-        card["checks"].append(c.record())
+            "checks": [c.record() for c in drawn.checks], "files": [], "table": None, "error": drawn.error}
+    fig = drawn.figure
     if isinstance(fig, Table):
-        import pandas as pd
-
         card["table"] = {"columns": fig.columns, "rows": fig.rows, "notes": fig.notes}
-        path = output.write_csv(root / "figures" / f"{f.id}.csv", pd.DataFrame(fig.rows, columns=fig.columns),
-                                [output.SYNTHETIC_NOTE] if res.synthetic else [])
-        card["files"] = [str(path.relative_to(root))]
-    elif fig is not None:
-        paths = output.save_figure(fig, root / "figures", f.id, dpi=DPI, formats=formats)
+    if fig is not None:
+        paths = write_figure(root / "figures", drawn.id, fig, data_comments(res), dpi=DPI, formats=formats)
         card["files"] = [str(p.relative_to(root)) for p in paths]
     return card
 
@@ -223,12 +204,17 @@ def _draw_card(f, res, root: Path, formats) -> dict:
 _QUEUE = None
 
 
-def _init_worker(q) -> None:
-    """A pool worker: Ctrl-C is the parent's to handle (it ends the pool), SIGTERM ends the worker.
+def _init_worker(q, point) -> None:
+    """A pool worker: it ends with the report's process however that ends
+    (:func:`tirecli.parallel.die_with_parent`); Ctrl-C is the parent's to handle (it ends the pool), SIGTERM
+    ends the worker.
 
     A forked worker has none of the parent's threads: :mod:`tirecli.parallel` drops the parent's
     thread pool in every forked child (``os.register_at_fork``)."""
     global _QUEUE
+    from tirecli.parallel import die_with_parent
+
+    die_with_parent(point)
     _QUEUE = q
     signal.signal(signal.SIGINT, signal.SIG_IGN)
     signal.signal(signal.SIGTERM, signal.SIG_DFL)
@@ -241,20 +227,21 @@ def _run_in_worker(tasks: list[dict]) -> list[dict]:
     return [run_unit(t, note=lambda kind, name: _QUEUE.put((kind, name))) for t in tasks]
 
 
-#: Study kinds whose units share one worker: their brakings are solved once per process and reused
-#: (:func:`tirecli.numerics.runs.quarter_car` keeps its last runs), e.g. FM's braking #2 in fm-fig4 and fm-fig6.
-SHARED_RUN_STUDIES = ("simulate", "fit")
+def _study_entry(task: dict):
+    """The registry entry of the study of a unit's config (None if it names no known study)."""
+    from tirecli.studies import registry
 
-
-def _study_kind(task: dict) -> str | None:
-    """The ``study:`` of a unit's config (``simulate``, ``fit``...; None if it has none)."""
     data = getattr(task.get("config"), "data", None)
-    return data.get("study") if isinstance(data, dict) else None
+    name = data.get("study") if isinstance(data, dict) else None
+    return registry.get(name) if isinstance(name, str) and name in registry.names() else None
 
 
 def unit_group(task: dict) -> str:
-    """The worker group of a unit: units of :data:`SHARED_RUN_STUDIES` run in one process, in order."""
-    return "shared-runs" if _study_kind(task) in SHARED_RUN_STUDIES else f"study:{task['study']}"
+    """The worker group of a unit: units whose studies share a group (``Study.group``, e.g. the brakings
+    solved once per process and reused: FM's braking #2 in fm-fig4 and fm-fig6) run in one process, in
+    order; any other unit is a group of its own."""
+    entry = _study_entry(task)
+    return f"group:{entry.group}" if entry is not None and entry.group else f"study:{task['study']}"
 
 
 def run_units(tasks: list[dict], jobs: int, note, meanwhile=None) -> list[dict]:
@@ -278,11 +265,13 @@ def run_units(tasks: list[dict], jobs: int, note, meanwhile=None) -> list[dict]:
     from concurrent.futures.process import BrokenProcessPool
 
     from tirecli.errors import RunError
+    from tirecli.parallel import fork_point
 
     _preload(tasks)
     ctx = multiprocessing.get_context("fork")  # the workers start with this process's imports (and test patches)
     q = ctx.Queue()
-    pool = ProcessPoolExecutor(min(jobs, len(tasks)), mp_context=ctx, initializer=_init_worker, initargs=(q,))
+    pool = ProcessPoolExecutor(min(jobs, len(tasks)), mp_context=ctx, initializer=_init_worker,
+                               initargs=(q, fork_point()))
     try:
         groups: dict[str, list[int]] = {}
         for i, t in enumerate(tasks):  # a group starts where its first (slowest) unit would have
@@ -362,14 +351,12 @@ def _preload(tasks: list[dict]) -> None:
 
     import matplotlib
 
-    from tirecli.studies.base import STUDY_MODULES, load_study
-
     matplotlib.use("Agg")
     import matplotlib.backends.backend_agg  # noqa: F401
     import matplotlib.figure  # noqa: F401
 
-    for kind in {_study_kind(t) for t in tasks} & set(STUDY_MODULES):
-        load_study(kind)
+    for t in tasks:
+        _study_entry(t)  # imports the study's module
     for name in PRELOAD:
         importlib.import_module(name)
 

@@ -19,7 +19,9 @@ import numpy as np
 
 from tirecli.config.loader import Config
 from tirecli.config.schema import Map, Raw, Str, collect
-from tirecli.studies.base import StudyResult, common_fields, register_study
+from tirecli.studies.base import StudyResult, common_fields
+from tirecli.studies.registry import register
+from tirecli.studies.study import Lazy, Plan, Study
 
 # kappa, alpha_rad, gamma_rad, fz_n, p_pa, vx_mps, fx_n, fy_n, mz_nm, mx_nm, my_nm (docs/models/magic_formula_tyre.md §15.4, copied
 # from KMoula30/outlap crates/outlap-tire/tests/golden/pacejka_2006_205_60r15/*.csv, CC-BY-SA-4.0 data)
@@ -89,22 +91,23 @@ SPEC = Map(fields=common_fields() | {
 })
 
 
-def plan(config: Config):
-    """Check a golden-data config: ``(checked document, (ParameterSet, MFTire))``."""
+def plan(config: Config) -> Plan:
+    """Check a golden-data config (set ``tire``; detail the :class:`~tirecli.models.magic_formula.tire.MFTire`)."""
     from tirecli.parameters.sets import resolve_tire
 
     checked, tire = collect(lambda: config.checked(SPEC),
                             lambda: resolve_tire(config.data.get("tire"), config.origins, ("tire",), config.base_dir))
-    return checked, tire
+    ps, t = tire
+    return Plan("mf-golden", config, checked, {"tire": ps}, None, t)
 
 
-@register_study("mf-golden", check=plan, spec=SPEC)
-def run_golden(config: Config, progress=None) -> StudyResult:
+def run(plan_: Plan, progress=None) -> StudyResult:
     """Evaluate every golden row; frame ``golden`` with inputs, golden and computed outputs, residuals."""
+    import pandas as pd  # once the config is checked: a refused run fails at once
+
     from tirecli.models.magic_formula import evaluate
 
-    checked, (ps, t) = plan(config)
-    import pandas as pd  # once the config is checked: a refused run fails at once
+    config, checked, ps, t = plan_.config, plan_.checked, plan_.sets["tire"], plan_.detail
 
     frames = []
     for block in GOLDEN:
@@ -125,3 +128,11 @@ def run_golden(config: Config, progress=None) -> StudyResult:
               "title": checked["title"] or "Magic Formula golden rows (docs/models/magic_formula_tyre.md §15.4)"},
         figures=checked["figures"] or [f"mf-golden-{b.replace('_', '-')}" for b in GOLDEN],
     )
+
+
+STUDY = register(Study(
+    name="mf-golden", command="report", spec=SPEC, plan=plan, run=run,  # the report's golden-data cards
+    figures=tuple(f"mf-golden-{b.replace('_', '-')}" for b in GOLDEN),
+    checks={f"mf-golden-{b.replace('_', '-')}": Lazy("tirecli.studies.checks.magic_formula", "golden_checks", (b,))
+            for b in GOLDEN},
+))

@@ -36,7 +36,8 @@ slips of interest (clipping flattens the curve, docs/models/magic_formula_tyre.m
 """
 from __future__ import annotations
 
-from typing import TYPE_CHECKING
+from dataclasses import dataclass
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -45,6 +46,7 @@ from tirecli.config.schema import Bool, Grid, Map, Num, Raw, Str, check_document
 from tirecli.conventions import kappa_from_slip, slip_from_kappa
 from tirecli.errors import ConfigError, RunError, token
 from tirecli.studies.base import StudyResult, common_fields
+from tirecli.studies.study import Plan
 
 if TYPE_CHECKING:  # pandas is imported when a study runs, not when its config is checked
     import pandas as pd
@@ -109,8 +111,16 @@ def uses_mf_tire(config: Config) -> bool:
     return False
 
 
-def plan(config: Config):
-    """Check an MF sweep config completely: ``(checked, tire set, MFTire, LuGre set or None)``."""
+@dataclass
+class MFSweep:
+    """The detail of a Magic Formula sweep's plan: the tyre model."""
+
+    tire: Any
+
+
+def plan(config: Config) -> Plan:
+    """Check an MF sweep config completely (sets ``tire`` and, with ``compare``, ``lugre``; detail
+    :class:`MFSweep`)."""
     from tirecli.parameters.sets import resolve_group, resolve_tire
 
     checked, tire = collect(lambda: config.checked(SPEC),
@@ -130,8 +140,10 @@ def plan(config: Config):
                                                                "Formula sweep draws the mf-* figures (tirecli figures list)"))
     if checked["sweep"]["speed"] is None and t.family == "mf" and t.reference_speed is None:
         raise ConfigError(config.origins.problem(("sweep",), "missing 'speed': the tyre has no LONGVL to default to"))
-    _estimate(checked["sweep"], checked["compare"]).check(config.origins)
-    return checked, ps, t, lugre
+    est = _estimate(checked["sweep"], checked["compare"])
+    est.check(config.origins)
+    sets = {"tire": ps} if lugre is None else {"tire": ps, "lugre": lugre}
+    return Plan("sweep", config, checked, sets, est, MFSweep(t))
 
 
 #: Memory per row of a Magic Formula sweep (frame of 16 columns, CSV text, figures) [bytes].
@@ -235,12 +247,13 @@ def lugre_frame(lugre_set, cmp: dict) -> pd.DataFrame:
     return df[["model", "direction", "speed", "slip", "mu"]]
 
 
-def run_mf_sweep(config: Config, progress=None) -> StudyResult:
-    """Run a Magic Formula sweep config (see module doc)."""
+def run(plan_: Plan, progress=None) -> StudyResult:
+    """Run a planned Magic Formula sweep (see module doc)."""
     from tirecli.models.magic_formula.inputs import describe_counts
     from tirecli.models.magic_formula.tire import VERSION_NAMES
 
-    checked, ps, t, lugre = plan(config)
+    config, checked, t = plan_.config, plan_.checked, plan_.detail.tire
+    ps, lugre = plan_.sets["tire"], plan_.sets.get("lugre")
     sw = checked["sweep"]
     if progress is not None:
         progress.start(1, "mf sweep")
@@ -288,4 +301,4 @@ def run_mf_sweep(config: Config, progress=None) -> StudyResult:
     )
 
 
-__all__ = ["uses_mf_tire", "plan", "run_mf_sweep", "mf_sweep_frame", "FAMILIES", "SPEC"]
+__all__ = ["uses_mf_tire", "plan", "run", "mf_sweep_frame", "FAMILIES", "SPEC", "MFSweep"]

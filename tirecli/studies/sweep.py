@@ -35,6 +35,7 @@ Output frames:
 """
 from __future__ import annotations
 
+from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -45,7 +46,9 @@ from tirecli.conventions import THETA_CONVENTIONS, to_theta_fm
 from tirecli.errors import ConfigError, token
 from tirecli.limits import MAX_TITLE_CHARS, Estimate
 from tirecli.models.variants import LOADS, MODELS, FrictionVariant
-from tirecli.studies.base import StudyResult, common_fields, register_study
+from tirecli.studies.base import StudyResult, common_fields
+from tirecli.studies.registry import register
+from tirecli.studies.study import Lazy, Plan, Study
 from tirecli.studies.sweep_frames import peak_records, peaks_frame, sweep_frame
 
 if TYPE_CHECKING:  # pandas is imported when a study runs, not when its config is checked
@@ -113,8 +116,24 @@ def make_variant(raw) -> FrictionVariant:
     )
 
 
-def plan(config: Config):
-    """Check a sweep config completely: ``(checked document, tire set, variants, theta_fm)``."""
+@dataclass
+class LuGreSweep:
+    """The detail of a LuGre sweep's plan: the model variants and the adhesion values (FM convention)."""
+
+    variants: list
+    thetas_fm: list
+
+
+def plan(config: Config) -> Plan:
+    """Check a sweep config of either model family completely (a Magic Formula ``tire:`` plans
+    :func:`tirecli.studies.mf_sweep.plan`)."""
+    from tirecli.studies import mf_sweep
+
+    return mf_sweep.plan(config) if mf_sweep.uses_mf_tire(config) else plan_lugre(config)
+
+
+def plan_lugre(config: Config) -> Plan:
+    """Check a LuGre sweep config completely (detail :class:`LuGreSweep`)."""
     checked, tire = collect(lambda: config.checked(SPEC), lambda: config.group("tire", "lugre"))
     sw = checked["sweep"]
     variants = [make_variant(m) for m in sw["models"]]
@@ -123,8 +142,9 @@ def plan(config: Config):
         dup = next(l for l in labels if labels.count(l) > 1)
         raise ConfigError(config.origins.problem(("sweep", "models"), f"two models share the label {token(dup)}; give each a distinct 'label'"))
     thetas_fm = [float(t) for t in to_theta_fm(sw["theta"], sw["theta_convention"])]
-    sweep_estimate(len(variants), len(thetas_fm), len(sw["speeds"]), len(sw["slip"])).check(config.origins)
-    return checked, tire, variants, thetas_fm
+    est = sweep_estimate(len(variants), len(thetas_fm), len(sw["speeds"]), len(sw["slip"]))
+    est.check(config.origins)
+    return Plan("sweep", config, checked, {"tire": tire}, est, LuGreSweep(variants, thetas_fm))
 
 
 #: Memory per row of a sweep [bytes], an upper bound: the frame's float columns (at most 72 bytes; a
@@ -143,13 +163,6 @@ def sweep_estimate(models: int, thetas: int, speeds: int, slips: int) -> Estimat
                                    ("sweep", "speeds"): speeds, ("sweep", "slip"): slips}, "the sweep", BYTES_PER_ROW)
 
 
-def check_sweep(config: Config):
-    """Check a sweep config of either model family (LuGre or Magic Formula ``tire:``)."""
-    from tirecli.studies import mf_sweep
-
-    return mf_sweep.plan(config) if mf_sweep.uses_mf_tire(config) else plan(config)
-
-
 def _require_finite(config: Config, df: pd.DataFrame, peaks: pd.DataFrame) -> None:
     """ConfigError naming the speed and theta where a curve is not finite (never an empty mu cell):
     speeds or adhesion so far out that the steady state overflows."""
@@ -166,14 +179,14 @@ def _require_finite(config: Config, df: pd.DataFrame, peaks: pd.DataFrame) -> No
                                                      "evaluate); nothing was written"))
 
 
-@register_study("sweep", check=check_sweep, spec=SPEC)
-def run_sweep(config: Config, progress=None) -> StudyResult:
-    """Run a steady-state sweep config (see module doc)."""
-    from tirecli.studies import mf_sweep
+def run(plan_: Plan, progress=None) -> StudyResult:
+    """Run a planned sweep of either model family (see module doc)."""
+    if not isinstance(plan_.detail, LuGreSweep):
+        from tirecli.studies import mf_sweep
 
-    if mf_sweep.uses_mf_tire(config):
-        return mf_sweep.run_mf_sweep(config, progress)
-    checked, tire, variants, thetas_fm = plan(config)
+        return mf_sweep.run(plan_, progress)
+    config, checked, tire = plan_.config, plan_.checked, plan_.sets["tire"]
+    variants, thetas_fm = plan_.detail.variants, plan_.detail.thetas_fm
     p = tire.model()
     sw = checked["sweep"]
     with np.errstate(all="ignore"):  # overflow at absurd speeds/theta: reported below with the point
@@ -201,3 +214,20 @@ def run_sweep(config: Config, progress=None) -> StudyResult:
         payload={"params": p, "variants": variants, "thetas_fm": thetas_fm,
                  "theta_convention": sw["theta_convention"]},
     )
+
+
+#: Units of the facts of a sweep (``mu_peak[i]``: curve ``i`` of ``data/peaks.csv``).
+FACT_UNITS = {"slip_peak": "-", "mu_peak": "-", "mu_slide": "-"}
+
+STUDY = register(Study(
+    name="sweep", command="sweep", spec=SPEC, plan=plan, run=run, figures=("sweep-mu-slip",),
+    checks={
+        "fm-fig1-left": Lazy("tirecli.studies.checks.steady", "fig1_left_checks"),
+        "fm-fig1-right": Lazy("tirecli.studies.checks.steady", "fig1_right_checks"),
+        "obs-fig1": Lazy("tirecli.studies.checks.steady", "obs_fig1_checks"),
+        "fm-fig6-surface": Lazy("tirecli.studies.checks.steady", "fig6_surface_checks"),
+        "mf-lugre-compare": Lazy("tirecli.studies.checks.magic_formula", "compare_checks"),
+        "mf-tire-*": Lazy("tirecli.studies.checks.magic_formula", "tire_checks"),
+    },
+    fact_units=FACT_UNITS,
+))

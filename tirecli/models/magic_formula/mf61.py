@@ -697,12 +697,15 @@ def _mz0(t, cv, b, alpha, vx, fz, fz_mz, fyf, L, fy0, red, ts):
     return _isub(mzr, _imul(trail, fy0 if fy00 is None else fy00))
 
 
-def _mz(t, cv, b, kappa, alpha, vx, fz, fz_mz, fxf, fyf, L, fy0, gyk, svyk, fx, fy, red, ts):
-    """Combined-slip aligning moment ``Mz`` [N m] (§6.3, 4.E71-4.E78, A54-A56; §9 for MF 5.2)."""
+def _mz(t, cv, b, kappa, alpha, vx, fz, fz_mz, fxf, fyf, L, fy0, gyk, svyk, fx, fy, red, ts, fy0_zero=None):
+    """Combined-slip aligning moment ``Mz`` [N m] (§6.3, 4.E71-4.E78, A54-A56; §9 for MF 5.2).
+
+    ``fy0_zero``: :func:`_fy0_zero_camber` of the same points when the caller has it (the Magic Formula
+    fit evaluates Mz many times with the Fy0 coefficients fixed); None: computed here."""
     c = t.coef
     cos_ap = _cos_alpha_prime(b, alpha, vx, cv.eps)
     fz_m = fz if fz_mz is None else fz_mz
-    fyf0, fy00 = _fy0_zero_camber(t, cv, b, fz, alpha, red, L)
+    fyf0, fy00 = _fy0_zero_camber(t, cv, b, fz, alpha, red, L) if fy0_zero is None else fy0_zero
     need_g0 = fy00 is not None
     m = mz_factors(t, cv, b, fz_m, fyf, fyf0, ts)
     if ts is not None:

@@ -5,7 +5,6 @@ from __future__ import annotations
 import numpy as np
 
 from tirecli.studies.base import Check
-from tirecli.studies.checks import register_checks
 
 #: Measured deviations of the distributed-model fit from Table 2 on the noise-free synthetic braking #2
 #: (fm-fig6 study, data solved at tol 1e-6: 0.03, 3.5e-3, 2.2e-4; the residual there is the data's own
@@ -13,7 +12,6 @@ from tirecli.studies.checks import register_checks
 DIST_TOLERANCE = {"sigma0": 0.15, "sigma1": 0.01, "mu_s": 0.001}
 
 
-@register_checks("fm-fig6")
 def fig6_checks(result):
     from tirecli.studies.fit import TABLE2
 
@@ -48,7 +46,6 @@ def fig6_checks(result):
     return out
 
 
-@register_checks("fm-table2")
 def table2_checks(result):
     """A fit on exact steady-state samples of Table 2 returns Table 2 (docs/models/lugre_friction.md §10, FM Table 2, Fig. 6)."""
     from dataclasses import replace

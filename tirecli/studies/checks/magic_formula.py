@@ -5,14 +5,12 @@ from __future__ import annotations
 import numpy as np
 
 from tirecli.studies.base import Check
-from tirecli.studies.checks import register_checks
 
 
 def _fam(df, family):
     return df[df["family"] == family]
 
 
-@register_checks("mf-lugre-compare")
 def compare_checks(result):
     """Both curves start at the origin and stay finite; the Magic Formula curve's initial slope
     d|mu|/d|s| is K_xk / Fz (docs/models/magic_formula_tyre.md §5.1: slope at zero slip equals the stiffness)."""
@@ -82,38 +80,15 @@ def tire_checks(result):
     return out
 
 
-def _register_tire_checks():
-    from tirecli.parameters.mf import BUILTIN_TIRES
-
-    for name in sorted(BUILTIN_TIRES):
-        register_checks(f"mf-tire-{name}")(tire_checks)
-
-
-_register_tire_checks()
-
-
-def golden_checks_for(block):
+def golden_checks(block, result):
     """The checks of the golden-data card of ``block`` (figure ``mf-golden-BLOCK``)."""
     from tirecli.studies.mf_golden import OUTPUTS, TOLERANCE
 
-    def checks(result):
-        df = result.data["golden"]
-        d = df[df["block"] == block]
-        worst = max(float(np.abs(d[f"{c}_residual"]).max()) for c in OUTPUTS)
-        per = {c: float(np.abs(d[f"{c}_residual"]).max()) for c in OUTPUTS}
-        which = max(per, key=per.get)
-        return [Check("largest-residual", f"largest |tirecli - golden| over the {len(d)} rows of {block}.csv "
-                                          f"(Fx, Fy, Mz, Mx, My; largest in {which})", worst, 0.0, TOLERANCE,
-                      "N or N m", "docs/models/magic_formula_tyre.md §15.4")]
-
-    return checks
-
-
-def _register_golden_checks():
-    from tirecli.studies.mf_golden import GOLDEN
-
-    for block in GOLDEN:
-        register_checks(f"mf-golden-{block.replace('_', '-')}")(golden_checks_for(block))
-
-
-_register_golden_checks()
+    df = result.data["golden"]
+    d = df[df["block"] == block]
+    worst = max(float(np.abs(d[f"{c}_residual"]).max()) for c in OUTPUTS)
+    per = {c: float(np.abs(d[f"{c}_residual"]).max()) for c in OUTPUTS}
+    which = max(per, key=per.get)
+    return [Check("largest-residual", f"largest |tirecli - golden| over the {len(d)} rows of {block}.csv "
+                                      f"(Fx, Fy, Mz, Mx, My; largest in {which})", worst, 0.0, TOLERANCE,
+                  "N or N m", "docs/models/magic_formula_tyre.md §15.4")]

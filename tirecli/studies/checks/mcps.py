@@ -13,8 +13,7 @@ import math
 import numpy as np
 
 from tirecli.studies.base import Check
-from tirecli.studies.checks import register_checks
-from tirecli.studies.mcps import DEG, reference_tire
+from tirecli.studies.mcps.common import DEG, reference_tire
 
 DOC = "docs/models/mcps_tire.md"
 
@@ -47,7 +46,6 @@ def _carcasses(result) -> list:
     return result.meta["carcass"]
 
 
-@register_checks("mcps-fig3")
 def fig3_checks(result):
     from tirecli.models.mcps.law import overshoot_peak
 
@@ -77,7 +75,6 @@ def fig3_checks(result):
     return out
 
 
-@register_checks("mcps-fig4")
 def fig4_checks(result):
     f = result.meta["facts"]
     pay = result.payload
@@ -99,7 +96,6 @@ def fig4_checks(result):
     return out
 
 
-@register_checks("mcps-fig5")
 def fig5_checks(result):
     f = result.meta["facts"]
     sc = result.meta["scenario"]
@@ -143,7 +139,6 @@ def fig5_checks(result):
     return out
 
 
-@register_checks("mcps-fig7")
 def fig7_checks(result):
     from tirecli.models.mcps.tire import pure_longitudinal_fx
 
@@ -218,17 +213,14 @@ def _alpha_ref_checks(result, what):
     return out
 
 
-@register_checks("mcps-fig8")
 def fig8_checks(result):
     return _alpha_ref_checks(result, "fy")
 
 
-@register_checks("mcps-fig9")
 def fig9_checks(result):
     return _alpha_ref_checks(result, "mz")
 
 
-@register_checks("mcps-fig10")
 def fig10_checks(result):
     p = result.payload["params"]
     df = result.data["stationary"]
@@ -259,7 +251,6 @@ def fig10_checks(result):
     return out
 
 
-@register_checks("mcps-fig11")
 def fig11_checks(result):
     p = result.payload["params"]
     out = []
@@ -285,7 +276,6 @@ def fig11_checks(result):
     return out
 
 
-@register_checks("mcps-calibration")
 def calibration_checks(result):
     cal = result.meta.get("calibration")
     if not cal:
@@ -307,7 +297,6 @@ def calibration_checks(result):
     return out
 
 
-@register_checks("mcps-relaxation")
 def relaxation_checks(result):
     from tirecli.numerics.mcps_transient import rigid_relaxation_exact
 

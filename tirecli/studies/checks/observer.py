@@ -6,7 +6,6 @@ from __future__ import annotations
 import numpy as np
 
 from tirecli.studies.base import Check
-from tirecli.studies.checks import register_checks
 
 OBS7 = "docs/models/observer_model.md §7"
 
@@ -26,7 +25,6 @@ def _at(tr, x, t):
     return float(np.interp(t, tr.t, x))
 
 
-@register_checks("obs-fig2")
 def fig2_checks(result):
     from tirecli.observers import metrics as om
 
@@ -98,7 +96,6 @@ def _design_checks(plant, gains, tr):
     ]
 
 
-@register_checks("obs-speed-error")
 def speed_error_checks(result):
     from tirecli.observers import metrics as om
 
@@ -136,7 +133,6 @@ def speed_error_checks(result):
     return out
 
 
-@register_checks("obs-gain-study")
 def gain_checks(result):
     gs = result.data.get("gain_study")
     if gs is None or result.meta["gain_study"]["gain"] != "gamma":

@@ -5,7 +5,6 @@ from __future__ import annotations
 import numpy as np
 
 from tirecli.studies.base import Check
-from tirecli.studies.checks import register_checks
 from tirecli.studies.sweep_curves import curve, curve_peak, first_model
 
 MU_TOL = 5e-4   # reference values are printed to 4 decimals
@@ -64,13 +63,11 @@ def _slope_check(result, v=20.0):
                  "-", "docs/models/lugre_friction.md §9")
 
 
-@register_checks("fm-fig1-left")
 def fig1_left_checks(result):
     df = result.data["sweep"]
     return _speed_checks(result, first_model(df)) + [_slope_check(result)]
 
 
-@register_checks("fm-fig1-right")
 def fig1_right_checks(result):
     df = result.data["sweep"]
     model = first_model(df)
@@ -85,7 +82,6 @@ def fig1_right_checks(result):
     return out + [_slope_check(result)]
 
 
-@register_checks("obs-fig1")
 def obs_fig1_checks(result):
     df = result.data["sweep"]
     models = list(dict.fromkeys(df["model"]))
@@ -102,7 +98,6 @@ def obs_fig1_checks(result):
     return out
 
 
-@register_checks("fm-fig6-surface")
 def fig6_surface_checks(result):
     df = result.data["sweep"]
     model = first_model(df)

@@ -5,7 +5,6 @@ from __future__ import annotations
 import numpy as np
 
 from tirecli.studies.base import Check
-from tirecli.studies.checks import register_checks
 from tirecli.studies.simulate_runs import (BRAKINGS, LOCK_1100, LUMPED_950, LUMPED_1050, LUMPED_Z_COUPLED,
                                           STEP_RELEASE, open_loop_errors, open_loop_of, run_of, variant_tag)
 
@@ -15,7 +14,6 @@ def _min_slip(tr):
     return float(tr.out["slip"][i]), float(tr.t[i])
 
 
-@register_checks("fm-fig4")
 def fig4_checks(result):
     out = []
     src = "docs/models/lugre_friction.md §7, §10 (FM Fig. 4)"
@@ -70,12 +68,10 @@ def _ol_checks(result, refs: dict, fig: str):
     return out
 
 
-@register_checks("fm-fig7")
 def fig7_checks(result):
     return _ol_checks(result, {"1": (0.212, 0.124, 0.002, 0.002), "2": (0.131, 0.061, 0.002, 0.002)}, "Fig. 7")
 
 
-@register_checks("fm-fig8")
 def fig8_checks(result):
     out = _ol_checks(result, {"Z": (0.017, 0.0020, 0.001, 0.0005)}, "Fig. 8")
     drv = BRAKINGS[1]

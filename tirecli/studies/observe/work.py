@@ -3,16 +3,13 @@ drive it, and the refusal of inputs no adaptive solver can integrate, at their k
 
 The numbers are :mod:`tirecli.numerics.observer_work`'s; this module only knows where in an observe config
 (:mod:`tirecli.studies.observe`) the measurement, the gains, the torque and the adhesion of each case are given.
-``observe``'s sample estimate adds it once the profiles are checked (``_sample_estimate(..., plant, origins)``).
+The plan's sample estimate adds it once the profiles are checked
+(:func:`tirecli.studies.observe.planning._sample_estimate` with the plant).
 """
 from __future__ import annotations
 
-from dataclasses import fields
-
 from tirecli.errors import ConfigError
-from tirecli.observers.lugre_observer import ObserverGains
-
-GAINS = tuple(f.name for f in fields(ObserverGains))
+from tirecli.studies.observe.spec import GAINS
 
 
 def work_estimate(checked: dict, cases: list, solver, plant, origins):

@@ -1,277 +1,30 @@
-"""Identification of the LuGre parameters from braking data (FM §4.3; docs/models/lugre_friction.md §8).
-
-Config (``tirecli fit CONFIG``)::
-
-    study: fit
-    tire: canudas2003-table1        # starting values and fixed parameters (L; alpha unless fitted)
-    data:
-      csv: braking.csv              # columns t [s], v [m/s], s [-] (or romega [m/s]), mu [-]
-      # simulate: fm-fig4           # ... or the samples of a simulate config (built-in name or file)
-      # frame: measured             # which of its frames (measured, measured_clean)
-      # cases: ["braking #2"]       # run only these cases of it
-      map: {slip_ratio: s}          # rename file columns {FILE_COLUMN: NAME}
-      where: {braking: 2}           # keep rows whose column equals the value
-      window: {start: 0, end: 2.6}  # [s], steady-state fit only (post-release samples are biased)
-      min_abs_slip: 0.005           # steady-state fit only
-    fit:
-      parameters: [sigma0, sigma2, mu_c, mu_s, v_s]   # add alpha to fit the Stribeck exponent
-      initial: {sigma0: 150}        # default: the tire set
-      bounds: {v_s: [0.5, 20]}      # default: identify.DEFAULT_BOUNDS
-      confidence: 0.95
-      sigma1: {model: {model: lumped, kappa0: Z}, bounds: [0, 100]}   # or false
-      model: lumped                 # default: the FM procedure (stages 1-2) only
-      # model: distributed          # ... then stage 3, or with options:
-      # model: {model: distributed, load: uniform, window: {start: 0.05}, substeps: 4, interpolation: cubic}
-      name: fitted-braking          # name of the fitted set
-    figures: [fit-steady, fit-transient]
-
-Stage 1 fits FM eq. (4) to the ``(s, v, mu)`` samples; stage 2 fits ``sigma1`` to ``mu(t)`` with
-the tire model driven by the measured ``v(t)``, ``s(t)`` over the whole selection (see
-:mod:`tirecli.numerics.identify`). With ``model: distributed``, stage 3 starts from their result
-and fits the parameters of ``fit.parameters`` and ``sigma1`` (unless ``sigma1: false``) together
-to ``mu(t)`` with the distributed model (FM eqs. (1)-(2), uniform load unless ``load`` says
-otherwise) driven open loop by the measured ``v(t)``, ``r omega(t)`` in the least-squares loop
-(:func:`tirecli.numerics.identify.fit_distributed`): no lumped approximation biases the estimates.
-The model starts undeflected at the first sample; ``window`` selects the samples compared (earlier
-samples still drive it). Output: ``fitted.yaml`` (the last stage's set), a parameter set every
-command accepts (``tire: {set: fitted.yaml}``), and frames ``parameters`` (column ``fit``:
-``FM 4.3`` for stages 1-2, ``distributed`` for stage 3), ``correlation``, ``samples``,
-``transient`` and, with stage 3, ``distributed`` and ``correlation_distributed``.
-"""
+"""Planning and running a ``fit``: the FM procedure (steady state, then sigma1) and the distributed model in the
+loop, the fitted parameter set (see :mod:`tirecli.studies.fit`)."""
 from __future__ import annotations
 
-import json
-import os
 from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
 
-from tirecli.config.loader import Config, load_config
-from tirecli.config.schema import AnyOf, Bool, ListOf, Map, Num, Raw, Spec, Str, collect
+from tirecli.config.loader import Config
+from tirecli.config.schema import collect
 from tirecli.errors import ConfigError, DataError, RunError, token
 from tirecli.io.files import exists
 from tirecli.io.yamlio import dump_yaml
-from tirecli.limits import MAX_TITLE_CHARS
 from tirecli.models.lugre import mu_of_deflection
-from tirecli.numerics import identify, runs
 from tirecli.models.profiles import Constant, Table
-from tirecli.studies.base import StudyResult, builtin_config, builtin_config_names, common_fields, register_study
-from tirecli.models.variants import LOADS
-from tirecli.studies.sweep import VARIANT, make_variant
+from tirecli.numerics import identify, runs
+from tirecli.studies.base import StudyResult
+from tirecli.studies.configs import builtin_config_names
+from tirecli.studies.fit.data import _window_mask, load_samples
+from tirecli.studies.fit.spec import DEFAULT_VEHICLE, MAX_UNEXPLAINED, MIN_SAMPLES_PER_PARAMETER, SIGMA1_DEFAULT, SPEC
+from tirecli.studies.study import Plan
+from tirecli.studies.sweep import make_variant
 
-DEFAULT_VEHICLE = "canudas2003-obs-quarter-car"
-#: Fewest samples per fitted parameter.
-MIN_SAMPLES_PER_PARAMETER = 3
-#: Largest residual RMS of a fit, relative to the RMS of the friction data it fits: above it the
-#: model explains next to nothing of the data (the optimum lies outside the bounds), not a fit.
-MAX_UNEXPLAINED = 0.5
-
-
-def _data_post(v, path, ctx):
-    if (v["csv"] is None) == (v["simulate"] is None):
-        ctx.fail(path, "give exactly one data source: csv (a file) or simulate (a simulate config)")
-    w = v["window"]
-    if w and w["start"] is not None and w["end"] is not None and w["end"] <= w["start"]:
-        ctx.fail(path + ("window", "end"), "must be after start")
-
-
-class _Nullable(Spec):
-    """``null`` or a value of ``inner`` (lets ``--data`` switch the source off with ``data.simulate=null``)."""
-
-    def __init__(self, inner, default=None, doc=""):
-        super().__init__(doc=doc, default=default)
-        self.inner = inner
-
-    def accepts(self, value):
-        return value is None or self.inner.accepts(value)
-
-    def check(self, value, path, ctx):
-        return None if value is None else self.inner.check(value, path, ctx)
-
-
-WINDOW = Map(fields={"start": Num(unit="s", default=None, doc="first time"),
-                     "end": Num(unit="s", default=None, doc="last time")}, default=None)
-
-DATA = Map(fields={
-    "csv": _Nullable(Str(), doc="CSV file: columns t [s], v [m/s], s [-] (or romega [m/s]), mu [-]"),
-    "simulate": _Nullable(Str(), doc="simulate config (built-in name or file) whose samples are the data"),
-    "frame": Str(default="measured", doc="frame of the simulate result (measured, measured_clean, ...)"),
-    "cases": ListOf(item=Str(), default=None, doc="run only these cases of the simulate config"),
-    "map": Map(open_keys=Str(), default=None, doc="rename file columns {FILE_COLUMN: NAME}"),
-    "where": Map(open_keys=AnyOf(options=(Num(), Str())), default=None, doc="keep rows with column == value"),
-    "window": WINDOW,
-    "min_abs_slip": Num(unit="-", ge=0, lt=1, default=0.005, doc="drop samples with smaller |s| (steady fit)"),
-}, post=_data_post)
-
-
-def _fit_post(v, path, ctx):
-    for key in ("initial", "bounds"):
-        for k in (v[key] or {}):
-            allowed = identify.STEADY_PARAMETERS + (("sigma1",) if key == "bounds" else ())
-            if k not in allowed:
-                ctx.fail(path + (key, k), f"unknown parameter (expected one of: {', '.join(allowed)})")
-    for k, b in (v["bounds"] or {}).items():
-        if len(b) != 2 or b[0] >= b[1]:
-            ctx.fail(path + ("bounds", k), "expected [low, high] with low < high")
-
-
-SIGMA1_DEFAULT = {"model": None, "bounds": [0.0, 100.0], "window": None}
-SIGMA1 = Map(fields={
-    "model": AnyOf(options=VARIANT.options, default=None,
-                   what="a tire model variant (default lumped kappa0 Z)"),
-    "bounds": ListOf(item=Num(unit="s/m", ge=0), min_len=2, max_len=2, default=[0.0, 100.0], doc="[low, high]"),
-    "window": WINDOW,
-})
-
-FIT_MODELS = ("lumped", "distributed")
-INTERPOLATIONS = ("cubic", "linear")
-MODEL_OPTIONS = ("load", "lambda", "u", "f", "window", "substeps", "interpolation")
-
-
-def _model_post(v, path, ctx):
-    if v["model"] == "lumped":
-        for k in MODEL_OPTIONS:
-            if v[k] is not None:
-                ctx.fail(path + (k,), "applies to model: distributed only (model: lumped is the FM procedure, "
-                                      "stages 1-2)")
-        return
-    from tirecli.studies.sweep import _variant_post
-
-    _variant_post({**v, "load": v["load"] or "uniform", "kappa0": None, "label": ""}, path, ctx)
-    w = v["window"]
-    if w and w["start"] is not None and w["end"] is not None and w["end"] <= w["start"]:
-        ctx.fail(path + ("window", "end"), "must be after start")
-
-
-MODEL = AnyOf(options=(
-    Str(choices=FIT_MODELS),
-    Map(fields={
-        "model": Str(choices=FIT_MODELS, doc="lumped: FM procedure only; distributed: then stage 3"),
-        "load": Str(choices=LOADS, default=None, doc="normal-load density of the distributed model (uniform)"),
-        "lambda": Num(unit="-", ge=0, default=None, doc="exponential load decay", eq="FM eq. (5)"),
-        "u": ListOf(item=Num(unit="-", ge=0, le=1), min_len=2, default=None, doc="tabulated load positions zeta/L"),
-        "f": ListOf(item=Num(unit="N/m", ge=0), min_len=2, default=None, doc="tabulated load density samples"),
-        "window": Map(fields={"start": Num(unit="s", default=None, doc="first time compared"),
-                              "end": Num(unit="s", default=None, doc="last time compared")}, default=None),
-        "substeps": Num(unit="-", integer=True, ge=1, le=64, default=None,
-                        doc="grid steps per sample interval (coarse grid; default 4)"),
-        "interpolation": Str(choices=INTERPOLATIONS, default=None,
-                             doc="kinematics between samples: cubic spline (default) or linear"),
-    }, post=_model_post),
-), default="lumped",
-    what="lumped, distributed, or a mapping {model: distributed, load, window, substeps, interpolation}")
-
-FIT = Map(fields={
-    "parameters": ListOf(item=Str(choices=identify.STEADY_PARAMETERS),
-                         default=["sigma0", "sigma2", "mu_c", "mu_s", "v_s"], doc="steady-state parameters to fit"),
-    "initial": Map(open_keys=Num(), default=None, doc="starting values (default: the tire set)"),
-    "bounds": Map(open_keys=ListOf(item=Num(), min_len=1), default=None, doc="{name: [low, high]}"),
-    "confidence": Num(unit="-", gt=0, lt=1, default=0.95, doc="level of the confidence intervals"),
-    "sigma1": AnyOf(options=(Bool(), SIGMA1), default={}, what="false, or {model, bounds, window}"),
-    "model": MODEL,
-    "name": Str(default="fitted", doc="name of the fitted parameter set", max_len=MAX_TITLE_CHARS),
-}, post=_fit_post, default={"parameters": ["sigma0", "sigma2", "mu_c", "mu_s", "v_s"], "initial": None, "bounds": None,
-                            "confidence": 0.95, "sigma1": {}, "model": "lumped", "name": "fitted"})
-
-SPEC = Map(fields=common_fields() | {
-    "tire": Raw(kind="lugre", doc="LuGre set with the starting values and the fixed parameters"),
-    "vehicle": Raw(kind="quarter_car", default=None, doc=f"quarter-car set (rolling radius for omega; default {DEFAULT_VEHICLE})"),
-    "data": DATA,
-    "fit": FIT,
-})
-
-
-# --------------------------------------------------------------------------- data
-
-
-def _simulate_frame(d: dict, base_dir: Path):
-    """Run a simulate config (only ``cases``) and return the frame ``d['frame']`` and whether it is synthetic."""
-    from tirecli.studies.simulate import run_simulate
-
-    ref = d["simulate"]
-    if ref in builtin_config_names() and not ref.endswith((".yaml", ".yml")):
-        sim = builtin_config(ref)
-    else:
-        p = Path(ref)
-        sim = load_config(p if p.is_absolute() else base_dir / p)
-    if d["cases"]:
-        keep = set(d["cases"])
-        raw_cases = sim.data.get("cases") or []
-        labels = [c.get("label") if isinstance(c, dict) and isinstance(c.get("label"), str) else None
-                  for c in (raw_cases if isinstance(raw_cases, list) else [])]
-        missing = keep - set(lab for lab in labels if lab)
-        if missing:
-            raise DataError(f"{sim.label}: no case(s) labelled {', '.join(map(token, sorted(map(str, missing))))}")
-        sim.data["cases"] = [c for c, lab in zip(raw_cases, labels) if lab in keep]
-        sim.data.pop("open_loop", None)
-        meas = sim.data.get("measurement")
-        if isinstance(meas, dict) and isinstance(meas.get("cases"), list):  # (checked by the simulate study)
-            idx = [i for i, lab in enumerate(meas["cases"]) if isinstance(lab, str) and lab in keep]
-            meas["cases"] = [meas["cases"][i] for i in idx]
-            starts = meas.get("record_starts")
-            if isinstance(starts, list) and starts:
-                meas["record_starts"] = [starts[i] for i in idx if i < len(starts)]
-    res = run_simulate(sim)
-    if d["frame"] not in res.data:
-        raise DataError(f"{sim.label}: no frame {token(d['frame'])} (frames: {', '.join(res.data)})")
-    return res.data[d["frame"]].copy(), res.synthetic, f"{d['frame']} of simulate config {sim.label}"
-
-
-def load_samples(d: dict, base_dir: Path) -> dict:
-    """The selected samples: ``t, v, s, mu`` arrays (plus source description and synthetic flag)."""
-    from tirecli.io.data import data_rows, frame_columns, leading_comments, names, read_table, rename_columns, select_rows
-    from tirecli.io.output import SYNTHETIC_NOTE
-
-    if d["csv"] is not None:
-        path = Path(d["csv"])
-        if not path.is_absolute():
-            path = base_dir / path
-        frame = read_table(path)
-        synthetic = any("SYNTHETIC" in c.upper() for c in leading_comments(path))
-        source, where_name = str(path), str(path)
-    else:
-        frame, synthetic, source = _simulate_frame(d, base_dir)
-        where_name = source
-    frame = rename_columns(frame, d["map"], where_name)
-    frame = select_rows(frame, d["where"], where_name, "data.where")
-    has_s = "s" in frame.columns
-    rows = data_rows(frame)  # rows of the file, also after 'where' kept some
-    cols = frame_columns(frame, ["t", "v", "mu"] + (["s"] if has_s else []), where_name, increasing="t",
-                         optional=() if has_s else ("romega",))
-    if not has_s:
-        if "romega" not in cols:
-            raise DataError(f"{where_name}: missing column 's' (slip) and no 'romega' to compute it "
-                            f"(file has: {names(frame.columns)}; map names with --map FILE_COLUMN=NAME)")
-        from tirecli.conventions import slip_from_speeds
-
-        cols["s"] = slip_from_speeds(cols["v"], cols["romega"], 1.0)
-    if np.any(cols["v"] < 0):
-        i = int(np.argmax(cols["v"] < 0))
-        raise DataError(f"{where_name}: column 'v' row {rows[i]}: negative speed {cols['v'][i]:g} (forward motion, >= 0)")
-    if np.any(np.abs(cols["s"]) > 1):
-        i = int(np.argmax(np.abs(cols["s"]) > 1))
-        what = "column 's'" if has_s else "slip from columns 'v', 'romega'"
-        raise DataError(f"{where_name}: {what} row {rows[i]}: |slip| = {abs(cols['s'][i]):g} > 1")
-    return {"t": cols["t"], "v": cols["v"], "s": cols["s"], "mu": cols["mu"], "source": source,
-            "synthetic": synthetic, "note": SYNTHETIC_NOTE if synthetic else ""}
-
-
-def _window_mask(t, w):
-    m = np.ones_like(t, dtype=bool)
-    if w:
-        if w["start"] is not None:
-            m &= t >= w["start"] - 1e-12
-        if w["end"] is not None:
-            m &= t <= w["end"] + 1e-12
-    return m
-
-
-# --------------------------------------------------------------------------- plan / run
-
-
-def plan(config: Config):
-    """Check a fit config completely (without reading data); returns ``(checked, tire, vehicle)``."""
+def plan(config: Config) -> Plan:
+    """Check a fit config completely, without reading its data (sets ``tire`` and ``vehicle``; the size
+    estimate is checked once the data are read)."""
     checked, tire, vehicle = collect(lambda: config.checked(SPEC), lambda: config.group("tire", "lugre"),
                                      lambda: config.group("vehicle", "quarter_car", DEFAULT_VEHICLE))
     tire.model()
@@ -283,7 +36,7 @@ def plan(config: Config):
             raise ConfigError(config.origins.problem(("data", "simulate"),
                                                      f"no built-in simulate config or file {token(d['simulate'])} "
                                                      f"(built-in: {', '.join(builtin_config_names())})"))
-    return checked, tire, vehicle
+    return Plan("fit", config, checked, {"tire": tire, "vehicle": vehicle})
 
 
 STAGES = {"steady": "steady state (FM eq. 4)", "sigma1": "transient (sigma1)",
@@ -373,12 +126,11 @@ def _parameter_rows(f: identify.FitResult, stage: str, fit: str, start, initial)
     return rows
 
 
-@register_study("fit", check=plan, spec=SPEC)
-def run_fit(config: Config, progress=None) -> StudyResult:
-    """Run a fit config (see module doc)."""
+def run(plan_: Plan, progress=None) -> StudyResult:
+    """Run a planned fit (see :mod:`tirecli.studies.fit`)."""
     import time
 
-    checked, tire, vehicle = plan(config)
+    config, checked, tire, vehicle = plan_.config, plan_.checked, plan_.sets["tire"], plan_.sets["vehicle"]
     start, car = tire.model(), vehicle.model()
     d, fc = checked["data"], checked["fit"]
     data = load_samples(d, config.base_dir)
@@ -539,27 +291,3 @@ def _variant(raw):
     if isinstance(raw, str) or (isinstance(raw, dict) and "load" in raw):
         return make_variant(raw)
     return FrictionVariant(model="lumped", kappa0="Z")
-
-
-def overrides_for(data: str | None, maps: list[str] | None, config: str | Path | None = None) -> list[str]:
-    """``--set`` overrides from ``tirecli fit --data CSV --map FILE_COLUMN=NAME``.
-
-    ``--data`` is relative to the current directory and ``data.csv`` to the config's: a relative
-    ``--data`` is kept as written when the two are the same (messages and run.json name the file as
-    the user typed it), else made absolute."""
-    out = []
-    if data:
-        same_dir = config is not None and os.path.abspath(os.path.dirname(os.fspath(config)) or ".") == os.getcwd()
-        given = data if (same_dir and not os.path.isabs(data)) else os.path.abspath(data)
-        out += [f"data.csv={json.dumps(given)}", "data.simulate=null"]
-    if maps:
-        mapping = {}
-        for m in maps:
-            if "=" not in m:
-                from tirecli.errors import UsageError
-
-                raise UsageError(f"--map {m!r}: expected FILE_COLUMN=NAME, e.g. --map slip_ratio=s")
-            a, _, b = m.partition("=")
-            mapping[a.strip()] = b.strip()
-        out.append(f"data.map={json.dumps(mapping)}")
-    return out

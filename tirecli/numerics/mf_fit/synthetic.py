@@ -1,0 +1,112 @@
+"""SYNTHETIC tyre-rig sweeps from a Magic Formula tyre, with seeded noise (tests, benchmarks, examples).
+
+The sweeps a rig measures: pure longitudinal (a slip sweep at zero slip angle), pure lateral (a
+slip-angle sweep at free rolling) at every load, inclination and pressure asked, and combined slip
+(slip sweeps at fixed non-zero slip angles). Values are :func:`tirecli.models.magic_formula.evaluate`
+of the tyre (combined slip, ISO-W, SI), plus Gaussian noise of standard deviation ``noise`` times the
+channel's largest |value| in the set, drawn from ``numpy.random.default_rng(seed)``: the same arguments
+give the same table. The table's ``attrs["label"]`` starts with ``SYNTHETIC``.
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from tirecli.models.magic_formula import evaluate
+
+
+def rig_sweeps(tire, *, loads=None, cambers=(0.0,), pressures=None, kappa=None, alpha=None, combined_alpha=None,
+               combined_kappa=None, combined_loads=None, vx=None, noise: float = 0.0, seed: int = 0,
+               channels=("fx", "fy", "mz"), repeat: int = 1):
+    """A table of SYNTHETIC rig sweeps of ``tire``.
+
+    Parameters
+    ----------
+    tire : MFTire
+        The generating tyre.
+    loads : sequence of float or None
+        Loads [N] of the pure sweeps (default 0.5, 1, 1.5 FNOMIN).
+    cambers : sequence of float
+        Inclinations [rad] of the pure sweeps.
+    pressures : sequence of float or None
+        Pressures [Pa] (default the tyre's INFLPRES).
+    kappa, alpha : array_like or None
+        Slips of the pure sweeps (default -0.3..0.3 in 61 steps; -12..12 deg in 49 steps).
+    combined_alpha : sequence of float or None
+        Slip angles [rad] of the combined sweeps (default 2, 4, 8 deg and -4 deg; () for none).
+    combined_kappa : array_like or None
+        Slips of the combined sweeps (default -0.3..0.3 in 41 steps, zero left out).
+    combined_loads : sequence of float or None
+        Loads of the combined sweeps (default ``loads``), at zero inclination and the first pressure.
+    vx : float or None
+        Speed [m/s] (default LONGVL).
+    noise : float
+        Standard deviation of the added noise as a fraction of each channel's largest |value|.
+    seed : int
+        Seed of the noise.
+    channels : sequence of str
+        Channels to tabulate (among ``fx, fy, mz, mx, my``).
+    repeat : int
+        Every sweep this many times (with independent noise).
+
+    Returns
+    -------
+    pandas.DataFrame
+        ``run, kappa, alpha, gamma, fz, p, vx`` and the channels; ``attrs["label"]`` says SYNTHETIC, the
+        tyre, the noise and the seed.
+    """
+    import pandas as pd
+
+    c = tire.coef
+    fz0 = c["FNOMIN"]
+    loads = [0.5 * fz0, fz0, 1.5 * fz0] if loads is None else list(loads)
+    pressures = [tire.default_pressure] if pressures is None else list(pressures)
+    kappa = np.linspace(-0.3, 0.3, 61) if kappa is None else np.asarray(kappa, dtype=float)
+    alpha = np.radians(np.linspace(-12, 12, 49)) if alpha is None else np.asarray(alpha, dtype=float)
+    if combined_alpha is None:
+        combined_alpha = np.radians([2.0, 4.0, 8.0, -4.0])
+    if combined_kappa is None:
+        k = np.linspace(-0.3, 0.3, 41)
+        combined_kappa = k[k != 0]
+    combined_loads = loads if combined_loads is None else list(combined_loads)
+    vx = float(tire.reference_speed if vx is None else vx)
+    rows = []
+    run = 0
+    for _ in range(int(repeat)):
+        for p in pressures:
+            for g in cambers:
+                for fz in loads:
+                    rows.append((run, kappa, 0.0, g, fz, p))
+                    rows.append((run + 1, 0.0, alpha, g, fz, p))
+                    run += 2
+        for fz in combined_loads:
+            for a in combined_alpha:
+                rows.append((run, combined_kappa, a, 0.0, fz, pressures[0]))
+                run += 1
+    parts = []
+    for r, k, a, g, fz, p in rows:
+        n = max(np.size(k), np.size(a))
+        parts.append(np.column_stack([np.full(n, r), np.broadcast_to(k, n), np.broadcast_to(a, n), np.full(n, g),
+                                      np.full(n, fz), np.full(n, p if p is not None else np.nan), np.full(n, vx)]))
+    arr = np.vstack(parts)
+    df = pd.DataFrame(arr, columns=["run", "kappa", "alpha", "gamma", "fz", "p", "vx"])
+    df["run"] = df["run"].astype(int)
+    p_in = None if tire.nominal_pressure is None else df["p"].to_numpy()
+    res = evaluate(tire, df["kappa"].to_numpy(), df["alpha"].to_numpy(), df["gamma"].to_numpy(), df["fz"].to_numpy(),
+                   vx, p_in, outputs=tuple(channels))
+    rng = np.random.default_rng(seed)
+    for ch in channels:
+        v = np.asarray(getattr(res, ch), dtype=float)
+        if noise:
+            v = v + rng.normal(0.0, noise * float(np.max(np.abs(v))), v.size)
+        df[ch] = v
+    name = tire.name or "a Magic Formula tyre"
+    df.attrs["label"] = (f"SYNTHETIC rig sweeps generated by tirecli from {name} (MF {tire.version}), noise "
+                         f"{100 * noise:g} % of each channel's peak, seed {seed}")
+    return df
+
+
+def deg(*values) -> tuple:
+    """Degrees to radians (a shorthand for sweep definitions)."""
+    return tuple(math.radians(v) for v in values)
