@@ -30,6 +30,13 @@ def _escape(m: re.Match) -> str:
     return f"\\x{c:02x}" if c < 0x100 else f"\\u{c:04x}"
 
 
+def control_character(text: str) -> tuple[int, str] | None:
+    """``(position, escaped form)`` of the first control character of ``text`` (C0 but tab and line feed, DEL,
+    C1, the bidirectional overrides), or None: what may not go into a figure, an SVG file or the terminal."""
+    m = _CONTROL.search(text)
+    return None if m is None else (m.start(), _escape(m))
+
+
 def clip(text: str, limit: int = TOKEN_LIMIT) -> str:
     """``text`` with control characters escaped, cut to ``limit`` characters (``...`` marks a cut)."""
     text = _CONTROL.sub(_escape, str(text).replace("\t", "\\t").replace("\n", "\\n").replace("\r", "\\r"))

@@ -21,7 +21,8 @@ Input caps (fixed: 10 to 1000 times what real inputs need; a refusal must come w
 
 The sample budget: a *sample* is one stored point of a run: a row of an output table (a grid point of
 a sweep, an output time of a run, a measurement sample, a point of ``mf eval``) or a step a solver
-stores or must take. Each study estimates its samples from the config before allocating anything;
+stores or must take (for the observer's adaptive solvers, an evaluation of the model at LSODA's cost:
+:mod:`tirecli.numerics.observer_work`, checked again while they run). Each study estimates its samples from the config before allocating anything;
 above the budget (:data:`DEFAULT_MAX_SAMPLES`, raised with ``--max-samples N`` or the config key
 ``run.max_samples: N``) it refuses with the estimate, and whatever the budget it refuses a run whose
 estimated memory exceeds the memory available.

@@ -13,7 +13,7 @@ from dataclasses import dataclass, field
 from typing import Any, Callable
 
 from tirecli import limits
-from tirecli.errors import ConfigError, token
+from tirecli.errors import ConfigError, control_character, token
 from tirecli.io.yamlio import KeyPath, Origins
 
 MISSING = object()
@@ -157,7 +157,11 @@ class Num(Spec):
 @dataclass
 class Str(Spec):
     """A text value, optionally restricted to ``choices`` (case-sensitive), of at most ``max_len`` characters
-    (:data:`tirecli.limits.MAX_TEXT_CHARS` unless given; titles and labels take ``MAX_TITLE_CHARS``)."""
+    (:data:`tirecli.limits.MAX_TEXT_CHARS` unless given; titles and labels take ``MAX_TITLE_CHARS``).
+
+    Free text holds no control character but tab and line feed (:func:`tirecli.errors.control_character`):
+    it is drawn in figures and written to SVG files (XML 1.0 cannot hold C0 controls, not even escaped) and
+    to the terminal, so a control character is refused here, at its key, rather than altered on the way."""
 
     choices: tuple | None = None
     max_len: int = limits.MAX_TEXT_CHARS
@@ -172,6 +176,12 @@ class Str(Spec):
         too_long = limits.text_problem(value, self.max_len) if self.choices is None else None
         if too_long is not None:
             ctx.fail(path, too_long)
+            return MISSING
+        control = control_character(value) if self.choices is None else None
+        if control is not None:
+            ctx.fail(path, f"contains the control character {control[1]} (at character {control[0] + 1}): texts are "
+                           "drawn in figures and written to SVG files and the terminal, where control characters "
+                           "are not allowed; remove it (tabs and line breaks are fine)")
             return MISSING
         if self.choices is not None and value not in self.choices:
             same = [c for c in self.choices if c.lower() == value.lower()]  # 'FM' for 'fm': case counts

@@ -11,7 +11,8 @@ run's outputs (the shape of a brake release changes the results: docs/models/lug
   ``y = y_a + (y_b - y_a) S((t - t0)/d)`` with ``S(x) = (1 - cos(pi clip(x, 0, 1)))/2``
   (docs/models/observer_model.md §7);
 - :class:`Expression` — a formula of ``t`` (numpy functions, evaluated safely: no names other
-  than ``t``, ``pi``, ``e`` and the functions of :data:`EXPRESSION_FUNCTIONS`).
+  than ``t``, ``pi``, ``e`` and the functions of :data:`EXPRESSION_FUNCTIONS`; the language, and where a
+  formula switches, are :mod:`tirecli.models.formulas`).
 
 Every profile also has ``at(t)`` (fast evaluation at one float time, for time-stepping loops) and
 ``breakpoints(t_end)`` (times where the profile or its slope jumps; integrators end steps there).
@@ -28,7 +29,9 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from tirecli.errors import UsageError, token
+from tirecli.errors import token
+from tirecli.models.formulas import (EXPRESSION_FUNCTIONS, FormulaError, _compile, expression_problem,  # noqa: F401
+                                     formula_frequency, formula_path, switch_times)
 
 SHAPES = ("step", "linear", "half-cosine")
 
@@ -157,111 +160,6 @@ class Transitions:
                 "changes": [{"at": c.at, "duration": c.duration, "to": c.to, "shape": c.shape} for c in self.changes]}
 
 
-#: Functions an :class:`Expression` may call (numpy, elementwise).
-EXPRESSION_FUNCTIONS = {
-    "sin": np.sin, "cos": np.cos, "tan": np.tan, "exp": np.exp, "log": np.log, "sqrt": np.sqrt,
-    "abs": np.abs, "tanh": np.tanh, "arctan": np.arctan, "sign": np.sign, "minimum": np.minimum,
-    "maximum": np.maximum, "clip": np.clip, "where": np.where, "heaviside": np.heaviside,
-}
-#: How many arguments each function of a formula takes (numpy's ufuncs would take an ``out`` array as an
-#: extra argument and write into it).
-_ARITY = {"minimum": 2, "maximum": 2, "heaviside": 2, "clip": 3, "where": 3}
-_EXPRESSION_NAMES = {"t", "pi", "e"} | set(EXPRESSION_FUNCTIONS)
-_EXPRESSION_NODES = ("Expression", "BinOp", "UnaryOp", "Compare", "Call", "Name", "Load", "Constant", "Add", "Sub",
-                     "Mult", "Div", "Pow", "Mod", "USub", "UAdd", "Lt", "LtE", "Gt", "GtE")
-
-
-def expression_problem(text: str) -> str | None:
-    """Why ``text`` is not an admissible formula of ``t`` (None if it is): at most
-    :data:`tirecli.limits.MAX_FORMULA_CHARS` characters of numbers, ``t``, ``pi``, ``e``, arithmetic,
-    comparisons and calls of :data:`EXPRESSION_FUNCTIONS` with their number of arguments."""
-    import ast  # lazily: start-up time of every command
-
-    from tirecli.limits import MAX_FORMULA_CHARS, text_problem
-
-    too_long = text_problem(text, MAX_FORMULA_CHARS)
-    if too_long is not None:
-        return f"formula {too_long}"
-    allowed = tuple(getattr(ast, n) for n in _EXPRESSION_NODES)
-    try:
-        tree = ast.parse(text, mode="eval")
-    except SyntaxError as exc:
-        return f"cannot read the formula ({exc.msg})"
-    except (ValueError, RecursionError, MemoryError):  # NUL bytes, too deeply nested, a number of 5000 digits
-        return "cannot read the formula"
-    from tirecli.limits import MAX_FORMULA_DEPTH
-
-    if _depth(tree) > MAX_FORMULA_DEPTH:
-        return f"formula nested too deeply (more than {MAX_FORMULA_DEPTH} operations inside one another)"
-    for node in ast.walk(tree):
-        if not isinstance(node, allowed):
-            return f"not allowed in a formula: {type(node).__name__}"
-        if isinstance(node, ast.Name) and node.id not in _EXPRESSION_NAMES:
-            return f"unknown name {token(node.id)} (use t, pi, e and {', '.join(sorted(EXPRESSION_FUNCTIONS))})"
-        if isinstance(node, ast.Call):
-            if not (isinstance(node.func, ast.Name) and node.func.id in EXPRESSION_FUNCTIONS):
-                return "only the listed functions may be called"
-            n = _ARITY.get(node.func.id, 1)
-            if len(node.args) != n:
-                return f"{node.func.id}() takes {n} argument{'s' if n > 1 else ''}, got {len(node.args)}"
-        if isinstance(node, ast.Constant):
-            if isinstance(node.value, bool) or not isinstance(node.value, (int, float)):
-                return "only numbers are allowed as constants"
-            if isinstance(node.value, int) and abs(node.value) > 1e308:
-                return "a number too large (at most 1e308)"
-    return None
-
-
-def _depth(tree) -> int:
-    """Levels of operations of a parsed formula (iteratively: a formula cannot exhaust the stack)."""
-    import ast
-
-    deepest, stack = 0, [(tree, 1)]
-    while stack:
-        node, level = stack.pop()
-        deepest = max(deepest, level)
-        stack.extend((kid, level + 1) for kid in ast.iter_child_nodes(node))
-    return deepest
-
-
-def _compile(node, name: str = "<formula>"):
-    """Code of a checked formula (or a part of one) evaluated in floating point: every whole number becomes a
-    float, so ``9**9**9`` is ``inf`` (an error) at once instead of an integer of 370 million digits. The
-    constants of ``node`` are converted in place."""
-    import ast
-
-    for c in ast.walk(node):
-        if isinstance(c, ast.Constant) and isinstance(c.value, int) and not isinstance(c.value, bool):
-            c.value = float(c.value)
-    body = node.body if isinstance(node, ast.Expression) else node
-    return compile(ast.fix_missing_locations(ast.Expression(body=body)), name, "eval")
-
-
-class FormulaError(UsageError):
-    """A formula that cannot be used: ``reason`` says why, without the formula, so that a study can name
-    the key that gives it instead (:func:`formula_path`)."""
-
-    def __init__(self, formula: str, reason: str):
-        super().__init__(f"formula {token(formula)} {reason}")
-        self.formula, self.reason = formula, reason
-
-
-def formula_path(data, formula: str) -> tuple | None:
-    """The key path of the first ``{expr: formula}`` in a config's ``data`` (None if none)."""
-    from collections import deque
-
-    stack = deque([((), data)])
-    while stack:
-        path, node = stack.popleft()
-        if isinstance(node, dict):
-            if node.get("expr") == formula:
-                return path + ("expr",)
-            stack.extend((path + (k,), v) for k, v in node.items())
-        elif isinstance(node, list):
-            stack.extend((path + (i,), v) for i, v in enumerate(node))
-    return None
-
-
 @dataclass(frozen=True)
 class Expression:
     """A profile given by a formula of time ``t`` [s], e.g. ``"20 - 4*t"`` or ``"0.1*sin(2*pi*t)"``.
@@ -329,99 +227,17 @@ class Expression:
             cache[key] = switch_times(self.text, key)
         return cache[key]
 
+    def frequency(self, t_end: float | None = None) -> float:
+        """Frequency [Hz] of the fastest oscillation (sine, cosine) of the formula over ``[0, t_end]``
+        (:func:`tirecli.models.formulas.formula_frequency`; 0 without them). ``t_end`` defaults to 1000 s."""
+        key = 1000.0 if t_end is None else float(t_end)
+        cache = self.__dict__.setdefault("_hz_cache", {})
+        if key not in cache:
+            cache[key] = formula_frequency(self.text, key)
+        return cache[key]
+
     def record(self) -> dict:
         return {"kind": "expression", "expr": self.text}
-
-
-#: Functions of a formula whose value or slope jumps where their argument crosses a value.
-_KINK_FUNCTIONS = {"abs", "sign", "heaviside", "where"}
-_PAIR_FUNCTIONS = {"minimum", "maximum"}
-
-
-def switch_times(text: str, t_end: float, grid: int = 20001) -> tuple:
-    """Times in ``(0, t_end)`` [s] where a formula of ``t`` may jump or kink (its switches).
-
-    Every non-smooth construct of the formula gives a *switching function* ``g(t)`` that changes sign
-    there: ``a < b`` (any comparison) gives ``a - b``; ``abs(x)``, ``sign(x)``, ``heaviside(x, h)`` and
-    ``where(x, ...)`` give ``x``; ``minimum(a, b)``, ``maximum(a, b)`` give ``a - b``; ``clip(x, lo,
-    hi)`` gives ``x - lo`` and ``x - hi``; ``a % b`` jumps where ``a/b`` crosses an integer. Each is
-    evaluated on a grid of ``grid`` points over ``[0, t_end]``; every sign change (or change of
-    ``floor(a/b)``) is refined by Brent's method to 1e-12 s. Switches closer together than the grid
-    spacing may be missed (a formula is not a place for sub-millisecond pulses over long runs).
-    """
-    import ast
-
-    tree = ast.parse(text, mode="eval")
-    funcs = []
-
-    def fn(node):
-        code = _compile(node, "<switch>")
-        env = {"__builtins__": {}, "pi": np.pi, "e": np.e, **EXPRESSION_FUNCTIONS}
-        return lambda t: np.asarray(eval(code, {**env, "t": t}), dtype=float)  # noqa: S307 - checked AST
-
-    def diff(a, b):
-        fa, fb = fn(a), fn(b)
-        return lambda t: fa(t) - fb(t)
-
-    for node in ast.walk(tree):
-        if isinstance(node, ast.Compare):
-            left = node.left
-            for right in node.comparators:
-                funcs.append(("sign", diff(left, right)))
-                left = right
-        elif isinstance(node, ast.Call) and isinstance(node.func, ast.Name):
-            name, args = node.func.id, node.args
-            if name in _KINK_FUNCTIONS and args and not (name == "where" and isinstance(args[0], ast.Compare)):
-                funcs.append(("sign", fn(args[0])))
-            elif name in _PAIR_FUNCTIONS and len(args) >= 2:
-                funcs.append(("sign", diff(args[0], args[1])))
-            elif name == "clip" and len(args) >= 3:
-                funcs.append(("sign", diff(args[0], args[1])))
-                funcs.append(("sign", diff(args[0], args[2])))
-        elif isinstance(node, ast.BinOp) and isinstance(node.op, ast.Mod):
-            a, b = fn(node.left), fn(node.right)
-            funcs.append(("floor", lambda t, a=a, b=b: a(t) / b(t)))
-    if not funcs or not t_end > 0:
-        return ()
-    tg = np.linspace(0.0, float(t_end), int(grid))
-    out = set()
-    found = []   # (switching function, floor level or None, grid intervals with a switch)
-    with np.errstate(all="ignore"):
-        for kind, g in funcs:
-            try:
-                vals = np.broadcast_to(g(tg), tg.shape)
-            except (ArithmeticError, ValueError, TypeError):
-                continue
-            if kind == "floor":
-                lev = np.floor(vals)
-                idx = np.flatnonzero(np.isfinite(lev[:-1]) & np.isfinite(lev[1:]) & (lev[:-1] != lev[1:]))
-                found.append((g, lev, idx))
-                continue
-            sg = np.sign(vals)
-            nz = np.flatnonzero(np.isfinite(vals) & (sg != 0))
-            gap = (nz[1:] > nz[:-1] + 1) & (sg[nz[:-1]] * sg[nz[1:]] < 0)  # zeros exactly on the grid
-            out.update(tg[nz[:-1][gap] + 1].tolist())
-            found.append((g, None, np.flatnonzero(np.isfinite(vals[:-1]) & np.isfinite(vals[1:]) & (sg[:-1] * sg[1:] < 0))))
-        from tirecli.limits import MAX_FORMULA_SWITCHES
-
-        count = len(out) + sum(idx.size for _, _, idx in found)
-        if count > MAX_FORMULA_SWITCHES:
-            raise FormulaError(text, f"switches (jumps or kinks) {count:,} times or more in [0, "
-                             f"{t_end:g}] s (at most {MAX_FORMULA_SWITCHES:,}): give a table or a CSV profile")
-        from scipy.optimize import brentq
-
-        for g, lev, idx in found:  # refine each switch to 1e-12 s
-            for i in idx:
-                if lev is not None:
-                    k = max(lev[i], lev[i + 1])
-                    h = lambda t, g=g, k=k: float(g(np.asarray(t))) - k  # noqa: E731
-                else:
-                    h = lambda t, g=g: float(g(np.asarray(t)))  # noqa: E731
-                try:
-                    out.add(float(brentq(h, tg[i], tg[i + 1], xtol=1e-12)))
-                except ValueError:
-                    out.add(float(tg[i + 1]))
-    return tuple(sorted(x for x in out if 0.0 < x < t_end))
 
 
 def _real(value) -> np.ndarray:

@@ -17,6 +17,15 @@ in ``sigma1``: a one-parameter linear least squares with its exact standard erro
 Statistics (both stages): residual variance ``s^2 = RSS/(n - p)``, covariance ``s^2 (J^T J)^-1``
 (linearised at the optimum), standard errors, Student-t confidence intervals, correlation matrix;
 parameters ending on a bound are flagged (their intervals are then only indicative).
+
+Identifiability: data that do not determine a parameter (samples all at one operating point, a
+parameter the data do not reach) make the Jacobian rank-deficient, and ``s^2 (J^T J)^-1`` then claims
+nothing true (40 identical rows fitted exactly: every standard error 0). :func:`identifiability` takes the
+singular values of the Jacobian with unit columns; a direction whose singular value is below
+:data:`IDENTIFIABLE_RTOL` of the largest is not determined by the data, and a parameter with more than
+:data:`NULL_SHARE` of its unit vector in those directions is *not identifiable*: it gets no standard error
+and no interval (NaN), and is named (``FitResult.unidentifiable``); the other parameters' covariance is
+the pseudo-inverse's (exact for what the data determine). A fit that identifies nothing is refused.
 """
 from __future__ import annotations
 
@@ -32,6 +41,11 @@ DEFAULT_BOUNDS = {
     "sigma0": (1.0, 5000.0), "sigma2": (0.0, 0.1), "mu_c": (0.01, 3.0), "mu_s": (0.01, 3.0),
     "v_s": (0.05, 50.0), "alpha": (0.25, 4.0), "sigma1": (0.0, 100.0),
 }
+#: Singular values of the unit-column Jacobian below this share of the largest span directions the data do not
+#: determine (finite-difference noise is about 1e-10 of a column; the shipped fits' smallest share is 2e-5).
+IDENTIFIABLE_RTOL = 1e-8
+#: A parameter is not identifiable when more than this share of its unit vector lies in those directions.
+NULL_SHARE = 0.01
 UNITS = {"sigma0": "1/m", "sigma1": "s/m", "sigma2": "s/m", "mu_c": "-", "mu_s": "-", "v_s": "m/s", "alpha": "-",
          "L": "m"}
 
@@ -82,6 +96,8 @@ class FitResult:
     message: str = ""
     nfev: int = 0
     extra: dict = field(default_factory=dict)
+    unidentifiable: list = field(default_factory=list)
+    rank: int | None = None
 
     def failure(self) -> str | None:
         """Why this is not a fitted result (None when it is): the optimiser did not converge, a
@@ -91,9 +107,11 @@ class FitResult:
         vals = np.array([self.residual_rms] + [self.estimate[k] for k in self.names], dtype=float)
         if not np.all(np.isfinite(vals)):
             return "the residuals or estimates are not finite (the data are beyond what the model can reach)"
+        if self.names and set(self.unidentifiable) >= set(self.names):
+            return self.identifiability_text()
         if not self.success:
             return f"the optimiser stopped without converging ({self.message.rstrip('.')})"
-        se = np.array([self.se[k] for k in self.names], dtype=float)
+        se = np.array([self.se[k] for k in self.names if k not in self.unidentifiable], dtype=float)
         if np.any(np.isnan(se)):
             return "the covariance of the estimates is not finite"
         if len(self.names) > 1 and all(self.at_bound.get(k, False) for k in self.names):
@@ -101,8 +119,18 @@ class FitResult:
                     "the data within the bounds")
         return None
 
+    def identifiability_text(self) -> str:
+        """What the data do not determine, in words (empty when they determine every parameter)."""
+        if not self.unidentifiable:
+            return ""
+        which = ", ".join(self.unidentifiable)
+        scope = "any of the fitted parameters" if set(self.unidentifiable) >= set(self.names) else which
+        return (f"the data cannot identify {scope} ({which}: the fit's Jacobian has rank {self.rank} of "
+                f"{len(self.names)}; e.g. every sample at one operating point)")
+
     def record(self) -> dict:
-        return {
+        extra = {"unidentifiable": list(self.unidentifiable), "jacobian_rank": self.rank} if self.unidentifiable else {}
+        return extra | {
             "parameters": {k: {"estimate": self.estimate[k], "se": self.se[k], "ci": [self.ci_low[k], self.ci_high[k]],
                                "unit": UNITS.get(k, "-"), "at_bound": self.at_bound[k]} for k in self.names},
             "correlation": {"order": list(self.names), "matrix": np.round(self.corr, 6).tolist()},
@@ -124,11 +152,35 @@ def romega_of(s, v):
         return np.where(s <= 0.0, v * (1.0 + s), v / (1.0 - s))
 
 
+def identifiability(J, names) -> tuple[list, int]:
+    """``(names not identifiable, rank)`` of a fit's Jacobian ``J`` (module doc): singular values of ``J`` with unit
+    columns below :data:`IDENTIFIABLE_RTOL` of the largest span the directions the data do not determine; a
+    parameter with more than :data:`NULL_SHARE` of its unit vector there (or a zero column) is not identifiable."""
+    J = np.asarray(J, dtype=float)
+    p = J.shape[1]
+    with np.errstate(all="ignore"):
+        norms = np.linalg.norm(J, axis=0)
+        ok = np.isfinite(norms) & (norms > 0)
+        if not np.all(np.isfinite(J[:, ok])):
+            return [], p      # not finite: FitResult.failure reports it
+        Js = J[:, ok] / norms[ok]
+    share = np.ones(p)
+    rank = 0
+    if Js.size:
+        _, sv, Vt = np.linalg.svd(Js, full_matrices=True)
+        rank = int(np.sum(sv > IDENTIFIABLE_RTOL * sv[0])) if sv.size and sv[0] > 0 else 0
+        null = Vt[rank:]
+        share[ok] = np.sum(null * null, axis=0) if null.size else 0.0
+    return [k for k, sh in zip(names, share) if sh > NULL_SHARE], rank
+
+
 def _stats(J, resid, names, estimate, lo, hi, confidence):
-    """Covariance, standard errors, intervals and correlations of a least-squares fit."""
+    """Covariance, standard errors, intervals and correlations of a least-squares fit; no standard error or
+    interval (NaN) for a parameter the data do not identify (:func:`identifiability`)."""
     from scipy.special import stdtrit  # Student-t quantile (scipy.stats costs 0.6 s to import)
 
     n, p = J.shape
+    unident, rank = identifiability(J, names)
     dof = max(n - p, 1)
     with np.errstate(all="ignore"):  # data beyond the model's reach: inf/NaN, reported by FitResult.failure
         s2 = float(resid @ resid) / dof
@@ -141,7 +193,18 @@ def _stats(J, resid, names, estimate, lo, hi, confidence):
                 cov = s2 * np.linalg.inv(JTJ) if np.isfinite(cond) and cond < 1e15 else s2 * np.linalg.pinv(JTJ)
             except np.linalg.LinAlgError:
                 cond, cov = float("inf"), s2 * np.linalg.pinv(JTJ)
+    if unident:   # what the data determine: the pseudo-inverse's covariance (unit columns); nothing for the rest
+        with np.errstate(all="ignore"):
+            ns = np.linalg.norm(J, axis=0)
+            ns = np.where(np.isfinite(ns) & (ns > 0), ns, 1.0)
+            if np.isfinite(s2) and np.all(np.isfinite(J)):
+                Jp = np.linalg.pinv(J / ns, rcond=IDENTIFIABLE_RTOL)
+                cov = s2 * (Jp @ Jp.T) / np.outer(ns, ns)
+        bad = [names.index(k) for k in unident]
+        cov[bad, :] = np.nan
+        cov[:, bad] = np.nan
     se = np.sqrt(np.maximum(np.diag(cov), 0.0))
+    se[np.isnan(np.diag(cov))] = np.nan
     tq = float(stdtrit(dof, 0.5 + confidence / 2.0))
     with np.errstate(divide="ignore", invalid="ignore"):
         corr = cov / np.outer(se, se)
@@ -152,10 +215,11 @@ def _stats(J, resid, names, estimate, lo, hi, confidence):
     at_bound = {k: bool(min(estimate[k] - lo[k], hi[k] - estimate[k]) <= 1e-6 * max(s_, 1e-12))
                 for k, s_ in zip(names, span)}
     # Wald intervals, clipped to the bounds (a parameter on a bound has no interval beyond it)
-    low = np.maximum(est - tq * se, [lo[k] for k in names])
-    high = np.minimum(est + tq * se, [hi[k] for k in names])
+    low = np.where(np.isnan(se), np.nan, np.maximum(est - tq * se, [lo[k] for k in names]))
+    high = np.where(np.isnan(se), np.nan, np.minimum(est + tq * se, [hi[k] for k in names]))
     return dict(cov=cov, se=dict(zip(names, se)), ci_low=dict(zip(names, low)),
-                ci_high=dict(zip(names, high)), corr=corr, at_bound=at_bound, dof=dof, cond=cond)
+                ci_high=dict(zip(names, high)), corr=corr, at_bound=at_bound, dof=dof, cond=cond,
+                unidentifiable=unident, rank=rank)
 
 
 class _Space:
@@ -217,7 +281,8 @@ class _Space:
                          corr=st["corr"], cov=st["cov"], at_bound=st["at_bound"],
                          residual_rms=_rms(resid), n=n, dof=st["dof"],
                          confidence=confidence, cond=st["cond"], success=bool(sol.success), message=str(sol.message),
-                         nfev=int(sol.nfev), extra={"start": dict(self.x0), **(extra or {})})
+                         nfev=int(sol.nfev), extra={"start": dict(self.x0), **(extra or {})},
+                         unidentifiable=st["unidentifiable"], rank=st["rank"])
 
 
 def fit_steady_state(s, v, mu, start: LuGreParams, free=("sigma0", "sigma2", "mu_c", "mu_s", "v_s"),
@@ -378,4 +443,4 @@ def fit_sigma1(mu, z, zdot, vr, p: LuGreParams, bounds=(0.0, 100.0), confidence:
                      residual_rms=_rms(resid), n=len(mu), dof=st["dof"],
                      confidence=confidence, cond=st["cond"], success=den > 0,
                      message="linear least squares" if den > 0 else "dz/dt is zero: sigma1 is not identifiable",
-                     nfev=1)
+                     nfev=1, unidentifiable=st["unidentifiable"], rank=st["rank"])

@@ -50,6 +50,7 @@ import numpy as np
 
 from tirecli.conventions import theta_obs_from_fm
 from tirecli.errors import RunError
+from tirecli.numerics.solver_guard import WorkGuard, failure_message, quiet
 from tirecli.observers.lugre_observer import ObserverGains, ObserverPlant
 from tirecli.observers.measurement import Sensor
 
@@ -637,7 +638,7 @@ def scalar_rhs(plant: ObserverPlant, gains: ObserverGains, scenario: Scenario):
 
 def simulate_adaptive(plant: ObserverPlant, gains: ObserverGains, scenario: Scenario, sensor: Sensor | None = None,
                       method: str = "lsoda", rtol: float = 1e-6, atol=None, h_max: float | None = None,
-                      output_dt: float = 1e-3, rhs=None) -> Trajectory:
+                      output_dt: float = 1e-3, rhs=None, max_work: float | None = None) -> Trajectory:
     """Integrate plant + observer with an adaptive ``solve_ivp`` method (LSODA, Radau, BDF, DOP853).
 
     The run is split at every profile breakpoint and every sampling instant: the solver stops
@@ -660,6 +661,10 @@ def simulate_adaptive(plant: ObserverPlant, gains: ObserverGains, scenario: Scen
         limit after a jump), from the solver's interpolant.
     rhs : callable or None
         ``f(t, X, y)`` to integrate instead of :func:`scalar_rhs` (tests).
+    max_work : float or None
+        Most right-hand-side evaluations, weighted by the method's cost (:class:`~tirecli.numerics.solver_guard.WorkGuard`;
+        default: the sample budget). A failure of the method, or work past the limit, is a RunError of one line
+        (no library warning reaches the user).
     """
     from scipy.integrate import solve_ivp
 
@@ -688,6 +693,7 @@ def simulate_adaptive(plant: ObserverPlant, gains: ObserverGains, scenario: Scen
     nfev = 0
     stalled = []
     kw = {"max_step": h_max} if h_max else {}
+    guard = WorkGuard(method, 0.0, T, max_work)
     for a, b in zip(cuts[:-1], cuts[1:]):
         if sampler is not None and a > 0 and round(a, 12) in sample_set:
             y_hold = sampler.sample(a, X[1])
@@ -695,17 +701,20 @@ def simulate_adaptive(plant: ObserverPlant, gains: ObserverGains, scenario: Scen
         te = t_out[(t_out >= a) & (t_out < b)]
         if len(te) == 0 or te[0] > a:
             te = np.concatenate([[a], te])
-        fun = lambda t, x, yy=yy: f(t, x, yy)  # noqa: E731
+        fun = guard.wrap(lambda t, x, yy=yy: f(t, x, yy))
         opts = dict(rtol=rtol, atol=atol_v, t_eval=np.append(te, b), dense_output=encoder, **kw)
-        if name == "LSODA":
-            sol, spent = _lsoda_guarded(fun, a, b, X, h_max, opts)
-            if spent:
-                stalled.append(round(float(a), 9))
-                nfev += spent
-        else:
-            sol = solve_ivp(fun, (a, b), X, method=name, **opts)
-        if sol.status < 0:
-            raise RunError(f"{method} integration failed at t = {a:.6g} s: {sol.message}")
+        with quiet() as caught:
+            if name == "LSODA":
+                sol, spent = _lsoda_guarded(fun, a, b, X, h_max, opts, on_redo=lambda: guard.use("bdf"))
+                guard.use(method)
+                if spent:
+                    stalled.append(round(float(a), 9))
+                    nfev += spent
+            else:
+                sol = solve_ivp(fun, (a, b), X, method=name, **opts)
+        if sol.status < 0 or not np.all(np.isfinite(sol.y)):
+            raise RunError(failure_message(method, a, caught, sol.message if sol.status < 0 else
+                                           "the state stopped being finite", not sensor.ideal))
         nfev += sol.nfev
         if encoder:
             sampler.advance_angle(float(sol.y[7, -1]), lambda ang, s=sol.sol, lo_=a, hi=b: _edge_time(s, ang, lo_, hi))
@@ -713,8 +722,6 @@ def simulate_adaptive(plant: ObserverPlant, gains: ObserverGains, scenario: Scen
         Xs.append(sol.y[:, :-1])
         ys.append(np.full(len(sol.t) - 1, np.nan if sampler is None else y_hold))
         X = sol.y[:, -1].copy()
-        if not np.all(np.isfinite(X)):
-            raise RunError(f"{method} integration: the state stopped being finite at t = {b:.6g} s")
     ts.append([T])
     Xs.append(X[:, None])
     ys.append([np.nan if sampler is None else y_hold])
@@ -750,7 +757,7 @@ class _Stalled(Exception):
     """LSODA stalled on a segment (:func:`_lsoda_guarded`)."""
 
 
-def _lsoda_guarded(fun, a: float, b: float, X, h_max, opts: dict):
+def _lsoda_guarded(fun, a: float, b: float, X, h_max, opts: dict, on_redo=None):
     """``solve_ivp`` with LSODA on ``[a, b]``, redone with BDF when LSODA stalls: ``(sol, calls spent in vain)``.
 
     LSODA starts every segment in its non-stiff (Adams) mode and switches to BDF on an estimate of
@@ -761,7 +768,7 @@ def _lsoda_guarded(fun, a: float, b: float, X, h_max, opts: dict):
     7e6 calls (the theta-known case of the speed-error study: 7.2e6 calls, 100 s). When
     :data:`LSODA_STALL_CALLS` calls in a row advance the solution (the latest time LSODA asked
     for) by less than ``LSODA_STALL_CALLS / LSODA_STALL_RATE``, the segment is redone with BDF
-    (same tolerances and output times).
+    (same tolerances and output times; ``on_redo()`` is called first).
     """
     from scipy.integrate import solve_ivp
 
@@ -784,6 +791,8 @@ def _lsoda_guarded(fun, a: float, b: float, X, h_max, opts: dict):
     try:
         return solve_ivp(counted, (a, b), X, method="LSODA", **opts), 0
     except _Stalled:
+        if on_redo is not None:
+            on_redo()
         return solve_ivp(fun, (a, b), X, method="BDF", **opts), calls
 
 
@@ -902,8 +911,12 @@ def simulate(plant: ObserverPlant, gains: ObserverGains, scenario: Scenario, sen
         method, reason = choose_method(plant, gains, scenario, sensor, opts)
     if method == "fixed":
         try:
-            tr = simulate_fast(plant, gains, scenario, sensor, step=opts.step,
-                               rate_limit=BLOCK_RATE_LIMIT if reason else math.inf)
+            with quiet():
+                tr = simulate_fast(plant, gains, scenario, sensor, step=opts.step,
+                                   rate_limit=BLOCK_RATE_LIMIT if reason else math.inf)
+        except (ArithmeticError, ValueError) as exc:   # math.exp overflow, a square root of a negative number
+            raise RunError(failure_message("fixed", 0.0, detail=f"{type(exc).__name__}: {exc}",
+                                           sampled=not (sensor or Sensor()).ideal)) from None
         except StepTooLarge as exc:
             tr = simulate_adaptive(plant, gains, scenario, sensor, method="lsoda", rtol=opts.rtol, atol=opts.atol,
                                    h_max=opts.h_max, output_dt=output_dt)

@@ -86,6 +86,9 @@ def summary(result) -> list[str]:
                          else "distributed model (all at once, model in the loop):")
         for _, r in rows.iterrows():
             flag = " (on a bound)" if r["at_bound"] else ""
+            if not r.get("identified", True):
+                lines.append(f"  {r['parameter']:7s} {r['estimate']:12.6g} NOT IDENTIFIED by these data (no interval)")
+                continue
             lines.append(f"  {r['parameter']:7s} {r['estimate']:12.6g} +/- {r['se']:.3g} {r['unit']:4s} "
                          f"CI [{r['ci_low']:.6g}, {r['ci_high']:.6g}]{flag}")
         if fit_name != FIT_DISTRIBUTED:

@@ -62,6 +62,9 @@ def fitted_set(name: str, start_set, p, steady: identify.FitResult, s1: identify
             how = " with the distributed model in the loop" if f is dist else ""
             note = (f"fitted{how}: {f.estimate[key]:.6g} +/- {f.se[key]:.3g} (SE), {lvl}% CI [{f.ci_low[key]:.6g}, "
                     f"{f.ci_high[key]:.6g}]" + ("; on a bound" if f.at_bound[key] else ""))
+            if key in f.unidentifiable:
+                note = (f"NOT IDENTIFIED{how}: the data do not determine it ({f.identifiability_text()}); "
+                        f"{f.estimate[key]:.6g} is only where the optimiser stopped, no interval")
             values[key] = {"value": val, "note": note}
         elif key in start_set.assumed:
             values[key] = {"value": val, "assumed": f"not identified; from {start_set.name}: {start_set.assumed[key]}"}
@@ -113,10 +116,14 @@ def _distributed_options(raw) -> dict | None:
 
 
 def _parameter_rows(f: identify.FitResult, stage: str, fit: str, start, initial) -> list:
-    return [{"fit": fit, "parameter": k, "estimate": f.estimate[k], "se": f.se[k], "ci_low": f.ci_low[k],
+    rows = [{"fit": fit, "parameter": k, "estimate": f.estimate[k], "se": f.se[k], "ci_low": f.ci_low[k],
              "ci_high": f.ci_high[k], "unit": identify.UNITS.get(k, "-"), "at_bound": f.at_bound[k],
              "start": f.extra.get("start", {}).get(k, (initial or {}).get(k, getattr(start, k))), "stage": stage}
             for k in f.names]
+    if f.unidentifiable:   # a column only when the data leave a parameter undetermined (outputs unchanged otherwise)
+        for row in rows:
+            row["identified"] = row["parameter"] not in f.unidentifiable
+    return rows
 
 
 def run(plan_: Plan, progress=None) -> StudyResult:
@@ -252,6 +259,8 @@ def _require(result: identify.FitResult, stage: str, data: dict, mu) -> None:
     """RunError (exit 1, nothing written: no ``fitted.yaml``) when a stage did not give a fitted result
     (:meth:`~tirecli.numerics.identify.FitResult.failure`): start values are never written as if fitted."""
     why = result.failure()
+    if why is not None and result.unidentifiable and why == result.identifiability_text():   # the data, not the run
+        raise DataError(f"{data['source']}: the {STAGES[stage]} fit is refused: {why}; no fitted.yaml was written")
     with np.errstate(all="ignore"):
         top = float(np.max(np.abs(mu))) if len(mu) else float("nan")
         scale = float(np.sqrt(np.mean(np.square(mu)))) if len(mu) else float("nan")

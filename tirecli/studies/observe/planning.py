@@ -14,6 +14,7 @@ from tirecli.models.profiles import Table, Transitions
 from tirecli.observers import lugre_observer as lo
 from tirecli.observers.measurement import Sensor
 from tirecli.studies.observe.spec import DEFAULT_GAINS, DEFAULT_VEHICLE, SPEC, THETA_PROFILE, TORQUE_PROFILE
+from tirecli.studies.observe.work import work_estimate
 from tirecli.studies.study import Plan
 
 @dataclass
@@ -149,12 +150,13 @@ def plan(config: Config) -> Plan:
         to_check += [(cases[-1].theta_profile, THETA_PROFILE, ("scenario", "theta")),
                      (cases[-1].scenario.torque, TORQUE_PROFILE, ("scenario", "torque"))]
     solver, deprecated = _solver(checked, config)
-    est = _sample_estimate(checked, cases, solver)
-    est.check(config.origins)   # before the checks over the run: they cost time
+    _sample_estimate(checked, cases, solver).check(config.origins)   # before the checks over the run: they cost time
     # theta > 0 and a finite torque over the whole run, not only at t = 0
     problems = profile_problems(to_check, config.origins, sc["duration"], (checked["output"] or {}).get("dt", 0.01))
     if problems:
         raise ConfigError(problems)
+    est = _sample_estimate(checked, cases, solver, plant, config.origins)   # + the solver's work (gains, method)
+    est.check(config.origins)
     met = checked["metrics"] or {}
     dur = sc["duration"]
     metrics = {
@@ -179,10 +181,11 @@ BYTES_PER_POINT, BYTES_PER_STEP = 600, 50
 ADAPTIVE_OUTPUT_DT = 1e-3
 
 
-def _sample_estimate(checked: dict, cases: list, solver):
+def _sample_estimate(checked: dict, cases: list, solver, plant=None, origins=None):
     """Samples of an observe run before it starts, per case: the recorded times (the fixed scheme's grid
     of ``solver.step``, or the adaptive methods' 1 ms output grid; ``auto`` may run either), the
-    measurement samples, the adaptive steps ``h_max`` forces and the CSV's ``output.dt`` grid."""
+    measurement samples, the adaptive steps ``h_max`` forces and the CSV's ``output.dt`` grid; with the
+    ``plant``, the solver's work too (:func:`tirecli.studies.observe.work.work_estimate`)."""
     from tirecli.limits import Estimate, steps
 
     dur = checked["scenario"]["duration"]
@@ -202,7 +205,7 @@ def _sample_estimate(checked: dict, cases: list, solver):
         samples += steps(dur, 1.0 / rate) if rate else 0.0
     n = len(cases)
     rate_paths = (("measurement", "rate"),) + tuple(("cases", i, "measurement", "rate") for i in range(n))
-    return (Estimate()
+    return ((Estimate() if plant is None else work_estimate(checked, cases, solver, plant, origins))
             .add(points, (rate_paths if by_rate else (("solver", "step"), ("numerics", "step"))) + (("scenario", "duration"),),
                  f"the recorded times ({n} case(s) x {dur:g} s, solver {solver.method})", BYTES_PER_POINT)
             .add(samples, rate_paths + (("scenario", "duration"),),

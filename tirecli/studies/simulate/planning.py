@@ -272,7 +272,7 @@ def plan(config: Config) -> Plan:
     # and both sides of every breakpoint: a formula's switch times, a table's rows, a transition's ends)
     t_end, dt = checked["t_end"], checked["output"]["dt"]
     if not problems:  # the sample budget first (the open-loop cases come below): the checks over the run cost time
-        _estimate(checked, cases).check(config.origins)
+        _estimate(checked, cases, to_check).check(config.origins)
     problems += profile_problems(to_check, config.origins, t_end, dt)
     if not problems:
         problems += _slip_problems(slip_cases, config.origins, t_end, dt)
@@ -312,7 +312,7 @@ def plan(config: Config) -> Plan:
                                   drive_case=lab, mode="open-loop", driven_by=lab))
                 cases[-1].solver = runs.SolverOptions(tol=gsolver["tol"], h_max=gsolver["h_max"],
                                                       v_stop=checked["stop"]["v_min"])
-    est = _estimate(checked, cases)
+    est = _estimate(checked, cases, to_check)
     est.check(config.origins)
     return Plan("simulate", config, checked, {"tire": tire, "vehicle": vehicle}, est, cases)
 
@@ -322,9 +322,11 @@ def plan(config: Config) -> Plan:
 BYTES_PER_STEP, BYTES_PER_ROW, BYTES_PER_SAMPLE = 1000, 2000, 400
 
 
-def _estimate(checked: dict, cases: list):
+def _estimate(checked: dict, cases: list, inputs=()):
     """Samples of a run before it starts: solver steps (at least ``t_end/h_max``, and a step end at each
-    measurement sample), output rows (``t_end/output.dt``, or the steps when 0) and measured samples."""
+    measurement sample), the steps the ``inputs`` (``(profile, spec, key path)``) force by their switches and
+    oscillations (:func:`tirecli.numerics.runs.input_steps`), output rows (``t_end/output.dt``, or the steps
+    when 0) and measured samples."""
     from tirecli.limits import Estimate, steps
 
     t_end, dt, meas = checked["t_end"], checked["output"]["dt"], checked["measurement"]
@@ -335,6 +337,12 @@ def _estimate(checked: dict, cases: list):
     est.add(n_steps, (("solver", "h_max"), ("t_end",)) + tuple(("cases", i, "solver", "h_max") for i in range(len(cases))),
             f"the solver steps ({len(cases)} case(s) x {t_end:g} s, steps of at most h_max"
             + (f" ending at each of {meas['rate']:g} samples per second)" if meas is not None else ")"), BYTES_PER_STEP)
+    for prof, _, path in inputs:
+        forced, switches, hz = runs.input_steps(prof, t_end)
+        if forced:
+            how = ", ".join(([f"{switches:,} switches"] if switches else []) + ([f"oscillating at up to {hz:.3g} Hz"] if hz else []))
+            est.add(forced, (tuple(path),), f"the solver steps to follow {'.'.join(map(str, path))} ({how} over {t_end:g} s)",
+                    BYTES_PER_STEP)
     rows = n_steps if dt == 0 else len(cases) * steps(t_end, dt)
     est.add(rows, (("output", "dt"), ("t_end",), ("cases",)),
             f"data/timeseries.csv ({len(cases)} case(s) x {t_end:g} s every {dt:g} s)", BYTES_PER_ROW)
