@@ -247,6 +247,7 @@ figures: false
     assert ids["peak_abs_slip-max"]["passed"] == (df["peak_abs_slip"].max() <= 0.3)
 
 
+@pytest.mark.slow  # long for the default run (CI's 15 min); -m slow runs it
 def test_figure_axes_carry_units(cli, tmp_path, monkeypatch):
     """Every axis of the campaign figures names its unit: the inputs' from the study's config schema and
     the parameter sets (tire.mu_s [-], input.theta [-], tire.sigma0 [1/m]), the facts' from their table."""

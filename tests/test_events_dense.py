@@ -95,6 +95,7 @@ def test_dense_output_between_steps(p, car, lock_refs):
                               + 0.5 * (Y[win, 0][-1] + np.interp(1.8, T, Y[:, 0])) * (1.8 - Tw[-1]), abs=1e-5)
 
 
+@pytest.mark.slow  # long for the default run (CI's 15 min); -m slow runs it
 def test_extrema_are_root_found(p, car):
     """Peak |slip| of a braking without lock: the maximum of the dense output (to 1e-10 of a fine scan)
     and within the integration error of the reference's peak."""
@@ -209,6 +210,7 @@ def test_paper_checks_only_for_figures_asked_for(cli, tmp_path):
     assert len(checks) > 10 and any(not c["passed"] for c in checks)
 
 
+@pytest.mark.slow  # long for the default run (CI's 15 min); -m slow runs it
 def test_open_loop_after_step_release_with_measurement_block(p, car):
     """The issue's case: a coupled braking at 950 N m with a step release, sampled at 100 Hz (the sample times
     are breakpoints), drives the lumped kappa0(Z) tire open loop through the wheel's spin-up (was |dmu| 0.34)."""

@@ -36,6 +36,7 @@ def test_a_failed_check_says_what_was_checked(cli, tmp_path):
     assert any("check failed: fm-fig1-left/peak-v20: peak |mu| at v = 20 m/s: " in ln for ln in lines), lines
 
 
+@pytest.mark.slow  # long for the default run (CI's 15 min); -m slow runs it
 def test_the_monte_carlo_example_says_why_its_checks_fail(cli, tmp_path):
     """campaign-fm-fig4-mc fails its two checks by design: the output says so (the checks' descriptions),
     and docs/campaigns.md shows those lines (here on 24 of its 1000 points)."""

@@ -295,6 +295,7 @@ cases:
 """
 
 
+@pytest.mark.slow  # long for the default run (CI's 15 min); -m slow runs it
 def test_many_cases_stream_the_same_timeseries(cli, tmp_path, monkeypatch):
     from tirecli.studies.simulate import running
 
@@ -385,6 +386,7 @@ def test_drawn_rows_are_rows_of_the_timeseries(dt):
         pd.testing.assert_frame_equal(drawn, whole.iloc[rows].reset_index(drop=True), check_exact=True)
 
 
+@pytest.mark.slow  # long for the default run (CI's 15 min); -m slow runs it
 def test_many_cases_same_files_with_or_without_the_helper_process(cli, tmp_path, monkeypatch):
     from tirecli import parallel
 
