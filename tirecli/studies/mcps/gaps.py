@@ -47,8 +47,11 @@ def variant(row_model: str, carcass: str, calibrated: bool) -> str:
 
 def _gap_dict(g, q: str, xs: str) -> dict:
     u = UNITS[q]
-    return {f"{q}_max_{u}": g.max, f"{q}_at_{xs}": g.at, f"{q}_rms_{u}": g.rms, f"{q}_max_rel": g.max_rel,
-            f"{q}_rms_rel": g.rms_rel, f"{q}_points": g.points, f"{q}_skipped": g.skipped}
+    out = {f"{q}_max_{u}": g.max, f"{q}_at_{xs}": g.at, f"{q}_rms_{u}": g.rms, f"{q}_max_rel": g.max_rel,
+           f"{q}_rms_rel": g.rms_rel, f"{q}_points": g.points, f"{q}_skipped": g.skipped}
+    if g.peak == 0:  # a reference line at 0 (Fig. 11): no relative gap
+        del out[f"{q}_max_rel"], out[f"{q}_rms_rel"]
+    return out
 
 
 def stationary_gaps(df) -> dict:
