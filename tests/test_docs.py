@@ -52,7 +52,7 @@ FRAGMENTS = {
 #: every grid ``{start, stop, num}`` is capped at ``GRID_CAP`` points.
 REDUCE = {
     "sweep": {},
-    "mcps-stationary": {"calibrate.points": "5", "carcass": "[rigid]"},
+    "mcps-stationary": {"carcass": "[rigid]"},
     "mcps-slider": {"periods": "1", "samples": "64", "compare_period": "null"},
     "mcps-standstill": {"cycles": "1", "samples": "64", "patch_samples": "8", "grid": "21"},
     "mcps-relaxation": {"distance": "0.5", "cells": "40"},

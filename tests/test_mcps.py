@@ -457,17 +457,21 @@ def test_simple_magic_formula_fallback():
 
 def test_calibration_against_the_fallback(p):
     """docs §8: against the simple-form fallback mu_x and alpha_x end at their bounds, a gap of about
-    120 N remains, and the slip stiffness ends about 25 % above the Magic Formula's."""
-    from tirecli.numerics.mcps_calibrate import calibrate
+    121 N remains (the closed form of Fx re-evaluated here), and the slip stiffness ends about 25 % above
+    the Magic Formula's."""
+    from tirecli.models.mcps.tire import pure_longitudinal_fx
+    from tirecli.numerics.mcps_calibrate import calibrate_to_mf
     from tirecli.parameters.sets import load_builtin
 
     m = load_builtin("mcps-simple-mf").model()
-    grid = {"kappa": np.linspace(0, 0.12, 41)[1:], "alpha": np.radians(np.linspace(0, 12, 41)[1:])}
-    q, rep = calibrate(p, 4000, {"fx": lambda k: m.pure(k, 0, 4000)[0]}, grid)
-    r = rep["fx"]
-    assert r["at_bound"]["mu_x"] and r["at_bound"]["alpha_x"] and not r["at_bound"]["r_x"]
-    assert r["max_gap"] == pytest.approx(120, abs=5) and r["max_gap"] < r["max_gap_before"]
-    assert q.stiffnesses(4000)["D_xsigma"] / (m.Bx * m.Cx * m.Dx * 4000) == pytest.approx(1.25, abs=0.03)
+    k, a = np.linspace(0, 0.12, 49), np.radians(np.linspace(0, 12, 13))
+    cal = calibrate_to_mf(p, 4000, lambda kk, aa: m.evaluate(kk, aa, 4000), k, a)
+    f = cal.fitted
+    assert f["mu_x"].at_bound == "lower" and f["alpha_x"].at_bound == "upper" and f["r_x"].at_bound is None
+    gap = np.max(np.abs(pure_longitudinal_fx(k, cal.params, 4000) - m.evaluate(k, 0.0, 4000)[0]))
+    assert gap == pytest.approx(121.0, abs=0.5) and cal.gaps["calibrated"]["fx"].max == pytest.approx(gap, abs=1e-6)
+    assert cal.gaps["calibrated"]["fx"].max < cal.gaps["start"]["fx"].max
+    assert cal.params.stiffnesses(4000)["D_xsigma"] / (m.Bx * m.Cx * m.Dx * 4000) == pytest.approx(1.25, abs=0.03)
 
 
 def test_rate_independence_of_the_time_integrated_law(slider_law):

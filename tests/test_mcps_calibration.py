@@ -259,3 +259,71 @@ def test_large_slip_sign_of_the_aligning_torque(p, alpha_y, beta_y):
         Kp, Fk = q.w * q.r_y, q.mu_y * pa.P * q.w
         B = (alpha_y - 1) ** 2 / (beta_y - 1) - alpha_y**2 / beta_y
         assert st.mz[0] == pytest.approx(-q.c_Mz * q.mu_y * FZ * Fk / (2 * Kp * math.tan(a)) * B, rel=0.05)
+
+
+# --------------------------------------------------------------------------- the paper's side-force axis, the study's gaps
+
+ALPHA_FY = -ALPHA[::-1]                     # Fig. 8 draws Fy at alpha <= 0 against -alpha (the paper's "-delta")
+
+
+def test_fig8_gap_at_negative_slip_angles(p, tyre):
+    """The default MCPS against the drawn tyre where Fig. 8 draws it (alpha_s <= 0, each model's own Fy):
+    the reference values of docs §11, computed here from the model functions directly."""
+    z = np.zeros_like(ALPHA_FY)
+    fy = solve(p, FZ, z, ALPHA_FY, z, tol=1e-12).fy
+    mfy = np.asarray(mf_eval(tyre, 0.0, ALPHA_FY)[1])
+    d = fy - mfy
+    i = int(np.argmax(np.abs(d)))
+    assert abs(d[i]) == pytest.approx(922.15, abs=0.01) and ALPHA_FY[i] / DEG == pytest.approx(-4.0)
+    assert np.sqrt(np.mean(d**2)) == pytest.approx(571.84, abs=0.01)
+    assert mfy[-1] == pytest.approx(69.90, abs=0.01) and fy[-1] == 0.0  # the offset is drawn, never mirrored away
+    assert np.max(np.abs(mfy + np.asarray(mf_eval(tyre, 0.0, -ALPHA_FY)[1]))) > 100  # the tyre is not odd
+
+
+@pytest.fixture(scope="module")
+def cal_fy(p, tyre):
+    from tirecli.numerics.mcps_calibrate import calibrate_to_mf
+
+    return calibrate_to_mf(p, FZ, lambda k, a: mf_eval(tyre, k, a), KAPPA, ALPHA, alpha_fy=ALPHA_FY)
+
+
+def test_calibration_on_the_drawn_side_force(cal_fy, tyre):
+    """With Fy fitted where Fig. 8 draws it: the targets hold for the re-solved set (Fx, Fy within 5 % of the
+    peak; Mz peak within 1 deg), and the reported Fy gap is over alpha_fy."""
+    q = cal_fy.params
+    z = np.zeros_like(ALPHA_FY)
+    fy = solve(q, FZ, z, ALPHA_FY, z).fy
+    mfy = np.asarray(mf_eval(tyre, 0.0, ALPHA_FY)[1])
+    assert cal_fy.gaps["calibrated"]["fy"].max == pytest.approx(np.max(np.abs(fy - mfy)), abs=1e-6)
+    assert np.max(np.abs(fy - mfy)) <= 0.05 * np.max(np.abs(mfy))
+    assert cal_fy.gaps["calibrated"]["fx"].max_rel <= 0.05
+    assert abs(cal_fy.peaks["calibrated"]["alpha"] - cal_fy.peaks["mf"]["alpha"]) <= 1 * DEG
+    assert cal_fy.fit["points"]["fy"] == ALPHA_FY.size and np.array_equal(cal_fy.alpha_fy, ALPHA_FY)
+
+
+def test_study_gaps_are_the_drawn_curves(p, tyre):
+    """stationary_gaps on a small frame: Fig. 8 compares the points with alpha <= 0, Fig. 9 those with
+    alpha >= 0, each by max/at/RMS computed here with numpy; Fig. 11 against the Magic Formula line at 0."""
+    import pandas as pd
+
+    from tirecli.studies.mcps.gaps import calibration_grids, stationary_gaps
+
+    a = np.radians([-6.0, -3.0, 0.0, 3.0, 6.0])
+    z = np.zeros_like(a)
+    st = solve(p, FZ, z, a, z)
+    _, mfy, mmz = (np.asarray(v) for v in mf_eval(tyre, 0.0, a))
+    rows = lambda model, fy, mz: pd.DataFrame({"model": model, "carcass": "complete" if model == "mcps" else "",  # noqa: E731
+                                               "calibrated": False, "family": "alpha", "fz": FZ, "kappa": 0.0,
+                                               "alpha": a, "phi": 0.0, "fx": 0.0, "fy": fy, "mz": mz})
+    df = pd.concat([rows("mcps", st.fy, st.mz), rows("mf", mfy, mmz)], ignore_index=True)
+    g = stationary_gaps(df)
+    f8, f9 = g["mcps-fig8"]["4000 N"]["complete"], g["mcps-fig9"]["4000 N"]["complete"]
+    neg, pos = a <= 0, a >= 0
+    d8, d9 = (st.fy - mfy)[neg], (st.mz - mmz)[pos]
+    assert f8["fy_points"] == 3 and f8["fy_max_N"] == pytest.approx(np.max(np.abs(d8)), abs=1e-9)
+    assert f8["fy_at_rad"] == a[neg][np.argmax(np.abs(d8))]
+    assert f9["mz_rms_Nm"] == pytest.approx(np.sqrt(np.mean(d9**2)), abs=1e-9)
+    assert "mcps-fig7" not in g
+    grids = calibration_grids([("alpha", z, a, z)])
+    assert np.array_equal(grids["alpha_fy"], a[neg]) and np.array_equal(grids["alpha"], a[pos])
+    assert grids["kappa"].size == 49

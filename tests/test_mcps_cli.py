@@ -56,14 +56,18 @@ def test_compare_output_contract(cli, tmp_path):
 
 def test_compare_calibration_writes_a_usable_set(cli, tmp_path):
     cfg = _write(tmp_path, "cal.yaml", "study: mcps-stationary\nmf: simple\nkappa: [0.02, 0.06, 0.1]\n"
-                                      "alpha: [0.02, 0.1]\ncalibrate: {points: 12}\n")
+                                      "alpha: [-0.1, -0.02, 0.02, 0.1]\ncalibrate: {load: 4000}\n")
     code, out, err = cli("compare", cfg, "--out", tmp_path / "o")
     assert code == 0, err
-    assert "calibration of fx" in out and "at a bound" in out
+    assert "calibration to mcps-simple-mf" in out
     run = json.loads((tmp_path / "o" / "run.json").read_text())
     cal = run["meta"]["calibration"]
-    assert set(cal["groups"]) == {"fx", "fy", "mz"}
-    assert cal["groups"]["fx"]["at_bound"]["mu_x"] is True
+    assert set(cal["gaps"]["calibrated"]) == {"fx", "fy", "mz"} and cal["at_bound"]
+    for n in cal["at_bound"]:  # every parameter on a bound is named with the bound and its source
+        f = cal["fitted"][n]
+        assert f"{n} ends at its {f['at_bound']} bound {f[f['at_bound']]:g} ({f['bound_source']})" in out
+    assert cal["grids"]["alpha_fy"]["points"] == 2 and cal["grids"]["alpha"]["points"] == 2  # the drawn points
+    assert run["meta"]["gaps"]["mcps-fig8"]["4000 N"]["calibrated"]["fy_points"] == 2
     assert "calibrated" in run["parameters"]
     df = pd.read_csv(tmp_path / "o" / "data" / "stationary.csv")
     assert set(df["calibrated"]) == {True, False}
@@ -152,9 +156,9 @@ def test_option_forms(cli, tmp_path):
     code, out, err = cli("simulate", path, "--out", tmp_path / "o")
     assert code == 0, err
     assert set(pd.read_csv(tmp_path / "o" / "data" / "slider.csv")["period"]) == {2.0}
-    path = _write(tmp_path, "c.yaml", "study: mcps-stationary\nkappa: [0.1]\nmf: simple\ncalibrate: {points: 3}\n")
+    path = _write(tmp_path, "c.yaml", "study: mcps-stationary\nkappa: [0.1]\nmf: simple\ncalibrate: {mz_weight: -1}\n")
     code, out, err = cli("compare", path)
-    assert code == 2 and "calibrate.points" in err and ">= 5" in err, err
+    assert code == 2 and "calibrate.mz_weight" in err and ">= 0" in err, err
 
 
 def test_non_converging_fixed_point_writes_nothing(cli, tmp_path):
@@ -200,7 +204,10 @@ def test_report_mcps_section_strict(cli, tmp_path):
                 "mcps-relaxation/complete-dip", "mcps-relaxation/complete-steady", "mcps-relaxation/complete, twist locked-63",
                 "mcps-fig5/mz-minus-A", "mcps-fig5/max-mz", "mcps-fig4/first-cycle", "mcps-fig3/peak-force",
                 "mcps-fig7/fx-0.12", "mcps-fig8/fy-12deg", "mcps-fig9/mz-peak", "mcps-fig10/fy-a4-k0.05",
-                "mcps-fig11/rigid-fy-0.1", "mcps-calibration/fx-max-gap", "mcps-calibration/mu_x-at-bound"):
+                "mcps-fig11/rigid-fy-0.1", "mcps-calibration/fx-target", "mcps-calibration/fy-target",
+                "mcps-calibration/mz-peak-target", "mcps-fig7/stand-in-fx-complete-4000",
+                "mcps-fig8/stand-in-fy-complete-4000", "mcps-fig9/stand-in-mz-complete-4000",
+                "mcps-fig8/gap-fy-calibrated-4000", "mcps-fig10/gap-fy-complete-4000-4deg"):
         assert cid in ids, cid  # the paper's scenario runs its reference checks (none silently skipped)
     bounded = [c for c in summary["checks"] if c.get("bound")]
     assert bounded and "&le;" in html

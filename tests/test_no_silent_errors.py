@@ -256,13 +256,17 @@ def test_fit_failure_rules(table1):
 
 
 def test_mcps_calibration_refuses_a_target_it_cannot_evaluate():
-    from tirecli.numerics.mcps_calibrate import calibrate
+    from tirecli.numerics.mcps_calibrate import calibrate_to_mf
     from tirecli.parameters.sets import load_builtin
 
     p = load_builtin("sorine2000-mcps").model()
-    nan = {"fx": lambda k: np.full(np.shape(k), np.nan)}
-    cur, report = calibrate(p, 4000.0, nan, {"kappa": np.linspace(0.01, 0.1, 5), "alpha": np.linspace(0.01, 0.1, 5)})
-    assert cur is p and "not finite" in report["fx"]["failure"]
+
+    def nan(k, a):
+        k, a = np.broadcast_arrays(np.asarray(k, dtype=float), np.asarray(a, dtype=float))
+        return np.full(k.shape, np.nan), np.zeros(k.shape), np.zeros(k.shape)
+
+    with pytest.raises(ValueError, match="fx curve is not finite"):
+        calibrate_to_mf(p, 4000.0, nan, np.linspace(0.01, 0.1, 5), np.linspace(0.01, 0.1, 5))
 
 
 # --------------------------------------------------------------------------- YAML

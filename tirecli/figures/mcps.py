@@ -1,11 +1,9 @@
-"""MCPS figures (Sorine & Szymanski 2000): Figs. 3-5 and 7-11, the relaxation run, the calibration
-and the parameter table (``docs/models/mcps_tire.md``).
+"""MCPS figures (Sorine & Szymanski 2000): Figs. 1-6, the relaxation run and the parameter table
+(``docs/models/mcps_tire.md``); Figs. 7-11 and the calibration card are in
+:mod:`tirecli.figures.mcps_stationary` (imported here, so every ``mcps-`` figure registers with this module).
 
-Forces are computed in ISO-W, road on tire (:mod:`tirecli.models.mcps.tire`). The paper-style signs
-are applied here, at the plotting step only (docs/models/mcps_tire.md §1): side force ``-Fy`` and
-aligning torque ``+Mz`` against the slip angle ``alpha_s`` (equivalently ``Fy`` against
-``-alpha_s``, the paper's "-delta" axis of Fig. 8); Fig. 10 draws the same ordinates against
-``Fx``; Fig. 11 draws magnitudes. Slip angles are drawn in degrees, slips in percent.
+Forces are computed in ISO-W, road on tire (:mod:`tirecli.models.mcps.tire`). Slip angles are drawn in
+degrees, slips in percent.
 
 Their reference checks (model checks against closed forms and linear stiffnesses, reference checks
 against docs/models/mcps_tire.md §11) are in :mod:`tirecli.studies.checks.mcps`.
@@ -16,192 +14,12 @@ import math
 
 import numpy as np
 
+import tirecli.figures.mcps_stationary  # noqa: F401  (registers Figs. 7-11 and the calibration card)
+from tirecli.figures.mcps_common import legend_below, tire_name, tire_text, require
 from tirecli.figures.registry import Table, register
-from tirecli.figures.style import COLORS, LINESTYLES, MAX_COLUMNS, direct_labels, finish, new_figure, suptitle
+from tirecli.figures.style import COLORS, LINESTYLES, finish, new_figure, suptitle
 
 DEG = math.pi / 180.0
-
-
-def require(result, study: str, fid: str, family: str | None = None) -> None:
-    """A UsageError unless ``result`` is a ``study`` run (holding ``family`` for stationary figures)."""
-    from tirecli.errors import UsageError
-
-    if result.study != study:
-        raise UsageError(f"figure {fid!r} draws an '{study}' run, not a '{result.study}' run (see 'tirecli figures list')")
-    if family is not None and family not in set(result.data["stationary"]["family"]):
-        raise UsageError(f"figure {fid!r} draws the '{family}' family: add '{family}:' to the config")
-
-
-def _reference(result) -> bool:
-    from tirecli.studies.mcps.common import reference_tire
-
-    return reference_tire(result.parameter_sets["tire"])
-
-
-def _tire_name(result) -> str:
-    return result.parameter_sets["tire"].label
-
-
-# --------------------------------------------------------------------------- stationary curves
-
-
-def _variants(df):
-    """The curves of a stationary frame: ``(label, selection, style)`` for MCPS (each carcass,
-    calibrated) and the Magic Formula."""
-    out = []
-    for (model, carcass, cal), _ in df.groupby(["model", "carcass", "calibrated"], sort=False):
-        sel = (df["model"] == model) & (df["carcass"] == carcass) & (df["calibrated"] == cal)
-        if model == "mf":
-            style = {"color": "#000000", "ls": "-", "lw": 1.4}
-            label = "MF"
-        elif cal:
-            style = {"color": COLORS[2], "ls": "-.", "lw": 1.4}
-            label = f"MCPS calibrated ({carcass})"
-        elif carcass == "complete":
-            style = {"color": COLORS[0], "ls": "-", "lw": 1.6}
-            label = "MCPS complete model"
-        else:
-            style = {"color": COLORS[1], "ls": "--", "lw": 1.3}
-            label = "MCPS solid carcass"
-        out.append((label, sel, style))
-    return out
-
-
-def _legend_below(fig, ax, ncol=3):
-    """One legend for the figure, below the panels (never over the curves)."""
-    h, lab = ax.get_legend_handles_labels()
-    if h:
-        fig.legend(h, lab, loc="outside lower center", ncol=ncol, fontsize=8, frameon=False)
-
-
-def _mf_label(result) -> str:
-    return result.meta["mf"]["label"]
-
-
-def _curve_panels(result, family, x_col, y_fn, xlabel, ylabel, title, x_scale=1.0):
-    """One panel per load (three per row), one legend below the panels."""
-    df = result.data["stationary"]
-    d = df[df["family"] == family]
-    loads = sorted(d["fz"].unique())
-    ncols = min(len(loads), 3)
-    nrows = -(-len(loads) // 3)
-    fig, axes = new_figure(ncols=ncols, nrows=nrows, width=6.4 if ncols == 1 else 4.2 * ncols, height=4.0 + 3.2 * (nrows - 1))
-    axes = np.atleast_1d(axes).ravel()
-    for ax, fz in zip(axes, loads):
-        dl = d[d["fz"] == fz]
-        for label, sel, style in _variants(dl):
-            g = dl[sel].sort_values(x_col)
-            ax.plot(g[x_col] * x_scale, y_fn(g), label=_mf_label(result) if label == "MF" else label, **style)
-        finish(ax, xlabel, ylabel, f"Fz = {fz:g} N" if len(loads) > 1 else None, legend=False)
-    for ax in axes[len(loads):]:
-        ax.set_visible(False)
-    _legend_below(fig, axes[0], ncol=2)
-    fig.suptitle(title, fontsize=10)
-    return fig
-
-
-def _first_load(result, fid, family):
-    """The rows of ``family`` at the run's first load (figures drawn at one load): ``(frame, fz)``."""
-    require(result, "mcps-stationary", fid, family)
-    df = result.data["stationary"]
-    d = df[df["family"] == family]
-    fz = sorted(d["fz"].unique())[0]
-    return d[d["fz"] == fz], fz
-
-
-# --------------------------------------------------------------------------- captions (describe the run at hand)
-
-
-def _loads_text(result, default="4000 N") -> str:
-    if result is None:
-        return default
-    loads = result.meta.get("loads") or [result.meta.get("scenario", {}).get("fz_N", 4000.0)]
-    return ", ".join(f"{f:g}" for f in loads) + " N"
-
-
-def _mf_text(result) -> str:
-    """What the Magic Formula side of a stationary run is."""
-    mf = (result.meta.get("mf") or {}) if result is not None else {"kind": "tir", "name": "externdata-205-60r15"}
-    if mf.get("kind") == "none":
-        return "no Magic Formula tyre (mf: none)"
-    if mf.get("kind") == "simple":
-        return ("the simple-form Magic Formula with fixed B, C, D, E [assumed] (combined slip by the normalised-slip "
-                "method)")
-    name = mf.get("name", "")
-    if name == "externdata-205-60r15":
-        return ("a real Magic Formula tyre, the ExternData sample MF 6.1 205/60R15 at 4000 N (a stand-in: the paper's "
-                "165/65R14 data are not public), steady state, camber 0, input limits off")
-    return f"the Magic Formula tyre {name} (steady state, camber 0, input limits off)"
-
-
-def _models_text(result) -> str:
-    """The MCPS curves of a stationary run."""
-    if result is None:
-        carc, cal = ["complete", "rigid"], True
-    else:
-        carc, cal = result.meta.get("carcass", ["complete"]), bool(result.meta.get("calibration"))
-    parts = []
-    if "complete" in carc:
-        parts.append("the complete model (belt fixed point, MCPS eq. 18)")
-    if "rigid" in carc:
-        parts.append("the solid carcass (eq. 14)")
-    if cal:
-        parts.append("MCPS with its rubber parameters calibrated to the Magic Formula curves (docs/models/mcps_tire.md §8)")
-    return ", ".join(parts)
-
-
-def _tire_text(result) -> str:
-    if result is None or _reference(result):
-        return "the default tire sorine2000-mcps [every value assumed: the paper prints none]"
-    return f"the tire {_tire_name(result)}"
-
-
-def _caption_fig7(result):
-    return (f"Fx against the longitudinal slip kappa (ISO-W, road on tire) at {_loads_text(result)}, alpha = 0: MCPS with "
-            f"{_tire_text(result)}, {_models_text(result)}; and {_mf_text(result)}. In pure longitudinal slip the complete "
-            "model and the solid carcass coincide exactly. With the default tire MCPS rises more slowly than a Magic "
-            "Formula and is still rising at 12 %; calibration narrows the gap but cannot close it (a patch mean of a Dahl "
-            "response bends over more slowly). Equations and choices: docs/models/mcps_tire.md.")
-
-
-def _caption_fig8(result):
-    return (f"Side force -Fy against the slip angle alpha_s at {_loads_text(result)}, kappa = 0. Paper-style signs: the "
-            "ISO-W side force Fy is negated (a positive slip angle gives a negative ISO Fy), the aligning torque is drawn "
-            f"as computed. MCPS with {_tire_text(result)}: {_models_text(result)}; and {_mf_text(result)}. The belt twist "
-            "lowers the cornering stiffness of the complete model below the solid carcass's (eq. 20; 36 910 against "
-            "44 590 N/rad for the default tire at 4000 N).")
-
-
-def _caption_fig9(result):
-    return (f"Aligning torque Mz (ISO-W, not negated) against the slip angle at {_loads_text(result)}, kappa = 0: rise, "
-            "peak at a moderate angle, decline as the patch slides and the pneumatic trail collapses. MCPS with "
-            f"{_tire_text(result)}: {_models_text(result)} (c_Mz fitted last); and {_mf_text(result)} (Mz of its "
-            "combined-slip formula at kappa = 0). The twist lowers the aligning stiffness (eq. 20).")
-
-
-def _caption_fig10(result):
-    if result is None or result.payload is None or "checked" not in result.payload:
-        fam = "alpha_s = 1, 2, 4 deg with kappa swept from -0.1 (braking) to +0.1 (driving)"
-    else:
-        comb = result.payload["checked"]["combined"] or {"alpha": [], "kappa": [0.0]}
-        al = ", ".join(f"{a / DEG:.3g}" for a in comb["alpha"])
-        fam = f"alpha_s = {al} deg with kappa swept from {min(comb['kappa']):g} to {max(comb['kappa']):g}"
-    return (f"Families at constant slip angle, {fam} [assumed scenario], at {_loads_text(result)} (the first load is "
-            "drawn): -Fy (top row) and Mz (bottom row) against Fx, paper-style signs, one column per model (shared "
-            "ordinates), one colour per slip angle, named at the curve's end. The side force falls as |Fx| grows for both "
-            "models. The aligning torque differs: in MCPS (complete model) braking drives Mz towards 0 while driving keeps "
-            "it large, through the belt offsets in MW = MA + x FAy - y FAx (eq. 16); the solid carcass gives a nearly "
-            f"symmetric curve. Magic Formula side: {_mf_text(result)}; its combined-slip rules do not describe this "
-            "influence of Fx on Mz.")
-
-
-def _caption_fig11(result):
-    return (f"|Fy| (left) and |Mz| (right) produced by path curvature alone (Vy = 0, Vx = r omega, yaw rate = phi Vx; "
-            f"both negative in ISO for phi > 0, magnitudes drawn [assumed]) at {_loads_text(result, '2000 N')} (the first "
-            f"load is drawn). MCPS with {_tire_text(result)}: {_models_text(result)}, the lateral slip varying along "
-            "the patch, frame-rotation term off: nearly linear; the belt twist raises |Fy| and lowers |Mz|. A Magic "
-            "Formula without turn slip has no curvature input: its response is zero (its constant output at zero slip, a "
-            "conicity/ply-steer offset, is not a curvature response and is given in the legend).")
 
 
 def _caption_fig3(result):
@@ -218,7 +36,7 @@ def _caption_fig3(result):
         periods = f"T = {per[0]:g} s (solid, exact increments)" + (
             f" and T = {per[1]:g} s (dashed, eq. 9 integrated in time)" if len(per) > 1 else "")
         frame = "on" if sc["frame_term"] else "off"
-    return (f"One slider ({vals}; {_tire_text(result)}) driven by u_x = A sin(2 pi t/T), psi = Psi sin(2 pi t/T), "
+    return (f"One slider ({vals}; {tire_text(result)}) driven by u_x = A sin(2 pi t/T), psi = Psi sin(2 pi t/T), "
             f"{motion} [assumed scenario], frame-rotation term {frame}. Force and torque are what the slider transmits to "
             "the road (MCPS eq. 9). Initial slope K (S_z), overshoot above the Coulomb level on first loading (4/3 F_k "
             f"with alpha = 3, beta = 1.5) and more after each reversal (limit 5/3 F_k), then the Coulomb level. {periods}: "
@@ -237,7 +55,7 @@ def _standstill_text(result):
 
 
 def _caption_fig4(result):
-    return (f"Blocked wheel (V = 0, rigid belt; {_standstill_text(result)}; {_tire_text(result)}). Top: the lateral "
+    return (f"Blocked wheel (V = 0, rigid belt; {_standstill_text(result)}; {tire_text(result)}). Top: the lateral "
             "force density f_y(xi, t) of the road on the tire (ISO-W; odd in xi) as a map over the patch and time (the "
             "paper's surface seen from above; dotted: |f_y| = F'_ky); below: profiles at the yaw reversals over F'_ky "
             "(the lines of their colours on the map). Near the centre f_y grows with |xi| psi; the edges saturate "
@@ -247,7 +65,7 @@ def _caption_fig4(result):
 
 def _caption_fig5(result):
     return (f"Mz (road on tire, ISO) against the yaw angle psi for the Fig. 4 motion ({_standstill_text(result)}; "
-            f"{_tire_text(result)}). Linear start with slope -C_z (eq. 11, dashed), saturation towards -sgn(yaw rate) times "
+            f"{tire_text(result)}). Linear start with slope -C_z (eq. 11, dashed), saturation towards -sgn(yaw rate) times "
             "the asymptotic torque (dotted: with the frame term; dash-dot: eq. 12, without it) with overshoot, a larger "
             "overshoot after each reversal, and a loop that settles to a periodic one within a few cycles (the first is not "
             "symmetric). The Magic Formula has no torque at standstill. The scan's torque ticks suggest the paper's tire "
@@ -262,179 +80,12 @@ def _caption_relaxation(result):
         scen = f"at {sc['speed_m_per_s']:g} m/s, Vy steps to Vx tan({sc['alpha_rad'] / DEG:.3g} deg) ({sc['fz_N']:g} N)"
         cases = ", ".join(c["label"] for c in result.meta["cases"])
     return (f"From free rolling {scen} at t = 0 [assumed scenario]; Fy/Fy_inf (left) and Mz (right) against the rolled "
-            f"distance, frame-rotation term on; cases: {cases}; {_tire_text(result)}. The solid carcass is exact by "
+            f"distance, frame-rotation term on; cases: {cases}; {tire_text(result)}. The solid carcass is exact by "
             "characteristics and steady after one patch length. With the default tire at 20 m/s and 1 deg the complete "
             "model is not monotone (about 72 % at 0.08 m, a dip to about 25 % near 0.19 m, then a slow rise, 95 % near "
             "0.78 m): the dip is the lateral belt mode y, it stays with the twist locked (63 % first reached at 0.309 m) "
             "and vanishes when y is locked. Transport by Lagrangian tread elements (CFL = 1), second order. The Magic "
             "Formula, a stationary model, cannot give this build-up.")
-
-
-# --------------------------------------------------------------------------- Fig. 7
-
-
-@register(
-    "mcps-fig7", paper="MCPS", label="Fig. 7", study="mcps-fig7-9", order=70,
-    title="Stationary longitudinal force: MCPS against the Magic Formula",
-    caption=_caption_fig7,
-    paper_shows="Fx against the slip (ticks up to about 12, likely %) for a 165/65R14 tire, MCPS and 'PaMaF': two "
-                "very similar curves from the origin, bending over.",
-)
-def draw_fig7(result):
-    require(result, "mcps-stationary", "mcps-fig7", "kappa")
-    return _curve_panels(result, "kappa", "kappa", lambda g: g["fx"], "longitudinal slip kappa [%]", "Fx [N]",
-                         f"MCPS Fig. 7: stationary Fx, {_tire_name(result)}", x_scale=100.0)
-
-
-# --------------------------------------------------------------------------- Figs. 8, 9
-
-
-@register(
-    "mcps-fig8", paper="MCPS", label="Fig. 8", study="mcps-fig7-9", order=80,
-    title="Stationary lateral force: MCPS against the Magic Formula",
-    caption=_caption_fig8,
-    paper_shows="Lateral force against the slip angle (axis '-delta (deg)', 0-12 deg), MCPS and PaMaF nearly coincident: "
-                "linear start, curvature, saturation.",
-)
-def draw_fig8(result):
-    require(result, "mcps-stationary", "mcps-fig8", "alpha")
-    return _curve_panels(result, "alpha", "alpha", lambda g: -g["fy"], "slip angle alpha_s [deg]",
-                         "side force -Fy [N] (ISO Fy negated)", f"MCPS Fig. 8: stationary side force, {_tire_name(result)}",
-                         x_scale=1.0 / DEG)
-
-
-@register(
-    "mcps-fig9", paper="MCPS", label="Fig. 9", study="mcps-fig7-9", order=90,
-    title="Stationary self-aligning torque: MCPS against the Magic Formula",
-    caption=_caption_fig9,
-    paper_shows="Self-aligning torque against the slip angle (axis 'delta (deg)', 0-12 deg), MCPS and PaMaF of similar shape.",
-)
-def draw_fig9(result):
-    require(result, "mcps-stationary", "mcps-fig9", "alpha")
-    return _curve_panels(result, "alpha", "alpha", lambda g: g["mz"], "slip angle alpha_s [deg]", "aligning torque Mz [N m]",
-                         f"MCPS Fig. 9: stationary aligning torque, {_tire_name(result)}", x_scale=1.0 / DEG)
-
-
-# --------------------------------------------------------------------------- Fig. 10
-
-
-@register(
-    "mcps-fig10", paper="MCPS", label="Fig. 10", study="mcps-fig10", order=100,
-    title="Stationary combined slip at 4000 N: side force and aligning torque against Fx",
-    caption=_caption_fig10,
-    paper_shows="Lateral force vs longitudinal force and aligning torque vs longitudinal force at 4000 N for small slip "
-                "angles and slips, MCPS against PaMaF: similar Fy-Fx curves, clearly different Mz-Fx curves.",
-)
-def draw_fig10(result):
-    import textwrap
-
-    d, fz = _first_load(result, "mcps-fig10", "combined")
-    variants = _variants(d)
-    # one column per model (at most MAX_COLUMNS, then a second block of rows), -Fy above Mz (the same scales
-    # in every panel, so MCPS and the Magic Formula read across); one colour per slip angle, named at the
-    # curve's driving end
-    ncols = min(len(variants), MAX_COLUMNS)
-    blocks = -(-len(variants) // ncols)
-    fig, axes = new_figure(nrows=2 * blocks, ncols=ncols, width=3.7 * ncols + 0.6, height=3.6 * 2 * blocks)
-    axes = np.asarray(axes).reshape(2 * blocks, ncols)
-    alphas = sorted(d["alpha"].unique(), key=abs)
-    colour = {al: COLORS[i % len(COLORS)] for i, al in enumerate(alphas)}
-    ends = {}
-    for j, (label, sel, style) in enumerate(variants):
-        a, b = axes[2 * (j // ncols), j % ncols], axes[2 * (j // ncols) + 1, j % ncols]
-        for al in alphas:
-            g = d[sel & (d["alpha"] == al)].sort_values("kappa")
-            kw = {"color": colour[al], "ls": style["ls"], "lw": style["lw"]}
-            a.plot(g["fx"], -g["fy"], **kw)
-            b.plot(g["fx"], g["mz"], **kw)
-            last = g.iloc[-1]
-            for ax, y in ((a, -last["fy"]), (b, last["mz"])):
-                ends.setdefault(ax, []).append((last["fx"], y, f"{al / DEG:.3g} deg", colour[al]))
-        name = _mf_label(result) if label == "MF" else label
-        finish(a, "", "side force -Fy [N]" if j % ncols == 0 else "", "\n".join(textwrap.wrap(name, 38)), legend=False)
-        finish(b, "Fx [N] (< 0 braking)", "aligning torque Mz [N m]" if j % ncols == 0 else "", legend=False)
-        a.tick_params(labelbottom=False)
-        if j % ncols:
-            a.tick_params(labelleft=False)
-            b.tick_params(labelleft=False)
-    for ax in axes.ravel():
-        ax.set_visible(ax in ends)
-    lo, hi = float(d["fx"].min()), float(d["fx"].max())
-    for row in range(2):
-        panels = [ax for ax in axes[row::2].ravel() if ax in ends]
-        ylo = min(ax.get_ylim()[0] for ax in panels)
-        yhi = max(ax.get_ylim()[1] for ax in panels)
-        for ax in panels:
-            ax.set_xlim(lo - 0.04 * (hi - lo), hi + 0.2 * (hi - lo))  # room right of the curves for their names
-            ax.set_ylim(ylo, yhi)
-            direct_labels(ax, ends[ax])
-    suptitle(fig, f"MCPS Fig. 10: combined slip at {fz:g} N, {_tire_name(result)}; families at constant slip angle "
-                  "alpha_s (named at their ends)")
-    return fig
-
-
-# --------------------------------------------------------------------------- Fig. 11
-
-
-@register(
-    "mcps-fig11", paper="MCPS", label="Fig. 11", study="mcps-fig11", order=110,
-    title="Stationary curvature (yaw-rate) response at 2000 N",
-    caption=_caption_fig11,
-    paper_shows="Lateral force and self-aligning torque against the path curvature (ticks about 0-0.1 1/m) at 2000 N; "
-                "PaMaF gives no such response.",
-)
-def draw_fig11(result):
-    d, fz = _first_load(result, "mcps-fig11", "curvature")
-    fig, (a, b) = new_figure(ncols=2, width=11.0, height=4.4)
-    for label, sel, style in _variants(d):
-        g = d[sel].sort_values("phi")
-        fy, mz = g["fy"].to_numpy(), g["mz"].to_numpy()
-        if label == "MF":  # no curvature input: its response is zero; its zero-slip offset is not a response
-            label = (f"{_mf_label(result)}: no curvature input, response 0\n(its offset at zero slip, Fy = {fy[0]:+.4g} N, "
-                     f"Mz = {mz[0]:+.4g} N m, is not drawn)")
-            fy, mz = fy - fy[0], mz - mz[0]
-        a.plot(g["phi"], np.abs(fy), label=label, **style)
-        b.plot(g["phi"], np.abs(mz), label=label, **style)
-    finish(a, "path curvature phi [1/m]", "|Fy| [N]", "lateral force", legend=False)
-    finish(b, "path curvature phi [1/m]", "|Mz| [N m]", "aligning torque", legend=False)
-    _legend_below(fig, a, ncol=3)
-    fig.suptitle(f"MCPS Fig. 11: curvature response at {fz:g} N, {_tire_name(result)}", fontsize=10)
-    return fig
-
-
-# --------------------------------------------------------------------------- calibration
-
-
-@register(
-    "mcps-calibration", paper="MCPS", label="calibration", study="mcps-calibration", order=120,
-    title="Calibration of the MCPS rubber parameters to a Magic Formula tyre",
-    caption="Bounded least squares (docs/models/mcps_tire.md §8, procedure assumed): (r_x, mu_x, alpha_x, beta_x) on the Magic "
-            "Formula Fx(kappa) at 40 slips in (0, 0.12], then (r_y, mu_y, alpha_y, beta_y) on Fy(alpha) over (0, 12 deg] "
-            "(complete model), then c_Mz on Mz. The built-in study calibrates against the simple-form Magic Formula "
-            "fallback (assumed B, C, D, E): mu_x and alpha_x end at their bounds and a gap of about 120 N (3 % of Fz) "
-            "remains. A parameter at its bound is flagged; the fitted set is written as calibrated.yaml.",
-    paper_shows="No paper figure: the paper states MCPS 'represents very well' the stationary curves of the Magic Formula; "
-                "this card measures how well with the assumed parameters.",
-)
-def draw_calibration(result):
-    from tirecli.errors import UsageError
-
-    require(result, "mcps-stationary", "mcps-calibration")
-    cal = result.meta.get("calibration")
-    if not cal:
-        raise UsageError("figure 'mcps-calibration' draws a run with 'calibrate: true'")
-    rows = []
-    for g, r in cal["groups"].items():
-        for n, v in r["parameters"].items():
-            lo, hi = r["bounds"][n]
-            rows.append([g, n, f"{r['start'][n]:.6g}", f"{v:.6g}", f"[{lo:g}, {hi:g}]", "AT BOUND" if r["at_bound"][n] else ""])
-        stage = "" if abs(r["max_gap_stage"] - r["max_gap"]) < 1e-6 * max(1.0, r["max_gap"]) else \
-            f"{r['max_gap_stage']:.4g} right after this fit; c_Mz (fitted later) changes the belt twist"
-        rows.append([g, f"max gap [{r['unit']}]", f"{r['max_gap_before']:.4g}", f"{r['max_gap']:.4g}", "", stage])
-        rows.append([g, f"rms gap [{r['unit']}]", f"{r['rms_gap_before']:.4g}", f"{r['rms_gap']:.4g}", "", ""])
-    return Table(columns=["fit", "parameter", "before", "final", "bounds", "status"], rows=rows,
-                 notes=[f"Target: {cal['target']} at {cal['load']:g} N; model: MCPS {cal['carcass']} carcass; "
-                        f"fits on {cal['grid']['kappa'][2]} points each."])
 
 
 @register(
@@ -481,7 +132,7 @@ def draw_fig3(result):
     finish(a, "displacement u_x [mm]", "friction force f_x [N]", "force (dotted: +-F_k; red: limit 5/3 F_k)",
            legend=False)
     finish(b, "rotation psi [rad]", "friction torque m [N m]", "torque (dotted: +-M_kz)")
-    fig.suptitle(f"MCPS Fig. 3: one rubber slider, {_tire_name(result)}", fontsize=10)
+    fig.suptitle(f"MCPS Fig. 3: one rubber slider, {tire_name(result)}", fontsize=10)
     return fig
 
 
@@ -529,7 +180,7 @@ def draw_fig4(result):
     handles = b.get_legend_handles_labels()[0] + a.get_legend_handles_labels()[0]
     labels = b.get_legend_handles_labels()[1] + a.get_legend_handles_labels()[1]
     fig.legend(handles, labels, loc="outside lower center", ncol=2, fontsize=8, frameon=False)
-    suptitle(fig, f"MCPS Fig. 4: lateral friction force distribution at standstill, {_tire_name(result)}")
+    suptitle(fig, f"MCPS Fig. 4: lateral friction force distribution at standstill, {tire_name(result)}")
     return fig
 
 
@@ -558,8 +209,8 @@ def draw_fig5(result):
     ax.plot([], [], color="#777777", ls=":", lw=0.9, label="+-asymptotic torque, frame term on")
     ax.plot([], [], color="#777777", ls="-.", lw=0.7, label="+-eq. (12), frame term off")
     finish(ax, "yaw angle psi [rad]", "aligning torque Mz [N m] (ISO, road on tire)",
-           f"MCPS Fig. 5: torque at standstill, {_tire_name(result)}", legend=False)
-    _legend_below(fig, ax, ncol=3)
+           f"MCPS Fig. 5: torque at standstill, {tire_name(result)}", legend=False)
+    legend_below(fig, ax, ncol=3)
     return fig
 
 
@@ -594,9 +245,9 @@ def draw_relaxation(result):
         ax.set_xlim(0, smax)
     finish(a, "rolled distance s [m]", "Fy / Fy_inf [-]", "side force (markers: first 63 % and 95 %)", legend=False)
     finish(b, "rolled distance s [m]", "Mz [N m] (ISO)", "aligning torque", legend=False)
-    _legend_below(fig, a, ncol=4)
+    legend_below(fig, a, ncol=4)
     fig.suptitle(f"MCPS relaxation: alpha = {sc['alpha_rad'] / DEG:.3g} deg at {sc['speed_m_per_s']:g} m/s, "
-                 f"{_tire_name(result)}", fontsize=10)
+                 f"{tire_name(result)}", fontsize=10)
     return fig
 
 
@@ -637,7 +288,7 @@ def draw_geometry(result):
         ["S'_z, M'_kz", f"{law.Sz:.5g}, {law.Mkz:.5g}", "N m/rad/m, N m/m", "torsion of a strip per length (eq. 11-12)"],
     ]
     return Table(columns=["symbol", "value", "unit", "meaning"], rows=rows,
-                 notes=[f"Tire {_tire_name(result)}; ISO-W axes: X_W forward, Y_W left, Z_W up, origin at the patch centre."])
+                 notes=[f"Tire {tire_name(result)}; ISO-W axes: X_W forward, Y_W left, Z_W up, origin at the patch centre."])
 
 
 @register(
@@ -668,5 +319,5 @@ def draw_belt(result):
     # the fastest rate with the patch as a spring is tirecli.numerics.mcps_transient.coupling_rate (no DOF locked)
     return Table(columns=["DOF", "mass / inertia", "stiffness", "damping", "damping ratio",
                           "natural rate on the rim [rad/s]", "with the patch as a spring [rad/s]"], rows=rows,
-                 notes=[f"Tire {_tire_name(result)} at {fz:g} N; the fastest rate ({max(coupled):.0f} rad/s) sets the "
+                 notes=[f"Tire {tire_name(result)} at {fz:g} N; the fastest rate ({max(coupled):.0f} rad/s) sets the "
                         "transport step of the relaxation runs (docs/models/mcps_tire.md §7)."])

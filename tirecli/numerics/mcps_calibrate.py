@@ -18,9 +18,6 @@ output (ISO-W, road on tire; never a mirrored curve), residuals over the referen
    ``w r l^2`` (:meth:`~tirecli.models.mcps.params.MCPSParams.with_patch_length`); ``k_delta`` is the
    twist that turns the patch against the slip angle.
 
-:func:`calibrate` is the earlier three-fit sequence (Fx, then Fy, then ``c_Mz`` alone) that the
-``mcps-stationary`` study still calls; it is superseded by :func:`calibrate_to_mf`.
-
 Bounds (:data:`FIT_BOUNDS`, docs/models/mcps_tire.md §8) carry the source of each end. A value
 within 1e-6 (relative to the bound range, in log10 for the stiffnesses) of a bound is reported *at its bound*.
 """
@@ -68,15 +65,6 @@ FIT_BOUNDS = {
                                "first-order rotation of eq. 16)", "tirecli: assumed stiffest belt twist (nearly rigid)",
                      log=True),
 }
-#: Bounds of the earlier three-fit sequence (:func:`calibrate`).
-BOUNDS = {n: (b.lo, b.hi) for n, b in FIT_BOUNDS.items() if n != "k_delta"}
-#: Stopping rule of repeated lateral rounds (relative change of every lateral parameter).
-ROUND_TOL = 1e-4
-GROUPS = {
-    "fx": ("r_x", "mu_x", "alpha_x", "beta_x"),
-    "fy": ("r_y", "mu_y", "alpha_y", "beta_y"),
-    "mz": ("c_Mz",),
-}
 #: Parameters of the two fits of :func:`calibrate_to_mf` (``k_delta`` only with the complete carcass).
 LONGITUDINAL = ("r_x", "mu_x", "alpha_x", "beta_x")
 LATERAL = ("r_y", "mu_y", "alpha_y", "beta_y", "c_Mz", "k_delta")
@@ -99,134 +87,6 @@ def _bounds(names):
     lo = [math.log10(FIT_BOUNDS[n].lo) if FIT_BOUNDS[n].log else FIT_BOUNDS[n].lo for n in names]
     hi = [math.log10(FIT_BOUNDS[n].hi) if FIT_BOUNDS[n].log else FIT_BOUNDS[n].hi for n in names]
     return np.array(lo), np.array(hi)
-
-
-def calibrate(p, fz: float, targets: dict, grid: dict, carcass: str = "complete", rounds: int = 1) -> tuple:
-    """Fit the rubber parameters of ``p`` (MCPSParams) to target curves.
-
-    Parameters
-    ----------
-    fz : float
-        Load of the fit [N].
-    targets : dict
-        ``{"fx": fn(kappa) -> Fx [N], "fy": fn(alpha) -> Fy [N], "mz": fn(alpha) -> Mz [N m]}``
-        (ISO-W, road on tire); a missing key skips that fit.
-    grid : dict
-        ``{"kappa": array, "alpha": array}`` of the fits.
-    carcass : {"complete", "rigid"}
-        Model of the lateral fits.
-    rounds : int
-        Largest number of alternations of the lateral fits (step 2 then 3); 1 is the sequence of docs/models/mcps_tire.md §8.
-
-    Returns
-    -------
-    (MCPSParams, report) : the calibrated parameters and, per fitted group, a dict with the
-    values, their bounds, whether each ended at a bound, the max and RMS gap before and after, the
-    optimiser's status, and ``failure``: why the group is not a fitted result (None when it is).
-    """
-    from scipy.optimize import least_squares
-
-    from tirecli.models.mcps.tire import pure_longitudinal_fx
-    from tirecli.numerics.mcps_stationary import solve
-
-    kap = np.asarray(grid["kappa"], dtype=float)
-    alp = np.asarray(grid["alpha"], dtype=float)
-    report = {}
-    cur = p
-    warm = {}
-
-    def model_curve(group, q):
-        if group == "fx":
-            return pure_longitudinal_fx(kap, q, fz)
-        st = solve(q, fz, np.zeros_like(alp), alp, np.zeros_like(alp), carcass=carcass, start=warm.get("Q"),
-                   tol=1e-13)
-        if not st.converged.all():
-            warm.pop("Q", None)
-            return np.full(alp.shape, np.nan)
-        warm["Q"] = st.Q  # the next evaluation starts from this solution (parameters change little)
-        return st.fy if group == "fy" else st.mz
-
-    def fit(group, cur):
-        names = GROUPS[group]
-        x_in = kap if group == "fx" else alp
-        target = np.asarray(targets[group](x_in), dtype=float)
-        lo, hi = _bounds(names)
-        x0 = np.clip(_to_x(names, cur.__dict__), lo + 1e-9 * (hi - lo), hi - 1e-9 * (hi - lo))
-
-        def resid(x):
-            r = model_curve(group, cur.with_values(**_from_x(names, x))) - target
-            return np.where(np.isfinite(r), r, 1e6)
-
-        with np.errstate(all="ignore"):
-            sol = least_squares(resid, x0, bounds=(lo, hi), method="trf", x_scale="jac", xtol=1e-12, ftol=1e-12,
-                                gtol=1e-12, max_nfev=400)
-        span = hi - lo
-        at_bound = {n: bool(min(abs(v - a), abs(b - v)) <= 1e-6 * sp) for n, v, a, b, sp in zip(names, sol.x, lo, hi, span)}
-        return cur.with_values(**_from_x(names, sol.x)), sol, at_bound, float(np.max(np.abs(resid(sol.x))))
-
-    info = {g: {"evaluations": 0, "success": True, "status": "", "at_bound": {}, "stage": None} for g in GROUPS}
-
-    def record(g, sol, ab, gap):
-        info[g].update(evaluations=info[g]["evaluations"] + int(sol.nfev), success=bool(sol.success),
-                       status=sol.message, at_bound=ab, stage=gap)
-
-    with np.errstate(all="ignore"):  # a target the Magic Formula cannot evaluate: fail before fitting anything
-        for g in GROUPS:
-            if g in targets and not np.all(np.isfinite(np.asarray(targets[g](kap if g == "fx" else alp), dtype=float))):
-                return p, {g: {"failure": "the Magic Formula target curve is not finite on the calibration grid"}}
-    cur = p
-    if "fx" in targets:
-        cur, *res = fit("fx", cur)
-        record("fx", *res)
-    lateral = [g for g in ("fy", "mz") if g in targets]
-    done = 0
-    for done in range(1, (max(1, int(rounds)) if carcass == "complete" and len(lateral) == 2 else 1) + 1):
-        prev = np.array([getattr(cur, n) for g in lateral for n in GROUPS[g]])
-        for g in lateral:
-            cur, *res = fit(g, cur)
-            record(g, *res)
-        now = np.array([getattr(cur, n) for g in lateral for n in GROUPS[g]])
-        if np.all(np.abs(now - prev) <= ROUND_TOL * np.maximum(np.abs(now), 1e-12)):
-            break
-    report = {}
-    for g, names in GROUPS.items():  # gaps of the start set and of the final set (the one drawn and written)
-        if g not in targets:
-            continue
-        x_in = kap if g == "fx" else alp
-        target = np.asarray(targets[g](x_in), dtype=float)
-        with np.errstate(all="ignore"):
-            before = model_curve(g, p) - target
-            after = model_curve(g, cur) - target
-        report[g] = {
-            "parameters": {n: float(getattr(cur, n)) for n in names},
-            "start": {n: float(getattr(p, n)) for n in names},
-            "bounds": {n: BOUNDS[n] for n in names},
-            "at_bound": info[g]["at_bound"],
-            "max_gap_before": float(np.max(np.abs(before))), "rms_gap_before": float(np.sqrt(np.mean(before**2))),
-            "max_gap_stage": info[g]["stage"],
-            "max_gap": float(np.max(np.abs(after))), "rms_gap": float(np.sqrt(np.mean(after**2))),
-            "unit": "N m" if g == "mz" else "N", "points": int(x_in.size),
-            "success": info[g]["success"], "status": info[g]["status"], "evaluations": info[g]["evaluations"],
-            "rounds": done if g in lateral else 1,
-        }
-        report[g]["failure"] = _failure(g, names, target, after, info[g])
-    return cur, report
-
-
-def _failure(group, names, target, after, info) -> str | None:
-    """Why a group's calibration is not a fitted result (None when it is): a target or the final
-    model curve is not finite (the Magic Formula or the belt fixed point fails there), the optimiser
-    did not converge, or every fitted parameter ended on a bound."""
-    if not np.all(np.isfinite(target)):
-        return "the Magic Formula target curve is not finite on the calibration grid"
-    if not np.all(np.isfinite(after)):
-        return "the calibrated model gives no finite value on the grid (the belt fixed point fails)"
-    if not info["success"]:
-        return f"the optimiser stopped without converging ({str(info['status']).rstrip('.')})"
-    ab = info["at_bound"]
-    if len(names) > 1 and ab and all(ab.get(n, False) for n in names):
-        return f"every fitted parameter ended on a bound ({', '.join(names)})"
-    return None
 
 
 # --------------------------------------------------------------------------- the calibration to the drawn tyre
@@ -270,15 +130,16 @@ class MFCalibration:
         Load [N].
     carcass : str
         ``complete`` or ``rigid``.
-    kappa, alpha : ndarray
-        The drawn grids: ``Fx`` against ``kappa`` [-] at ``alpha = 0``; ``Fy``, ``Mz`` against
-        ``alpha`` [rad] at ``kappa = 0``.
+    kappa, alpha, alpha_fy : ndarray
+        The drawn grids: ``Fx`` against ``kappa`` [-] at ``alpha = 0``; ``Mz`` against ``alpha``
+        [rad] and ``Fy`` against ``alpha_fy`` [rad] at ``kappa = 0`` (the paper draws the side force
+        at negative slip angles, the torque at positive ones).
     curves : dict
         ``{"mf" | "calibrated" | "start": {"fx", "fy", "mz": ndarray}}`` [N, N m], each model's own
         ISO-W output (road on tire).
     gaps : dict
         ``{"calibrated" | "start": {"fx" | "fy" | "mz": CurveGap}}`` against the Magic Formula
-        (``at`` in [-] for fx, [rad] for fy and mz).
+        (``at`` in [-] for fx, [rad] for fy and mz; fy over ``alpha_fy``).
     fitted : dict
         Parameter name -> :class:`Fitted`.
     peaks : dict
@@ -304,6 +165,7 @@ class MFCalibration:
     carcass: str
     kappa: np.ndarray
     alpha: np.ndarray
+    alpha_fy: np.ndarray
     curves: dict
     gaps: dict
     fitted: dict
@@ -379,7 +241,7 @@ def _sign_change(fun, x, y):
     return float(brentq(lambda v: fun(v), a, b, xtol=1e-12))
 
 
-def calibrate_to_mf(p, fz: float, reference, kappa, alpha, *, carcass: str = "complete",
+def calibrate_to_mf(p, fz: float, reference, kappa, alpha, *, alpha_fy=None, carcass: str = "complete",
                     mz_weight: float = MZ_WEIGHT) -> MFCalibration:
     """Calibrate MCPS to a Magic Formula tyre over the drawn range (docs/models/mcps_tire.md §8).
 
@@ -395,7 +257,10 @@ def calibrate_to_mf(p, fz: float, reference, kappa, alpha, *, carcass: str = "co
     kappa : array_like
         Drawn slips of ``Fx(kappa)`` at ``alpha = 0`` [-], > -1.
     alpha : array_like
-        Drawn slip angles of ``Fy(alpha)``, ``Mz(alpha)`` at ``kappa = 0`` [rad].
+        Drawn slip angles of ``Mz(alpha)`` at ``kappa = 0`` [rad], in increasing order.
+    alpha_fy : array_like or None
+        Drawn slip angles of ``Fy(alpha)`` at ``kappa = 0`` [rad] (default ``alpha``): each model's own
+        output there, so an asymmetric tyre is compared where it is drawn, never mirrored.
     carcass : {"complete", "rigid"}
         The MCPS model drawn (``k_delta`` is fitted with the complete carcass only).
     mz_weight : float
@@ -423,29 +288,31 @@ def calibrate_to_mf(p, fz: float, reference, kappa, alpha, *, carcass: str = "co
     fz = float(fz)
     kap = np.asarray(kappa, dtype=float).ravel()
     alp = np.asarray(alpha, dtype=float).ravel()
-    zk, za = np.zeros_like(kap), np.zeros_like(alp)
+    alf = alp if alpha_fy is None else np.asarray(alpha_fy, dtype=float).ravel()
+    lat = np.unique(np.concatenate([alf, alp]))  # the lateral solutions: every drawn slip angle once
+    iy, iz = np.searchsorted(lat, alf), np.searchsorted(lat, alp)
+    zk, za = np.zeros_like(kap), np.zeros_like(lat)
     with np.errstate(all="ignore"):
         mf = {"fx": np.asarray(reference(kap, 0.0)[0], dtype=float) * np.ones_like(kap)}
-        _, fy, mz = reference(0.0, alp)
-        mf["fy"] = np.asarray(fy, dtype=float) * np.ones_like(alp)
-        mf["mz"] = np.asarray(mz, dtype=float) * np.ones_like(alp)
+        mf["fy"] = np.asarray(reference(0.0, alf)[1], dtype=float) * np.ones_like(alf)
+        mf["mz"] = np.asarray(reference(0.0, alp)[2], dtype=float) * np.ones_like(alp)
     for g, v in mf.items():
         if not np.all(np.isfinite(v)):
             raise ValueError(f"the Magic Formula {g} curve is not finite on the drawn grid: nothing was fitted")
     peak = {g: float(np.max(np.abs(v))) or 1.0 for g, v in mf.items()}
     mz_run = _peak_run(mf["mz"])
     fit_info = {"mz_weight": float(mz_weight), "residuals": "each curve over its Magic Formula peak magnitude",
-                "points": {"fx": int(kap.size), "fy": int(alp.size), "mz": int(np.count_nonzero(mz_run))}}
+                "points": {"fx": int(kap.size), "fy": int(alf.size), "mz": int(np.count_nonzero(mz_run))}}
     warm = {}
 
     def lateral(q, tol=1e-12):  # the fit's evaluations: the twist-only fixed point (same model as solve)
-        st = (solve_sideslip(q, fz, alp, tol=tol, start=warm.get("Q")) if carcass == "complete"
-              else solve(q, fz, za, alp, za, carcass=carcass))
+        st = (solve_sideslip(q, fz, lat, tol=tol, start=warm.get("Q")) if carcass == "complete"
+              else solve(q, fz, za, lat, za, carcass=carcass))
         if not st.converged.all():
             warm.pop("Q", None)
             return None
         warm["Q"] = st.Q
-        return st.fy, st.mz
+        return st.fy[iy], st.mz[iz]
 
     def fit(names, cur, resid_of):
         lo, hi = _bounds(names)
@@ -466,7 +333,7 @@ def calibrate_to_mf(p, fz: float, reference, kappa, alpha, *, carcass: str = "co
     def lat_resid(q):
         out = lateral(q)
         if out is None:
-            return np.full(alp.size + int(np.count_nonzero(mz_run)), 1e3)
+            return np.full(alf.size + int(np.count_nonzero(mz_run)), 1e3)
         r = np.concatenate([(out[0] - mf["fy"]) / peak["fy"], mz_weight * (out[1] - mf["mz"])[mz_run] / peak["mz"]])
         return np.where(np.isfinite(r), r, 1e3)
 
@@ -484,14 +351,14 @@ def calibrate_to_mf(p, fz: float, reference, kappa, alpha, *, carcass: str = "co
     curves, gaps, peaks, changes, failure = {"mf": mf}, {}, {}, {}, None
     for tag, q in (("start", p), ("calibrated", cur)):
         sx = solve(q, fz, kap, zk, zk, carcass=carcass)
-        sa = solve(q, fz, za, alp, za, carcass=carcass)
+        sa = solve(q, fz, za, lat, za, carcass=carcass)
         ok = sx.converged.all() and sa.converged.all()
-        c = {"fx": sx.fx, "fy": sa.fy, "mz": sa.mz}
+        c = {"fx": sx.fx, "fy": sa.fy[iy], "mz": sa.mz[iz]}
         if not ok or not all(np.all(np.isfinite(v)) for v in c.values()):
             failure = failure or f"the {tag} set's belt fixed point (MCPS eq. 18) does not converge on the drawn grid"
             continue
         curves[tag] = c
-        gaps[tag] = {g: curve_gap(kap if g == "fx" else alp, c[g], mf[g]) for g in ("fx", "fy", "mz")}
+        gaps[tag] = {g: curve_gap({"fx": kap, "fy": alf, "mz": alp}[g], c[g], mf[g]) for g in ("fx", "fy", "mz")}
 
         def mz_of(a, q=q):  # the same model as solve(), at a tighter tolerance
             st = (solve_sideslip(q, fz, [a], tol=1e-13) if carcass == "complete"
@@ -519,10 +386,10 @@ def calibrate_to_mf(p, fz: float, reference, kappa, alpha, *, carcass: str = "co
         bad = [t for t in ("fx", "lateral") if not fit_info[t]["success"]]
         if bad:
             failure = f"the optimiser stopped without converging ({fit_info[bad[0]]['status'].rstrip('.')})"
-    return MFCalibration(params=cur, start=p, fz=fz, carcass=carcass, kappa=kap, alpha=alp, curves=curves, gaps=gaps,
+    return MFCalibration(params=cur, start=p, fz=fz, carcass=carcass, kappa=kap, alpha=alp, alpha_fy=alf, curves=curves,
+                         gaps=gaps,
                          fitted=fitted, peaks=peaks, sign_change=changes, offsets=offsets, fit=fit_info,
                          failure=failure)
 
 
-__all__ = ["calibrate", "calibrate_to_mf", "MFCalibration", "Fitted", "Bound", "FIT_BOUNDS", "BOUNDS", "GROUPS",
-           "LONGITUDINAL", "LATERAL", "MZ_WEIGHT"]
+__all__ = ["calibrate_to_mf", "MFCalibration", "Fitted", "Bound", "FIT_BOUNDS", "LONGITUDINAL", "LATERAL", "MZ_WEIGHT"]

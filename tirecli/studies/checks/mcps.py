@@ -165,7 +165,7 @@ def fig7_checks(result):
         st = _solve(p, 4000.0, [0.01, 0.05, 0.1, 0.12], [0.0] * 4, [0.0] * 4)
         for kv, ref, v in zip((0.01, 0.05, 0.1, 0.12), (586.79, 2177.23, 3176.78, 3410.85), st.fx):
             out.append(Check(f"fx-{kv:g}", f"MCPS Fx at kappa = {kv:g}, 4000 N", float(v), ref, 0.01, "N", f"{DOC} §6 checks"))
-    return out
+    return out + gap_checks(result, "mcps-fig7")
 
 
 def _alpha_ref_checks(result, what):
@@ -214,11 +214,11 @@ def _alpha_ref_checks(result, what):
 
 
 def fig8_checks(result):
-    return _alpha_ref_checks(result, "fy")
+    return _alpha_ref_checks(result, "fy") + gap_checks(result, "mcps-fig8")
 
 
 def fig9_checks(result):
-    return _alpha_ref_checks(result, "mz")
+    return _alpha_ref_checks(result, "mz") + gap_checks(result, "mcps-fig9")
 
 
 def fig10_checks(result):
@@ -248,7 +248,7 @@ def fig10_checks(result):
                 out.append(Check(f"{name}-a{av / DEG:.0f}-k{kv:g}", f"complete model {name} at alpha = {av / DEG:.0f} deg, "
                                  f"kappa = {kv:g}, 4000 N (ISO; the reference's alpha = -{av / DEG:.0f} deg mirrored)",
                                  float(v), rv, 0.01, "N m" if name == "mz" else "N", f"{DOC} §11 (Fig. 10)"))
-    return out
+    return out + gap_checks(result, "mcps-fig10")
 
 
 def fig11_checks(result):
@@ -273,27 +273,71 @@ def fig11_checks(result):
                          f"{DOC} §11 (Fig. 11)"))
         out.append(Check("rigid-mz-0.1", "solid carcass Mz at phi = 0.1 1/m, 2000 N", float(st.mz[0]), -3.076, 0.001,
                          "N m", f"{DOC} §11 (Fig. 11)"))
-    return out
+    return out + gap_checks(result, "mcps-fig11")
 
 
 def calibration_checks(result):
+    """The calibration card's numbers against independent evaluations: the calibrated set re-solved (closed
+    form of Fx; the fixed point at tolerance 1e-12 on a 0.01 deg grid for the Mz peak) and the Magic
+    Formula evaluated directly; the targets of docs §8 (Fx and Fy within 5 % of the Magic Formula peak,
+    the Mz peak within 1 deg); the drawn calibrated curves are the calibration's."""
+    from tirecli.models.mcps.tire import pure_longitudinal_fx
+    from tirecli.numerics.mcps_calibrate import FIT_BOUNDS
+
     cal = result.meta.get("calibration")
     if not cal:
         return []
+    q, fz, mf, carcass = result.payload["params_calibrated"], cal["load"], result.payload["mf"], cal["carcass"]
+    g = cal["grids"]
+    kap = np.linspace(g["kappa"]["start"], g["kappa"]["stop"], g["kappa"]["points"])
+    af = np.linspace(g["alpha_fy"]["start"], g["alpha_fy"]["stop"], g["alpha_fy"]["points"])
     out = []
-    for g, r in cal["groups"].items():
-        out.append(Check(f"{g}-improves", f"calibration of {g} does not raise the max gap to the Magic Formula "
-                         "(after over before, at most 1)", r["max_gap"] / max(r["max_gap_before"], 1e-12), 1.0, 0.0, "-",
-                         f"{DOC} §8", bound="max"))
-    mf = result.meta["mf"]
-    if mf["kind"] == "simple" and _reference(result) and "fx" in cal["groups"] and abs(cal["load"] - 4000.0) < 1e-9:
-        r = cal["groups"]["fx"]
+    gaps = cal["gaps"]
+    mfx = np.broadcast_to(np.asarray(mf.evaluate(kap, 0.0, fz)[0], dtype=float), kap.shape)
+    mfy = np.broadcast_to(np.asarray(mf.evaluate(0.0, af, fz)[1], dtype=float), af.shape)
+    fx = pure_longitudinal_fx(kap, q, fz)
+    fy = _solve(q, fz, 0 * af, af, 0 * af, carcass).fy
+    for c, mod, ref in (("fx", fx, mfx), ("fy", fy, mfy)):
+        peak = float(np.max(np.abs(ref)))
+        gap = float(np.max(np.abs(mod - ref)))
+        out.append(Check(f"{c}-stated", f"stated max {c} gap of the calibrated set over the recomputed one",
+                         gaps["calibrated"][c]["max"], gap, 1e-2, "N", f"{DOC} §8"))
+        out.append(Check(f"{c}-target", f"max {c} gap of the calibrated set over the Magic Formula peak ({peak:.1f} N): "
+                         "target at most 5 %", gap / peak, 0.05, 0.0, "-", f"{DOC} §8 (targets)", bound="max"))
+    for c in ("fx", "fy", "mz"):
+        out.append(Check(f"{c}-improves", f"calibration does not raise the max {c} gap to the Magic Formula "
+                         "(calibrated over default, at most 1)",
+                         gaps["calibrated"][c]["max"] / max(gaps["start"][c]["max"], 1e-12), 1.0, 0.0, "-", f"{DOC} §8",
+                         bound="max"))
+    a = np.arange(g["alpha"]["start"], g["alpha"]["stop"] + 1e-12, 0.01 * DEG)
+    mz = _solve(q, fz, 0 * a, a, 0 * a, carcass).mz
+    mmz = np.broadcast_to(np.asarray(mf.evaluate(0.0, a, fz)[2], dtype=float), a.shape)
+    im, jf = int(np.argmax(np.abs(mz))), int(np.argmax(np.abs(mmz)))
+    out.append(Check("mz-peak-stated", "stated Mz peak angle of the calibrated set over the one on a 0.01 deg grid",
+                     cal["peaks"]["calibrated"]["alpha"] / DEG, a[im] / DEG, 0.01, "deg", f"{DOC} §8"))
+    out.append(Check("mz-peak-mf-stated", "stated Mz peak angle of the Magic Formula over the one on a 0.01 deg grid",
+                     cal["peaks"]["mf"]["alpha"] / DEG, a[jf] / DEG, 0.01, "deg", f"{DOC} §8"))
+    out.append(Check("mz-peak-target", "|Mz peak angle, calibrated - Magic Formula|: target at most 1 deg",
+                     abs(a[im] - a[jf]) / DEG, 1.0, 0.0, "deg", f"{DOC} §8 (targets)", bound="max"))
+    for n, f in cal["fitted"].items():  # a value on its bound is named; none other
+        b = FIT_BOUNDS[n]
+        v, lo, hi = (np.log10([f["value"], b.lo, b.hi]) if b.log else (f["value"], b.lo, b.hi))
+        on = bool(v - lo <= 1e-6 * (hi - lo) or hi - v <= 1e-6 * (hi - lo))
+        out.append(Check(f"{n}-bound-flag", f"{n} reported at a bound (1) exactly when it is within 1e-6 of the "
+                         "bound range", float(f["at_bound"] is not None), float(on), 0.0, "-", f"{DOC} §8"))
+    drawn = (result.meta.get("gaps") or {}).get("mcps-fig7", {}).get(f"{fz:g} N", {}).get("calibrated")
+    if drawn and result.data["stationary"]["kappa"].nunique() == kap.size:
+        out.append(Check("drawn-is-calibration", "max Fx gap of the drawn calibrated curve (Fig. 7) over the "
+                         "calibration's own", drawn["fx_max_N"], gaps["calibrated"]["fx"]["max"], 1e-6, "N", f"{DOC} §8"))
+    if result.meta["mf"]["kind"] == "simple" and _reference(result) and abs(fz - 4000.0) < 1e-9:
+        f = cal["fitted"]
         out.append(Check("fx-max-gap", "max Fx gap after calibration against the simple-form fallback (at most 150 N; "
-                         "about 120 N expected)", r["max_gap"], 150.0, 0.0, "N", f"{DOC} §11 (Fig. 7)", bound="max"))
-        out.append(Check("mu_x-at-bound", "mu_x ends at its bound (1 = yes)", float(r["at_bound"]["mu_x"]), 1.0, 0.0, "-",
-                         f"{DOC} §8"))
-        out.append(Check("alpha_x-at-bound", "alpha_x ends at its bound (1 = yes)", float(r["at_bound"]["alpha_x"]), 1.0,
-                         0.0, "-", f"{DOC} §8"))
+                         "about 121 N expected)", gaps["calibrated"]["fx"]["max"], 150.0, 0.0, "N", f"{DOC} §11",
+                         bound="max"))
+        out.append(Check("mu_x-at-bound", "mu_x ends at its bound (1 = yes)", float(f["mu_x"]["at_bound"] is not None),
+                         1.0, 0.0, "-", f"{DOC} §8"))
+        out.append(Check("alpha_x-at-bound", "alpha_x ends at its bound (1 = yes)",
+                         float(f["alpha_x"]["at_bound"] is not None), 1.0, 0.0, "-", f"{DOC} §8"))
     return out
 
 
@@ -342,4 +386,101 @@ def relaxation_checks(result):
                               "m", f"{DOC} §7"),
                         Check(f"{lab}-95", "twist locked: rolled distance to 95 %", f["s95_first_m"] or float("nan"), 0.933, 0.002,
                               "m", f"{DOC} §7")]
+    return out
+
+
+# --------------------------------------------------------------------------- the stated gaps (Figs. 7-11)
+
+#: Gaps of the default set to the stand-in tyre (ExternData 205/60R15, 4000 N, the drawn grids of
+#: mcps-fig7-9.yaml): (figure, quantity) -> (max, where, RMS); computed from the model functions directly
+#: (closed form of Fx, the fixed point at tolerance 1e-12, the Magic Formula evaluator), docs §11.
+STAND_IN_GAPS = {("mcps-fig7", "fx"): (1168.15, 0.0625, 922.12), ("mcps-fig8", "fy"): (922.15, -4 * DEG, 571.84),
+                 ("mcps-fig9", "mz"): (63.55, 12 * DEG, 40.85)}
+
+
+def _curve_params(result, name):
+    """The MCPS parameters and carcass of a gap curve (``complete``, ``rigid``, ``calibrated``)."""
+    if name == "calibrated":
+        return result.payload["params_calibrated"], result.meta["calibration"]["carcass"]
+    return result.payload["params"], name
+
+
+def _independent_gap(result, fid, fz, name, q, alpha=None):
+    """``(max, at, rms)`` of curve ``name`` recomputed from the model functions at the drawn points: MCPS by
+    the closed form (Fx) or the fixed point at tolerance 1e-12, the Magic Formula by its evaluator."""
+    from tirecli.models.mcps.tire import pure_longitudinal_fx
+    from tirecli.studies.mcps.gaps import FIGURES, drawn
+
+    df = result.data["stationary"]
+    family = FIGURES[fid][0]
+    d = drawn(df[(df["family"] == family) & (df["fz"] == fz) & (df["model"] == "mf")], fid)
+    if alpha is not None:
+        d = d[d["alpha"] == alpha]
+    d = d.sort_values("kappa" if fid == "mcps-fig10" else {"kappa": "kappa", "alpha": "alpha", "curvature": "phi"}[family])
+    k, a, ph = d["kappa"].to_numpy(), d["alpha"].to_numpy(), d["phi"].to_numpy()
+    p, carcass = _curve_params(result, name)
+    mf = result.payload["mf"]
+    fx_m, fy_m, mz_m = (np.broadcast_to(np.asarray(v, dtype=float), k.shape) for v in mf.evaluate(k, a, fz))
+    ref = {"fx": fx_m, "fy": fy_m, "mz": mz_m}
+    if fid == "mcps-fig7":
+        mod, x = pure_longitudinal_fx(k, p, fz), k
+    else:
+        st = _solve(p, fz, k, a, ph, carcass)
+        mod = getattr(st, q)
+        x = {"mcps-fig8": a, "mcps-fig9": a, "mcps-fig11": ph}.get(fid)
+        if fid == "mcps-fig11":
+            mod, ref[q] = np.abs(mod), np.zeros_like(mod)
+        if fid == "mcps-fig10":  # each model against its own Fx: MCPS interpolated onto the Magic Formula's
+            x = fx_m
+            inside = (x >= st.fx.min()) & (x <= st.fx.max())
+            o = np.argsort(st.fx)
+            mod = np.interp(x[inside], st.fx[o], mod[o])
+            x, ref[q] = x[inside], ref[q][inside]
+    diff = mod - ref[q]
+    i = int(np.argmax(np.abs(diff)))
+    return float(abs(diff[i])), float(x[i]), float(np.sqrt(np.mean(diff**2)))
+
+
+def gap_checks(result, fid):
+    """The stated gaps of figure ``fid`` (run.json ``meta.gaps``) against the gaps recomputed from the
+    model functions; for the default set against the stand-in tyre, against the reference values."""
+    from tirecli.studies.mcps.gaps import ABSCISSA, FIGURES, UNITS
+
+    gaps = (result.meta.get("gaps") or {}).get(fid) or {}
+    xs = ABSCISSA[fid][1]
+    out = []
+    for load, curves in gaps.items():
+        fz = float(load.split()[0])
+        for name, facts in curves.items():
+            rows = facts.items() if fid == "mcps-fig10" else [(None, facts)]
+            for alabel, f in rows:
+                alpha = None if alabel is None else float(alabel.split()[1]) * DEG
+                if alpha is not None:  # the exact slip angle of the family
+                    al = result.data["stationary"]["alpha"].unique()
+                    alpha = float(al[np.argmin(np.abs(al - alpha))])
+                for q in FIGURES[fid][1]:
+                    if f"{q}_max_{UNITS[q]}" not in f:
+                        continue
+                    mx, at, rms = _independent_gap(result, fid, fz, name, q, alpha)
+                    unit = "N m" if q == "mz" else "N"
+                    tag = f"{q}-{name}-{fz:g}" + ("" if alabel is None else f"-{alabel.split()[1]}deg")
+                    where = "" if alabel is None else f", {alabel}"
+                    out.append(Check(f"gap-{tag}", f"stated max |{q}(MCPS {name}) - {q}(MF)| at Fz = {fz:g} N{where} "
+                                     "over the recomputed one (model functions, tolerance 1e-12)",
+                                     f[f"{q}_max_{UNITS[q]}"], mx, 1e-3 if q == "mz" else 1e-2, unit, f"{DOC} §8 (gaps)"))
+                    out.append(Check(f"gap-rms-{tag}", f"stated RMS gap of {q} ({name}, {fz:g} N{where}) over the "
+                                     "recomputed one", f[f"{q}_rms_{UNITS[q]}"], rms, 1e-3 if q == "mz" else 1e-2, unit,
+                                     f"{DOC} §8 (gaps)"))
+                    out.append(Check(f"gap-at-{tag}", f"where the stated {q} gap occurs ({name}, {fz:g} N{where}), "
+                                     f"[{xs}] against the recomputed", f[f"{q}_at_{xs}"], at,
+                                     1e-6 * max(1.0, abs(at)), xs, f"{DOC} §8 (gaps)"))
+                    ref = STAND_IN_GAPS.get((fid, q))
+                    if (ref and name == "complete" and _reference(result) and abs(fz - 4000.0) < 1e-9
+                            and result.meta["mf"]["name"] == "externdata-205-60r15" and f[f"{q}_points"] == 49):
+                        out.append(Check(f"stand-in-{tag}", f"max {q} gap of the default set to the stand-in tyre",
+                                         f[f"{q}_max_{UNITS[q]}"], ref[0], 0.01, unit, f"{DOC} §11 (gaps)"))
+                        out.append(Check(f"stand-in-rms-{tag}", f"RMS {q} gap of the default set to the stand-in tyre",
+                                         f[f"{q}_rms_{UNITS[q]}"], ref[2], 0.01, unit, f"{DOC} §11 (gaps)"))
+                        out.append(Check(f"stand-in-at-{tag}", f"where the {q} gap of the default set occurs",
+                                         f[f"{q}_at_{xs}"], ref[1], 1e-6, xs, f"{DOC} §11 (gaps)"))
     return out

@@ -22,14 +22,11 @@ if TYPE_CHECKING:  # pandas is imported when a study runs, not when its config i
 CALIBRATE = AnyOf(options=(
     Bool(),
     Map(fields={
-        "points": Num(unit="-", integer=True, ge=5, le=400, default=40, doc="points of each fit (even grid)"),
-        "kappa_max": Num(unit="-", gt=0, le=1, default=0.12, doc="largest slip of the Fx fit"),
-        "alpha_max": Num(unit="rad", gt=0, le=0.7, default=12 * DEG, doc="largest slip angle of the Fy and Mz fits"),
         "load": Num(unit="N", gt=0, default=None, doc="load of the fit (default: the first fz)"),
-        "rounds": Num(unit="-", integer=True, ge=1, le=10, default=1,
-                      doc="alternations of the Fy and Mz fits (c_Mz changes the twist and so Fy); 1: one pass"),
+        "mz_weight": Num(unit="-", ge=0, le=10, default=0.1,
+                         doc="weight of the Mz residuals against the Fy residuals in the lateral fit"),
     }),
-), default=False, what="true, false or {points, kappa_max, alpha_max, load, rounds}")
+), default=False, what="true, false or {load, mz_weight}")
 
 STATIONARY = Map(fields=common_fields() | {
     "tire": Raw(kind="mcps", default=None, doc="MCPS parameter set: a name, a file, or {set: ..., overrides} (default sorine2000-mcps)"),
@@ -54,7 +51,7 @@ def _points(checked) -> list:
     fams = []
     if not any(checked[k] is not None for k in FAMILIES):
         checked["kappa"] = _lin(0.0, 0.12, 49)
-        checked["alpha"] = _lin(0.0, 12 * DEG, 49)
+        checked["alpha"] = _lin(-12 * DEG, 12 * DEG, 97)  # Fig. 8 draws alpha <= 0, Fig. 9 alpha >= 0
     if checked["kappa"] is not None:
         k = np.asarray(checked["kappa"], dtype=float)
         fams.append(("kappa", k, np.zeros_like(k), np.zeros_like(k)))
@@ -104,7 +101,7 @@ def plan(config: Config) -> Plan:
                                                                  "the patch along its length): use a coarser grid " + cap_hint()))
     cal = checked["calibrate"]
     if cal is True:
-        cal = {"points": 40, "kappa_max": 0.12, "alpha_max": 12 * DEG, "load": None, "rounds": 1}
+        cal = {"load": None, "mz_weight": 0.1}
     checked["calibrate"] = cal or None
     if checked["calibrate"] and mf.kind == "none":
         raise ConfigError(config.origins.problem(("calibrate",), "calibration fits MCPS to the Magic Formula curves: "
@@ -146,11 +143,12 @@ def _rows(model, carcass, calibrated, fams, fz, fx, fy, mz, x=None, y=None, d=No
     })
 
 
-def calibrated_set(ps, p_cal, report: dict, mf: MFSide, fz: float):
-    """The calibrated parameters as a :class:`ParameterSet` and its YAML document (``calibrated.yaml``)."""
+def calibrated_set(ps, p_cal, fitted, mf: MFSide, fz: float):
+    """The calibrated parameters as a :class:`ParameterSet` and its YAML document (``calibrated.yaml``);
+    ``fitted``: the names of the fitted parameters."""
     from tirecli.parameters.sets import ParameterSet
 
-    fitted = {k: v for g in report.values() for k, v in g["parameters"].items()}
+    fitted = set(fitted)
     values = {k: float(getattr(p_cal, k)) for k in ps.values}
     doc_values = {}
     for k, v in values.items():
@@ -163,7 +161,8 @@ def calibrated_set(ps, p_cal, report: dict, mf: MFSide, fz: float):
     name = f"{ps.name}-calibrated"
     doc = {"name": name, "kind": "mcps",
            "title": f"{ps.title} -- rubber parameters calibrated to {mf.label} at {fz:g} N",
-           "citation": f"{ps.citation} Calibrated by tirecli compare (least squares, docs/models/mcps_tire.md §8).",
+           "citation": f"{ps.citation} Calibrated by tirecli compare (least squares on the drawn curves, "
+                       "docs/models/mcps_tire.md §8).",
            "values": doc_values}
     out = ParameterSet(name=name, kind="mcps", values=values,
                        source={k: ("tirecli compare (calibrated)" if k in fitted else ps.source.get(k, "")) for k in values},
@@ -178,7 +177,8 @@ def run(plan_: Plan, progress=None) -> StudyResult:
     import pandas as pd  # once the config is checked: a refused run fails at once
 
     from tirecli.io.yamlio import dump_yaml
-    from tirecli.numerics.mcps_calibrate import calibrate
+    from tirecli.numerics.mcps_calibrate import calibrate_to_mf
+    from tirecli.studies.mcps.gaps import calibration_grids, mz_features, stationary_gaps
 
     config, checked, ps = plan_.config, plan_.checked, plan_.sets["tire"]
     p, mf, fams = plan_.detail.params, plan_.detail.mf, plan_.detail.families
@@ -193,22 +193,22 @@ def run(plan_: Plan, progress=None) -> StudyResult:
     frames, sets, files, facts = [], {"tire": ps}, {}, {}
     calibration = None
     p_cal = None
-    if cal:
+    if cal:  # the one calibration: to the tyre drawn, on the drawn grids (docs/models/mcps_tire.md §8)
         fzc = float(cal["load"] or loads[0])
-        npt = int(cal["points"])
-        grid = {"kappa": np.linspace(0.0, cal["kappa_max"], npt + 1)[1:], "alpha": np.linspace(0.0, cal["alpha_max"], npt + 1)[1:]}
-        targets = {"fx": lambda k: mf.evaluate(k, 0.0, fzc)[0], "fy": lambda a: mf.evaluate(0.0, a, fzc)[1],
-                   "mz": lambda a: mf.evaluate(0.0, a, fzc)[2]}
-        p_cal, report = calibrate(p, fzc, targets, grid, carcass=carcasses[0], rounds=int(cal["rounds"]))
-        failed = [(g, r["failure"]) for g, r in report.items() if r.get("failure")]
-        if failed:  # never a calibrated.yaml holding start values or a fit that did not converge
-            g, why = failed[0]
-            raise RunError(f"calibration of {g} to {mf.name} at {fzc:g} N did not converge: {why}; nothing was "
-                           "written (no calibrated.yaml)")
-        calibration = {"load": fzc, "carcass": carcasses[0], "grid": {"kappa": [float(grid["kappa"][0]), float(cal["kappa_max"]), npt],
-                                                                       "alpha": [float(grid["alpha"][0]), float(cal["alpha_max"]), npt]},
-                       "groups": report, "target": mf.label}
-        cps, doc = calibrated_set(ps, p_cal, report, mf, fzc)
+        grids = calibration_grids(fams)
+        try:
+            res = calibrate_to_mf(p, fzc, lambda k, a: mf.evaluate(k, a, fzc), grids["kappa"], grids["alpha"],
+                                  alpha_fy=grids["alpha_fy"], carcass=carcasses[0], mz_weight=float(cal["mz_weight"]))
+        except ValueError as err:
+            raise RunError(f"calibration to {mf.name} at {fzc:g} N: {err}; nothing was written (no calibrated.yaml)") from None
+        if res.failure:  # never a calibrated.yaml holding start values or a fit that did not converge
+            raise RunError(f"calibration to {mf.name} at {fzc:g} N failed: {res.failure}; nothing was written "
+                           "(no calibrated.yaml)")
+        p_cal = res.params
+        calibration = {"load": fzc, "carcass": carcasses[0], "target": mf.label, "mf_name": mf.name,
+                       "grids": {k: {"start": float(v[0]), "stop": float(v[-1]), "points": int(v.size)}
+                                 for k, v in grids.items()}, **res.as_dict()}
+        cps, doc = calibrated_set(ps, p_cal, res.fitted, mf, fzc)
         sets["calibrated"] = cps
         files["calibrated.yaml"] = dump_yaml(doc)
         if progress is not None:
@@ -268,14 +268,8 @@ def run(plan_: Plan, progress=None) -> StudyResult:
              f"(complete model {v['D_yalphaF']:.6g}), D_zalpha {v['D_zalpha']:.6g} N m/rad (complete {v['D_zalphaF']:.6g})"
              for fz, v in facts.items()]
     if calibration:
-        for g, r in calibration["groups"].items():
-            bounds = [n for n, b in r["at_bound"].items() if b]
-            vals = ", ".join(f"{n} = {v:.4g}" for n, v in r["parameters"].items())
-            stage = "" if abs(r["max_gap_stage"] - r["max_gap"]) < 1e-6 * max(1.0, r["max_gap"]) else \
-                f", {r['max_gap_stage']:.4g} right after its own fit"
-            lines.append(f"calibration of {g} to {mf.name} at {calibration['load']:g} N: {vals}; max gap of the final set "
-                         f"{r['max_gap']:.4g} {r['unit']} (before {r['max_gap_before']:.4g}{stage}), rms {r['rms_gap']:.4g}"
-                         + (f"; at a bound: {', '.join(bounds)}" if bounds else ""))
+        lines += calibration_lines(calibration)
+    gaps = stationary_gaps(df)
     return StudyResult(
         study="mcps-stationary", config=config, parameter_sets=sets, data={"stationary": df},
         meta={
@@ -285,7 +279,8 @@ def run(plan_: Plan, progress=None) -> StudyResult:
             "axes": "ISO-W, road on tire, SI: kappa = (r omega - Vx)/|Vx| (> 0 driving), tan(alpha) = Vy/|Vx| "
                     "(alpha > 0 gives Fy < 0, Mz > 0), phi = yaw rate/Vx [1/m]",
             "carcass": carcasses, "families": fam_names, "loads": loads, "frame_term": frame,
-            "mf": mf.record(), "stiffnesses": facts, "calibration": calibration,
+            "mf": mf.record(), "stiffnesses": facts, "calibration": calibration, "gaps": gaps,
+            "mz_features": mz_features(df) if "alpha" in fam_names else {},
             "points": int(len(df)), "summary": lines, "mf_outside_ranges": dict(mf.outside), "flags": flags,
         },
         figures=checked["figures"] or default_figs,
@@ -294,11 +289,50 @@ def run(plan_: Plan, progress=None) -> StudyResult:
     )
 
 
+def calibration_lines(cal: dict) -> list:
+    """What a calibration gives, in words: the fitted values, the parameters at a bound (with the bound
+    and its source), the gaps of the start and the calibrated set, the aligning-torque peaks."""
+    unit = {"fx": "N", "fy": "N", "mz": "N m"}
+    at = {"fx": lambda v: f"kappa {100 * v:.3g} %", "fy": lambda v: f"{v / DEG:.3g} deg",
+          "mz": lambda v: f"{v / DEG:.3g} deg"}
+    vals = ", ".join(f"{n} = {f['value']:.4g}" for n, f in cal["fitted"].items())
+    out = [f"calibration to {cal['mf_name']} at {cal['load']:g} N ({cal['carcass']} carcass): {vals}"]
+    for n in cal["at_bound"]:
+        f = cal["fitted"][n]
+        out.append(f"  {n} ends at its {f['at_bound']} bound {f[f['at_bound']]:g} ({f['bound_source']})")
+    for g in ("fx", "fy", "mz"):
+        a, b = cal["gaps"]["start"][g], cal["gaps"]["calibrated"][g]
+        out.append(f"  {g} gap to the Magic Formula: calibrated max {b['max']:.4g} {unit[g]} at {at[g](b['at'])}, "
+                   f"rms {b['rms']:.4g} ({100 * b['max_rel']:.3g} % / {100 * b['rms_rel']:.3g} % of its peak); "
+                   f"default max {a['max']:.4g} at {at[g](a['at'])}, rms {a['rms']:.4g}")
+    pk = cal["peaks"]
+    out.append("  Mz peak: " + ", ".join(f"{k} {pk[k]['mz']:.4g} N m at {pk[k]['alpha'] / DEG:.3g} deg"
+                                          for k in ("mf", "calibrated", "start") if k in pk))
+    return out
+
+
 def facts(result) -> dict:
-    """The MCPS stiffnesses at each load: ``D_xsigma[stiffness, 4000 N]`` ... (units from their names: none)."""
+    """Flat facts (units from the name suffixes): the MCPS stiffnesses at each load
+    (``D_xsigma[stiffness, 4000 N]`` ...), the gaps of every comparison figure to the Magic Formula
+    (``fx_max_N[gap, mcps-fig7, 4000 N, complete]``, ``fx_at_kappa[...]``, ``fx_rms_N[...]`` ...,
+    :func:`tirecli.studies.mcps.gaps.stationary_gaps`) and, with a calibration, the fitted values and
+    its gaps and peaks (``r_x[calibration]``, ``fy_max_N[calibration, calibrated]``, ``mz_peak_rad[calibration, mf]``)."""
     from tirecli.studies.facts import flatten
 
-    return flatten({"stiffness": result.meta.get("stiffnesses") or {}})
+    out = flatten({"stiffness": result.meta.get("stiffnesses") or {}, "gap": result.meta.get("gaps") or {}})
+    cal = result.meta.get("calibration")
+    if cal:
+        c = {n: f["value"] for n, f in cal["fitted"].items()}
+        c.update({f"{n}_at_bound": f["at_bound"] is not None for n, f in cal["fitted"].items()})
+        for s, d in cal["gaps"].items():
+            c[s] = {f"{g}_{k}_{'Nm' if g == 'mz' else 'N'}": v[k] for g, v in d.items() for k in ("max", "rms")}
+            c[s].update({f"{g}_at_{'kappa' if g == 'fx' else 'rad'}": v["at"] for g, v in d.items()})
+        for s, v in cal["peaks"].items():
+            c.setdefault(s, {}).update({"mz_peak_Nm": v["mz"], "mz_peak_rad": v["alpha"]})
+        for s in ("mf", "calibrated", "start"):
+            c.setdefault(s, {})["mz_sign_change_rad"] = cal["sign_change"].get(s)
+        out.update(flatten({"calibration": c}))
+    return out
 
 
 _CHECKS = "tirecli.studies.checks.mcps"
@@ -312,4 +346,4 @@ STUDY = register(Study(
     facts=facts, summary=meta_summary, files=("calibrated.yaml",),
 ))
 
-__all__ = ["STUDY", "STATIONARY", "plan", "run", "calibrated_set", "Stationary"]
+__all__ = ["STUDY", "STATIONARY", "plan", "run", "calibrated_set", "calibration_lines", "Stationary"]
