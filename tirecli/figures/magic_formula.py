@@ -137,7 +137,10 @@ for _id, _title_text, _caption, _draw, _ncols in (
             "and the Magic Formula pure longitudinal force Fx/Fz at one load on the same slip grid (kappa = "
             "kappa_from_slip(s)). The built-in comparison turns input clipping off (limits: false), since the "
             "file's KPUMAX would flatten the driving branch; with limits on, the title says so. "
-            "The Magic Formula curve does not depend on speed; LuGre's falls with speed (Stribeck).",
+            "The Magic Formula curve does not depend on speed; LuGre's falls with speed (Stribeck). The legend "
+            "states each LuGre curve's gap to the Magic Formula curve of its direction (largest |mu| difference, "
+            "the |s| where it occurs, RMS over the drawn points; also run.json facts gap.*): the two models are "
+            "different tyres on different data, so the gap measures how far apart they are, not an error.",
     paper_shows="No paper figure: the comparison the MCPS paper makes between a dynamic friction model and the "
                 "Magic Formula, drawn with the tyres available here (docs/models/magic_formula_tyre.md §16).",
 )
@@ -157,8 +160,11 @@ def fig_lugre_compare(result):
         g = lu[lu["direction"] == direction]
         g = g.assign(s=np.abs(g["slip"]), m=np.abs(g["mu"])).sort_values("s")
         if len(g):
+            gap = (result.meta.get("facts") or {}).get("gap", {}).get(direction)
+            note = (f"\n  gap to MF: max {gap['max']:.3f} at |s| = {gap['at']:.3g}, RMS {gap['rms']:.3f}"
+                    if gap else "")
             ax.plot(g["s"], g["m"], color=COLORS[1], ls=LINESTYLES[i],
-                    label=f"LuGre {lname}, {g['speed'].iloc[0]:g} m/s ({direction})")
+                    label=f"LuGre {lname}, {g['speed'].iloc[0]:g} m/s ({direction}){note}")
     title = "LuGre and Magic Formula steady states"
     if result.meta.get("limits", True):
         title += "\n(Magic Formula inputs clipped to the file's ranges: limits on)"

@@ -247,6 +247,25 @@ def lugre_frame(lugre_set, cmp: dict) -> pd.DataFrame:
     return df[["model", "direction", "speed", "slip", "mu"]]
 
 
+def compare_gaps(df, lu) -> dict:
+    """The gap of the LuGre curve to the Magic Formula curve on the ``mf-lugre-compare`` plot, per direction
+    (``braking``, ``driving``): :func:`tirecli.numerics.gaps.curve_gap` of LuGre ``|mu|`` (interpolated onto
+    the Magic Formula's ``|s|``) against the Magic Formula ``|Fx/Fz|`` over the drawn points ("at" is
+    ``|s|`` [-]; the gaps are in units of ``|mu|`` [-])."""
+    from tirecli.numerics.gaps import curve_gap
+
+    d = df[df["family"] == "compare"]
+    out = {}
+    for direction, sel in (("braking", d["kappa"] <= 0), ("driving", d["kappa"] >= 0)):
+        g = d[sel].assign(s=d["slip"].abs(), m=d["mu_x"].abs()).sort_values("s").drop_duplicates("s")
+        lg = lu[lu["direction"] == direction]
+        lg = lg.assign(s=lg["slip"].abs(), m=lg["mu"].abs()).sort_values("s").drop_duplicates("s")
+        if len(g) >= 2 and len(lg) >= 2:
+            out[direction] = curve_gap(g["s"].to_numpy(), lg["m"].to_numpy(), g["m"].to_numpy(),
+                                       model_x=lg["s"].to_numpy()).as_dict()
+    return out
+
+
 def run(plan_: Plan, progress=None) -> StudyResult:
     """Run a planned Magic Formula sweep (see module doc)."""
     from tirecli.models.magic_formula.inputs import describe_counts
@@ -274,6 +293,7 @@ def run(plan_: Plan, progress=None) -> StudyResult:
     if lugre is not None:
         data["lugre"] = lugre_frame(lugre, checked["compare"])
         sets["lugre"] = lugre
+    facts = {"gap": compare_gaps(df, data["lugre"])} if lugre is not None else {}
     if progress is not None:
         progress.advance(1)
         progress.close()
@@ -294,6 +314,7 @@ def run(plan_: Plan, progress=None) -> StudyResult:
             "outside_ranges": outside,
             "flags": flags,
             "points": int(len(df)),
+            **({"facts": facts} if facts else {}),
             "title": checked["title"] or f"Magic Formula sweep: {ps.name}",
         },
         figures=checked["figures"] or default_figs,

@@ -31,6 +31,41 @@ def compare_checks(result):
             slope = float(np.diff(s0["mu_x"])[0] / np.diff(s0["kappa"])[0])
             out.append(Check("mf-slope", "Magic Formula d(Fx/Fz)/dkappa near zero slip over K_xk/Fz", slope / (f["fx"]["K"] / fz),
                              1.0, 0.05, "-", "docs/models/magic_formula_tyre.md §5.1"))
+    out += _gap_checks(result, d)
+    return out
+
+
+def _gap_checks(result, d) -> list:
+    """The stated gaps (run.json ``facts.gap``, the legend) recomputed from the model functions: the LuGre
+    steady state :func:`tirecli.models.lugre.mu_ss_uniform` at the Magic Formula's slip points and the Magic
+    Formula evaluated there, not read from the frames; largest gap, where, RMS."""
+    from tirecli.conventions import kappa_from_slip, speeds_from_slip
+    from tirecli.models.lugre import mu_ss_uniform
+    from tirecli.models.magic_formula import evaluate
+    from tirecli.numerics.gaps import curve_gap
+
+    stated = (result.meta.get("facts") or {}).get("gap") or {}
+    t, p = result.payload["tire"], result.parameter_sets["lugre"].model()
+    speed = float(result.data["lugre"]["speed"].iloc[0])
+    fz = float(d["fz"].iloc[0])
+    kw = {"convention": result.payload["convention"], "limits": result.meta.get("limits", True)}
+    vx, pr = float(d["vx"].iloc[0]), float(d["p"].iloc[0])
+    out = []
+    for direction, sign in (("braking", -1.0), ("driving", 1.0)):
+        if direction not in stated:
+            out.append(Check(f"gap-{direction}", f"the {direction} gap is stated", 0.0, 1.0, 0.0, "-", "output contract"))
+            continue
+        s = np.unique(np.abs(d.loc[(d["kappa"] <= 0) if sign < 0 else (d["kappa"] >= 0), "slip"]))
+        extra = {k: x for k, x in (("vx", vx), ("p", pr)) if np.isfinite(x)}
+        ref = np.abs(evaluate(t, kappa_from_slip(sign * s), 0.0, 0.0, fz, **extra, **kw).fx) / fz
+        v, romega = speeds_from_slip(sign * s, speed)
+        model = np.abs(mu_ss_uniform(romega - v, romega, p))
+        g = curve_gap(s, model, ref)
+        got = stated[direction]
+        src = "recomputed from mu_ss_uniform (docs/models/lugre_friction.md) and the Magic Formula"
+        out += [Check(f"gap-{direction}-max", f"largest |mu| gap LuGre - MF, {direction}", got["max"], g.max, 1e-3, "-", src),
+                Check(f"gap-{direction}-at", f"|s| of the largest gap, {direction}", got["at"], g.at, 2.5e-3, "-", src),
+                Check(f"gap-{direction}-rms", f"RMS |mu| gap LuGre - MF, {direction}", got["rms"], g.rms, 1e-3, "-", src)]
     return out
 
 
