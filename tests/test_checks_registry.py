@@ -42,7 +42,7 @@ def test_every_check_belongs_to_a_registered_figure_and_resolves():
 CHECKED = {"fm-fig1-left", "fm-fig1-right", "obs-fig1", "fm-fig6-surface", "fm-fig4", "fm-fig7", "fm-fig8", "fm-fig6",
            "fm-table2", "obs-fig2", "obs-speed-error", "obs-gain-study", "mf-lugre-compare", "mcps-fig3", "mcps-fig4",
            "mcps-fig5", "mcps-fig7", "mcps-fig8", "mcps-fig9", "mcps-fig10", "mcps-fig11", "mcps-calibration",
-           "mcps-relaxation"}
+           "mcps-relaxation", "relaxation-compare"}
 
 
 def test_a_figure_of_the_report_has_the_checks_of_its_study():
