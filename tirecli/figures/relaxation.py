@@ -30,7 +30,8 @@ def _require(result):
 
 
 def _fmt(v, unit=" m") -> str:
-    return "–" if v is None or (isinstance(v, float) and not math.isfinite(v)) else f"{v:.3g}{unit}"
+    """A distance, or "not reached"."""
+    return "not reached" if v is None or (isinstance(v, float) and not math.isfinite(v)) else f"{v:.3g}{unit}"
 
 
 def _marks(ax, s, ratio, f, color):
@@ -77,11 +78,11 @@ def _caption(result=None) -> str:
         return base
     f = result.meta["facts"]
     k, a = f["kappa"], f["alpha"]
-    parts = [f"Here the transient Magic Formula reaches 95 % of Fx at {k['mf']['s95_m']:.3g} m and of Fy at "
-             f"{a['mf']['s95_m']:.3g} m"]
+    parts = [f"Here the transient Magic Formula reaches 95 % of Fx at {_fmt(k['mf']['s95_m'], ' m')} and of Fy at "
+             f"{_fmt(a['mf']['s95_m'], ' m')}"]
     for model in ("mcps-rigid", "mcps-complete"):
         if model in k:
-            parts.append(f"{MODELS[model][0]} at {k[model]['s95_m']:.3g} m and {a[model]['s95_m']:.3g} m")
+            parts.append(f"{MODELS[model][0]} at {_fmt(k[model]['s95_m'])} and {_fmt(a[model]['s95_m'])}")
     text = base + " " + "; ".join(parts) + "."
     if "lugre" in k:
         lg = k["lugre"]
