@@ -43,7 +43,7 @@ CHECKED = {"fm-fig1-left", "fm-fig1-right", "obs-fig1", "fm-fig6-surface", "fm-f
            "fm-table2", "obs-fig2", "obs-speed-error", "obs-gain-study", "mf-lugre-compare", "mcps-fig3", "mcps-fig4",
            "mcps-fig5", "mcps-fig7", "mcps-fig8", "mcps-fig9", "mcps-fig10", "mcps-fig11", "mcps-calibration",
            "mcps-relaxation", "mf-fit-fx", "mf-fit-fy", "mf-fit-mz", "mf-fit-combined", "mf-fit-residuals",
-           "mf-fit-coefficients"}
+           "mf-fit-coefficients", "relaxation-compare"}
 
 
 def test_a_figure_of_the_report_has_the_checks_of_its_study():

@@ -56,6 +56,7 @@ REDUCE = {
     "mcps-slider": {"periods": "1", "samples": "64", "compare_period": "null"},
     "mcps-standstill": {"cycles": "1", "samples": "64", "patch_samples": "8", "grid": "21"},
     "mcps-relaxation": {"distance": "0.5", "cells": "40"},
+    "relaxation": {"distance": "0.5", "samples": "101", "cells": "40"},
     "observe": {"scenario.duration": "6", "metrics.phases": "[0, 3, 6]"},
     "simulate": {"t_end": "0.6"},
     "fit": {},

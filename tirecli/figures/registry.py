@@ -21,6 +21,19 @@ class Table:
     notes: list = field(default_factory=list)
 
 
+def with_table(fig, table: Table):
+    """A matplotlib figure that carries a :class:`Table` for its card: the report shows the table under the
+    image (e.g. the numbers marked on the curves). Returns ``fig``."""
+    fig.card_table = table
+    return fig
+
+
+def card_table(fig) -> Table | None:
+    """The table of a drawn figure: the figure itself when it is a :class:`Table`, else the one it carries
+    (:func:`with_table`), else None."""
+    return fig if isinstance(fig, Table) else getattr(fig, "card_table", None)
+
+
 @dataclass(frozen=True)
 class FigureDef:
     """A registered figure.
@@ -94,9 +107,9 @@ def register(id: str, *, paper: str, label: str, title: str, caption, paper_show
 
 #: The modules that register figures, in the order ``get`` searches them (the LuGre steady-state
 #: figures first: a sweep then imports nothing else, which keeps ``tirecli sweep`` start-up short).
-FIGURE_MODULES = ("steady", "transient", "identification", "observer", "magic_formula", "mf_fit", "mcps")
+FIGURE_MODULES = ("steady", "transient", "identification", "observer", "magic_formula", "mf_fit", "mcps", "relaxation")
 #: Figure-id prefixes whose module ``get`` tries first (an MCPS run imports no LuGre figure code).
-PREFIX_MODULES = {"mcps-": "mcps", "mf-fit-": "mf_fit"}
+PREFIX_MODULES = {"mcps-": "mcps", "mf-fit-": "mf_fit", "relaxation-": "relaxation"}
 
 
 def load_all() -> dict[str, FigureDef]:

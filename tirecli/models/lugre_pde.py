@@ -342,3 +342,51 @@ def upwind_steady_mu(vr: float, romega: float, p: LuGreParams, cells: int, theta
     j = np.arange(1, cells + 1)
     z = zss * (1.0 - rho ** j)
     return float(p.sigma0 * z.mean() + p.sigma2 * vr)
+
+
+def uniform_step_response(t, vr: float, romega: float, p: LuGreParams, theta: float = 1.0):
+    """Closed-form response of the distributed tire (uniform load) to a step of ``vr`` and ``r omega`` at
+    ``t = 0`` from free rolling (``z = 0`` everywhere), both constant afterwards.
+
+    With ``b = sigma0 |vr|/(theta g(vr))`` constant, every element obeys ``dz/dt = vr - b z`` from the time it
+    is in the patch: the element at ``zeta`` holds ``(vr/b)(1 - exp(-b tau))`` with its age
+    ``tau = min(t, zeta/|r omega|)``. Over the patch, with ``R = |r omega|`` and ``T = L/R`` (one patch
+    transit)::
+
+        zbar = (vr/b) [R t/L + (1 - exp(-b t))(1 - R t/L - R/(b L))]          (t < T)
+        zbar = (vr/b) [1 - (R/(b L))(1 - exp(-b L/R))]                         (t >= T: steady, FM eq. (4))
+        dzbar/dt = vr (1 - R t/L) exp(-b t)  (t < T),  0 (t >= T)
+
+    and ``mu = sigma0 zbar + sigma1 dzbar/dt + sigma2 vr`` (FM eq. (2)). At ``t = 0+`` the damping terms give
+    ``mu = (sigma1 + sigma2) vr`` at once; from ``t = T`` on the response is exactly the steady state.
+
+    Parameters
+    ----------
+    t : array_like
+        Time since the step [s] (>= 0).
+    vr : float
+        Relative velocity ``r omega - v`` [m/s] after the step.
+    romega : float
+        Circumferential speed ``r omega`` [m/s] after the step (non-zero).
+    p : LuGreParams
+    theta : float
+        Road adhesion [-].
+
+    Returns
+    -------
+    (ndarray, ndarray, ndarray)
+        ``mu`` [-], ``zbar`` [m], ``dzbar/dt`` [m/s] at ``t``.
+    """
+    t = np.asarray(t, dtype=float)
+    R, L = abs(float(romega)), p.L
+    if vr == 0:
+        z = np.zeros_like(t)
+        return z.copy(), z, z.copy()
+    b = p.sigma0 * abs(vr) / float(stribeck(vr, p, theta))
+    zs = vr / b
+    tt = np.minimum(t, L / R)
+    E = np.exp(-b * tt)
+    frac = R * tt / L
+    zbar = zs * (frac + (1.0 - E) * (1.0 - frac - R / (b * L)))
+    zdot = vr * (1.0 - frac) * E
+    return p.sigma0 * zbar + p.sigma1 * zdot + p.sigma2 * vr, zbar, zdot

@@ -487,34 +487,62 @@ def simulate_rolling(p, fz: float, Vx: float, Vy: float, romega: float, yaw: flo
                       delta=o[:, 6], rim_fx=o[:, 7], rim_fy=o[:, 8], rim_mz=o[:, 9], cells=N, dt=dt)
 
 
-def rigid_relaxation_exact(p, fz: float, alpha: float, s):
-    """Exact ``Fy, Mz`` of the solid carcass after a slip-angle step (characteristics, docs/models/mcps_tire.md §7):
-    after rolling ``s`` [m] the element at distance ``d`` holds the stationary state at ``min(d, s)``.
+def rigid_step_exact(p, fz: float, sx: float, sy: float, s):
+    """Exact ``Fx, Fy, Mz`` of the solid carcass after a step of the slip at ``t = 0`` from free rolling
+    (characteristics, docs/models/mcps_tire.md §7): after a transport distance ``s`` the element at distance
+    ``d`` from the leading edge holds the stationary state at ``min(d, s)``.
 
-    Per component ``F(d) = tau (1 - e^{-c d})``; the patch integrals split at ``d = s``. Returns
-    ``(Fy, Mz)`` [N, N m] at the rolled distances ``s`` (array).
+    Per component ``F(d) = tau (1 - e^{-c d})`` with ``c = g |F'_k s_vec|`` and ``tau = h s_c / c``; the
+    patch integrals split at ``d = s``.
+
+    Parameters
+    ----------
+    p : MCPSParams
+    fz : float
+        Load [N].
+    sx, sy : float
+        Slider displacement per unit transport distance ``(u_x, u_y)/(r omega)`` [-] of the solid carcass:
+        ``sx = (Vx - r omega)/(r omega)`` (``-kappa/(1 + kappa)`` for the slip ratio ``kappa = r omega/Vx - 1``),
+        ``sy = Vy/(r omega)`` (``tan alpha`` at ``kappa = 0``).
+    s : array_like
+        Transport distance ``r omega t`` since the step [m].
+
+    Returns
+    -------
+    (ndarray, ndarray, ndarray)
+        ``Fx, Fy`` [N] and ``Mz`` [N m] (road on tire, ISO-W) at ``s``.
     """
     s = np.atleast_1d(np.asarray(s, dtype=float))
-    if alpha == 0:
-        return np.zeros_like(s), np.zeros_like(s)
-    pa = p.patch(fz)
     law = p.patch_law(fz)
-    l = pa.l
-    sy = np.tan(alpha)
-    n = abs(law.Fk[1] * sy)
-    c = n * law.g[:, 1]                                       # (nb,)
-    tau = law.h[:, 1] * sy / c
+    l = p.patch(fz).l
+    n = float(np.hypot(law.Fk[0] * sx, law.Fk[1] * sy))
     se = np.clip(s, 0.0, l)[:, None]
-    E = np.exp(-c * se)
-    # int_0^se F dd + (l - se) F(se)
-    i0 = tau * (se - (1.0 - E) / c) + (l - se) * tau * (1.0 - E)
-    # int_0^se (l/2 - d) F dd + F(se) int_se^l (l/2 - d) dd
-    arm0 = tau * (l / 2.0 * se - se**2 / 2.0 - (l / 2.0 * (1.0 - E) / c - (1.0 - E * (1.0 + c * se)) / c**2))
-    tail = (l / 2.0 * (l - se) - (l**2 - se**2) / 2.0) * tau * (1.0 - E)
-    fy = -(i0 @ law.sigma)
-    mz = -p.c_Mz * ((arm0 + tail) @ law.sigma)
+    out, mz = [], np.zeros_like(s)
+    for comp, sc in ((0, sx), (1, sy)):
+        if sc == 0 or n == 0:
+            out.append(np.zeros_like(s))
+            continue
+        c = n * law.g[:, comp]                                # (nb,)
+        tau = law.h[:, comp] * sc / c
+        E = np.exp(-c * se)
+        # int_0^se F dd + (l - se) F(se)
+        i0 = tau * (se - (1.0 - E) / c) + (l - se) * tau * (1.0 - E)
+        out.append(-(i0 @ law.sigma))
+        if comp == 1:
+            # int_0^se (l/2 - d) F dd + F(se) int_se^l (l/2 - d) dd
+            arm0 = tau * (l / 2.0 * se - se**2 / 2.0 - (l / 2.0 * (1.0 - E) / c - (1.0 - E * (1.0 + c * se)) / c**2))
+            tail = (l / 2.0 * (l - se) - (l**2 - se**2) / 2.0) * tau * (1.0 - E)
+            mz = -p.c_Mz * ((arm0 + tail) @ law.sigma)
+    return out[0], out[1], mz
+
+
+def rigid_relaxation_exact(p, fz: float, alpha: float, s):
+    """Exact ``Fy, Mz`` of the solid carcass after a slip-angle step (:func:`rigid_step_exact` with
+    ``sx = 0``, ``sy = tan alpha``) at the rolled distances ``s`` [m] (array)."""
+    _, fy, mz = rigid_step_exact(p, fz, 0.0, float(np.tan(alpha)), s)
     return fy, mz
 
 
 __all__ = ["simulate_slider", "integrate_slider_in_time", "triangle_yaw", "gauss_patch", "simulate_standstill", "coupling_rate", "cells_needed", "patch_step",
-           "asymptotic_standstill_torque", "RollingRun", "simulate_rolling", "rigid_relaxation_exact"]
+           "asymptotic_standstill_torque", "RollingRun", "simulate_rolling", "rigid_step_exact",
+           "rigid_relaxation_exact"]

@@ -183,7 +183,7 @@ def run_unit(task: dict, note=None) -> dict:
 def _card(drawn, res, root: Path, formats) -> dict:
     """The card of a drawn figure (:class:`tirecli.app.draw.Drawn`) of result ``res``, its files written
     into ``root/figures``: the card's facts."""
-    from tirecli.figures.registry import REGISTRY, Table
+    from tirecli.figures.registry import REGISTRY, card_table
 
     card = {"id": drawn.id, "caption": REGISTRY[drawn.id].caption_for(res) if drawn.id in REGISTRY else "",
             "synthetic": res.synthetic, "assumed": scenario_assumptions(res),
@@ -191,8 +191,9 @@ def _card(drawn, res, root: Path, formats) -> dict:
                            for g, ps in res.parameter_sets.items()],
             "checks": [c.record() for c in drawn.checks], "files": [], "table": None, "error": drawn.error}
     fig = drawn.figure
-    if isinstance(fig, Table):
-        card["table"] = {"columns": fig.columns, "rows": fig.rows, "notes": fig.notes}
+    table = card_table(fig)
+    if table is not None:
+        card["table"] = {"columns": table.columns, "rows": table.rows, "notes": table.notes}
     if fig is not None:
         paths = write_figure(root / "figures", drawn.id, fig, data_comments(res), dpi=DPI, formats=formats)
         card["files"] = [str(p.relative_to(root)) for p in paths]

@@ -30,6 +30,7 @@ STUDY_MODULES: dict[str, str] = {
     "mcps-slider": "tirecli.studies.mcps.slider",
     "mcps-standstill": "tirecli.studies.mcps.standstill",
     "mcps-relaxation": "tirecli.studies.mcps.relaxation",
+    "relaxation": "tirecli.studies.relaxation",
 }
 
 #: Study name -> entry (filled as study modules are imported, or by :func:`register`).
