@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 from tirecli.models.magic_formula import evaluate
-from tirecli.models.magic_formula.mf61 import pure_slip_factors
+from tirecli.models.magic_formula.pure import pure_slip_factors
 from tirecli.parameters.mf import load_builtin_tire_data
 # the rows of docs/models/magic_formula_tyre.md §15.4, copied verbatim (the report's golden study uses the same rows)
 from tirecli.studies.mf_golden import GOLDEN, TOLERANCE as TOL, golden_rows as rows

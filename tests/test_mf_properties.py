@@ -5,7 +5,7 @@ import numpy as np
 import pytest
 
 from tirecli.models.magic_formula import evaluate, iso_to_sae
-from tirecli.models.magic_formula.mf61 import pure_slip_factors
+from tirecli.models.magic_formula.pure import pure_slip_factors
 from tirecli.parameters.mf import builtin_tire_names, load_builtin_tire_data, read_tire_data
 
 from conftest import ROOT

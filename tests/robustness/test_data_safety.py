@@ -261,14 +261,14 @@ def test_a_stale_lock_and_staging_are_taken_over(configs, previous, tmp_path):
 #: place: before the ``KILL_AT_MOVE``-th move, or before the move of the file named ``KILL_AT_NAME``.
 KILLED_AT_COMMIT = """
 import os, signal, sys
-import tirecli.io.atomic as atomic
-real, moves = atomic._move, [0]
+import tirecli.io.commit as commit
+real, moves = commit._move, [0]
 def move(src, dst):
     moves[0] += 1
     if moves[0] == int(os.environ.get("KILL_AT_MOVE", "0")) or os.path.basename(dst) == os.environ.get("KILL_AT_NAME"):
         os.kill(os.getpid(), signal.SIGKILL)
     real(src, dst)
-atomic._move = move
+commit._move = move
 from tirecli.cli.main import main
 main(sys.argv[1:])
 """
@@ -289,9 +289,9 @@ def test_a_sweep_killed_while_it_commits_is_completed_by_the_next_run(configs, p
     holds that run's complete results; nothing of either run is left over."""
     _killed_at_commit(["sweep", configs["second"], "--out", previous, "--quiet"], tmp_path, **where)
     assert not (previous / "run.json").exists() or where.get("KILL_AT_NAME") is None
-    from tirecli.io import atomic
+    from tirecli.io import staging
 
-    with atomic._claimed(previous, is_dir=True):  # what the next run finds when it takes the folder
+    with staging._claimed(previous, is_dir=True):  # what the next run finds when it takes the folder
         pass
     assert json.loads((previous / "run.json").read_text())["title"] == "second"
     assert _files(previous) == _listed(previous)
@@ -315,13 +315,13 @@ def test_a_report_killed_while_it_commits_is_completed_by_the_next_run(tmp_path)
     assert r.code == 0, r.err
     _killed_at_commit([*args, "--only", "fm-fig1-left"], tmp_path, KILL_AT_NAME="summary.json")
     assert not (out / "summary.json").exists()
-    from tirecli.io import atomic
+    from tirecli.io import commit, staging
 
-    with atomic._claimed(out, is_dir=True):
+    with staging._claimed(out, is_dir=True):
         pass
     summary = json.loads((out / "summary.json").read_text())
     assert [c["id"].split("/")[0] for c in summary["checks"]] == ["fm-fig1-left"] * len(summary["checks"])
-    assert {str(p.relative_to(out)) for p in out.rglob("*") if p.is_file()} == atomic.listed_outputs(out)
+    assert {str(p.relative_to(out)) for p in out.rglob("*") if p.is_file()} == commit.listed_outputs(out)
     assert sorted(os.listdir(tmp_path)) == ["cache", "rep"]
 
 

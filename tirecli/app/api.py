@@ -84,7 +84,7 @@ class Result:
 
         from tirecli.app.draw import close_figures, draw
         from tirecli.app.results import write_result
-        from tirecli.io.atomic import out_path, staged_dir
+        from tirecli.io.staging import out_path, staged_dir
         from tirecli.io.files import check_output_dir
 
         out = out_path(out)

@@ -159,7 +159,7 @@ def run_campaign(path: str | Path, out=None, jobs: int | None = None, scheduler:
     (``--max-samples``; default: the file's ``run.max_samples``, else :data:`tirecli.limits.DEFAULT_MAX_SAMPLES`)."""
     from tirecli import limits
     from tirecli.campaign.execute import check_scheduler
-    from tirecli.io.atomic import out_path
+    from tirecli.io.staging import out_path
 
     t0 = time.perf_counter()
     out = out_path(out) if out is not None else None
@@ -172,7 +172,7 @@ def run_campaign(path: str | Path, out=None, jobs: int | None = None, scheduler:
 
 def _run_loaded(campaign: Campaign, path, out, jobs, scheduler, progress, note, t0) -> CampaignSummary:
     from tirecli.campaign.execute import batch_size, run_batches
-    from tirecli.io.atomic import keep_inputs, locked_dir
+    from tirecli.io.staging import keep_inputs, locked_dir
     from tirecli.io.campaign import PointStore
     from tirecli.parallel import default_jobs
 
@@ -295,7 +295,7 @@ def results_full(results: pd.DataFrame, n: int) -> pd.DataFrame:
 
 
 def _previous_outputs(root: Path) -> set:
-    from tirecli.io.atomic import read_record
+    from tirecli.io.commit import read_record
 
     rec = read_record(root / "summary.json", root)
     if not isinstance(rec, dict) or rec.get("kind") != "campaign" or not isinstance(rec.get("outputs"), list):

@@ -2,7 +2,7 @@
 
 What each command does, independent of the CLI framework (:mod:`tirecli.cli.data` only parses the
 options). The files are read by :func:`tirecli.io.readers.read_measured` (the channel table of
-:mod:`tirecli.io.measured`), written atomically through :func:`tirecli.io.atomic.staged_file` (a file
+:mod:`tirecli.io.measured`), written atomically through :func:`tirecli.io.staging.staged_file` (a file
 appears complete or not at all, never over an input of the run). Errors are
 :class:`~tirecli.errors.TirecliError` subclasses: exit codes in ``cli/main.py``.
 """
@@ -114,7 +114,7 @@ def data_convert(file, to: str, out: str | None = None, **options) -> str:
     """``tirecli data convert FILE --to tdx|csv|parquet [--out FILE]``: the channel table of ``file``
     (ISO-W, SI) written as ``to``; ``out`` defaults to ``file`` with the new suffix. Refuses to write
     over the input; nothing is written when anything fails."""
-    from tirecli.io.atomic import staged_file
+    from tirecli.io.staging import staged_file
     from tirecli.io.files import check_output_file, show_path
     from tirecli.io.readers import WRITE_FORMATS, WRITE_SUFFIX, read_measured, write_measured
 
@@ -158,7 +158,7 @@ def data_synth(tire_ref: str, out: str, noise: float = 0.01, seed: int = 1, load
     say it is synthetic."""
     from tirecli import limits
     from tirecli.app.mf import load_tire
-    from tirecli.io.atomic import staged_file
+    from tirecli.io.staging import staged_file
     from tirecli.io.files import check_output_file, show_path
     from tirecli.io.readers import WRITE_FORMATS, format_of, write_measured
     from tirecli.studies.rig_data import RigPlan, synthetic_rig_data

@@ -149,7 +149,7 @@ def tir_convert(ref: str, to: str, out: str | None) -> str:
         encoding = "latin-1" if doc.encoding == "latin-1" else "utf-8"
     if out is None:
         return text.rstrip("\n")
-    from tirecli.io.atomic import staged_file
+    from tirecli.io.staging import staged_file
     from tirecli.io.output import write_text
 
     with staged_file(out) as tmp:
@@ -197,7 +197,7 @@ def mf_eval(tire_ref: str, points: str | Path, out: str | Path, convention: str 
     default :data:`tirecli.limits.DEFAULT_MAX_SAMPLES`) is refused before it is parsed.
     """
     from tirecli import limits as budgets
-    from tirecli.io.atomic import staged_file
+    from tirecli.io.staging import staged_file
 
     check_output_file(out)  # before the run: a bad location fails at once, naming it
     with budgets.budget(max_samples, config_key=False):

@@ -75,8 +75,8 @@ def write_result(stage, result, figures: dict, checks: list, command: str, wall_
 
     Parameters
     ----------
-    stage : tirecli.io.atomic.Stage
-        The run's staging (:func:`tirecli.io.atomic.staged_dir`): written under ``stage.root``.
+    stage : tirecli.io.staging.Stage
+        The run's staging (:func:`tirecli.io.staging.staged_dir`): written under ``stage.root``.
     figures : dict
         Figure id -> matplotlib Figure or :class:`tirecli.figures.registry.Table`.
     checks : list

@@ -81,7 +81,7 @@ def run_config(command: str, config_path: str | Path | Config, overrides=(), out
     """Run the study of ``config_path`` as ``tirecli COMMAND`` and write its outputs.
 
     The run holds the output directory's lock from the study to the last file and writes into a
-    staging directory moved into place at the end (:func:`tirecli.io.atomic.staged_dir`): on an
+    staging directory moved into place at the end (:func:`tirecli.io.staging.staged_dir`): on an
     error or Ctrl-C the earlier results there stay byte-identical.
 
     Parameters
@@ -107,7 +107,7 @@ def run_config(command: str, config_path: str | Path | Config, overrides=(), out
     command_text : str or None
         The command line recorded in ``run.json`` (default: this process's).
     """
-    from tirecli.io.atomic import out_path, staged_dir
+    from tirecli.io.staging import out_path, staged_dir
     from tirecli.io.files import check_output_dir
 
     t0 = time.perf_counter()

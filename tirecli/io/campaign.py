@@ -11,7 +11,7 @@ keeps every finished point and a rerun resumes. Layout of ``DIR``::
     DIR/figures/*.png|svg          the analysis figures
 
 Every file goes through a temporary file and a rename (:func:`tirecli.io.atomic.atomic_write`);
-the directory is locked for the campaign's duration (:func:`tirecli.io.atomic.locked_dir`).
+the directory is locked for the campaign's duration (:func:`tirecli.io.staging.locked_dir`).
 """
 from __future__ import annotations
 

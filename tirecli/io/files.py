@@ -15,7 +15,7 @@ overwrites or removes one.
 
 Writing (:func:`check_output_dir`, :func:`check_output_file`): an output location is checked
 before a run starts (missing parents are created when the files are written, by
-:mod:`tirecli.io.atomic`): a parent that is a file, a read-only location, a target that is a
+:mod:`tirecli.io.staging`): a parent that is a file, a read-only location, a target that is a
 directory (``run.json`` as a directory) or a device, and names too long are
 :class:`~tirecli.errors.UsageError` naming the path.
 """

@@ -10,7 +10,7 @@ writes files. Layout of an output directory::
     DIR/NAME                extra text files of the study (e.g. fitted.yaml of tirecli fit)
 
 Every file is written through a unique temporary file and renamed into place, and a run writes
-into a staging directory moved into ``DIR`` at the end (:mod:`tirecli.io.atomic`).
+into a staging directory moved into ``DIR`` at the end (:mod:`tirecli.io.staging`).
 A study result is written into this layout by :func:`tirecli.app.results.write_result`.
 """
 from __future__ import annotations

@@ -4,7 +4,7 @@ Writes ``DIR/index.html`` (self-contained: figures embedded as PNG, no network r
 ``DIR/summary.json`` (every reference check), ``DIR/figures/ID.png|svg`` (tables as CSV),
 ``DIR/data/STUDY/NAME.csv``, ``DIR/studies/STUDY.json`` (the run record of each study) and
 ``DIR/docs/`` (the user documentation as HTML; each card links its model's page, see
-:mod:`tirecli.report.docs`). Written like every run (:func:`tirecli.io.atomic.staged_dir`),
+:mod:`tirecli.report.docs`). Written like every run (:func:`tirecli.io.staging.staged_dir`),
 ``summary.json`` last: it lists the report's files (``outputs``).
 """
 from __future__ import annotations
@@ -19,7 +19,7 @@ import jinja2
 from tirecli._version import __version__
 from tirecli.figures.registry import PAPERS, load_all
 from tirecli.io import output
-from tirecli.io.atomic import out_path, staged_dir
+from tirecli.io.staging import out_path, staged_dir
 from tirecli.io.cache import read_bytes, read_timings, write_timings
 from tirecli.io.files import check_output_dir
 from tirecli.parallel import default_jobs

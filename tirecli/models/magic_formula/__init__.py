@@ -6,8 +6,9 @@ signs: :mod:`.axes` (ISO-W, stated once; the LuGre slip relation is in :mod:`tir
 - :class:`MFTire` -- coefficients (SI), version, measured side (:mod:`.tire`);
 - :func:`evaluate` -- forces and moments over broadcast arrays (:mod:`.engine`);
 - :class:`Convention`, :data:`CONVENTIONS` -- the ``mfeval`` (default) and ``teasit`` variants of §10;
-- :mod:`.mf61` (equations), :mod:`.pac89`, :mod:`.turnslip`, :mod:`.radius`, :mod:`.inputs` (§11),
-  :mod:`.check` (coefficient sanity).
+- :mod:`.mf61` (the kernel; its equations by concept: :mod:`.curve`, :mod:`.state`, :mod:`.pure`,
+  :mod:`.combined`, :mod:`.aligning`, :mod:`.moments`), :mod:`.pac89`, :mod:`.turnslip`, :mod:`.radius`,
+  :mod:`.inputs` (§11), :mod:`.check` (coefficient sanity).
 """
 from tirecli.models.magic_formula.axes import iso_to_sae, sae_to_iso
 from tirecli.models.magic_formula.engine import OUTPUTS, MFResult, evaluate

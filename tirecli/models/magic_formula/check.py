@@ -15,7 +15,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from tirecli.models.magic_formula import mf61
+from tirecli.models.magic_formula.curve import _cos_atan
+from tirecli.models.magic_formula.pure import fx0_factors, fy0_factors
+from tirecli.models.magic_formula.state import basic
 from tirecli.models.magic_formula.tire import CONVENTIONS, MFTire
 
 
@@ -84,9 +86,9 @@ def check_coefficients(t: MFTire) -> list[Finding]:
     F, G, P = F.ravel(), G.ravel(), P.ravel()
     P = None if pnom is None else P
     with np.errstate(all="ignore"):  # overflow is reported below as a finding, not a numpy warning
-        b = mf61.basic(t, cv, 0.0, 0.0, G, F, 1.0, P)
-        fx = mf61.fx0_factors(t, cv, b, F, G)
-        fy = mf61.fy0_factors(t, cv, b, F, b.g_star)
+        b = basic(t, cv, 0.0, 0.0, G, F, 1.0, P)
+        fx = fx0_factors(t, cv, b, F, G)
+        fy = fy0_factors(t, cv, b, F, b.g_star)
     # coefficients so large that the factors overflow: every later comparison with NaN would pass
     for keys, obj, attrs in (("PCX1..PKX3", fx, ("C", "D", "mu", "K", "E0")),
                              ("PCY1..PKY7", fy, ("C", "mu", "K", "E0", "Ec", "Ea"))):
@@ -151,10 +153,10 @@ def check_coefficients(t: MFTire) -> list[Finding]:
         j = np.unravel_index(int(np.argmax(et)), et.shape)
         warn("QEZ1..QEZ5", f"trail curvature E_t = {np.max(et):.4g} > 1 at {at(j[0])}, alpha = {alp[j[1]]:g} rad "
                            "(the mfeval convention clips it to 1; §5.3)")
-    bxa = c["RBX1"] * mf61._cos_atan(c["RBX2"] * kap) * c["LXAL"]
+    bxa = c["RBX1"] * _cos_atan(c["RBX2"] * kap) * c["LXAL"]
     if (bxa <= 0).any() or c["RBX1"] <= 0:
         err("RBX1/RBX2", "slope B_xa of the Fx reduction with alpha must be > 0 (§6.1)")
-    byk = c["RBY1"] * mf61._cos_atan(c["RBY2"] * (alp - c["RBY3"])) * c["LYKA"]
+    byk = c["RBY1"] * _cos_atan(c["RBY2"] * (alp - c["RBY3"])) * c["LYKA"]
     if (byk <= 0).any() or c["RBY1"] <= 0:
         err("RBY1/RBY2", "slope B_yk of the Fy reduction with kappa must be > 0 (§6.2)")
     if c["QBZ1"] <= 0:

@@ -14,7 +14,7 @@ import math
 
 import numpy as np
 
-from tirecli.models.magic_formula.mf61 import sin_curve
+from tirecli.models.magic_formula.curve import sin_curve
 
 _DEG = 180.0 / math.pi
 

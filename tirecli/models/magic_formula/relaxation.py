@@ -4,7 +4,7 @@ docs/models/magic_formula_tyre.md §17.1-§17.2; the formulas are mfeval's (``So
 outputs ``Cx``, ``Cy``, ``sigmax``, ``sigmay``, ``Kya``, ``Kxk``):
 
 - slip stiffnesses ``K_xk`` (book 4.E15) and ``K_ya`` (4.E25, with camber; §9 for MF 5.2), taken from
-  the kernel's factors (:func:`~tirecli.models.magic_formula.mf61.pure_slip_factors`, not restated here);
+  the kernel's factors (:func:`~tirecli.models.magic_formula.pure.pure_slip_factors`, not restated here);
 - overall carcass stiffnesses (Besselink et al. 2010 eqs. 17, 18)
   ``C_x = LONGITUDINAL_STIFFNESS (1 + PCFX1 dfz + PCFX2 dfz^2)(1 + PCFX3 dpi)`` and likewise ``C_y``
   with ``LATERAL_STIFFNESS``, ``PCFY1-3``;
@@ -90,7 +90,7 @@ def _dfz_dpi(t: MFTire, fz, p):
 def slip_stiffness(t: MFTire, fz, gamma=0.0, p=None, *, convention="mfeval", limits: bool = True):
     """Longitudinal slip stiffness ``K_xk`` [N] and cornering stiffness ``K_ya`` [N/rad] (book 4.E15, 4.E25).
 
-    The kernel's own values (:func:`~tirecli.models.magic_formula.mf61.pure_slip_factors`), with the
+    The kernel's own values (:func:`~tirecli.models.magic_formula.pure.pure_slip_factors`), with the
     camber and pressure dependence, at the limited inputs. ``K_ya`` carries the file's sign (negative
     for the usual ISO-W files, where a positive slip angle gives a negative side force).
 
@@ -114,7 +114,7 @@ def slip_stiffness(t: MFTire, fz, gamma=0.0, p=None, *, convention="mfeval", lim
     (ndarray, ndarray)
         ``K_xk`` [N], ``K_ya`` [N/rad].
     """
-    from tirecli.models.magic_formula.mf61 import pure_slip_factors
+    from tirecli.models.magic_formula.pure import pure_slip_factors
 
     if t.family != "mf":
         raise ValueError(f"slip stiffnesses need an MF 6.x or 5.2 tyre (this one is {t.version})")

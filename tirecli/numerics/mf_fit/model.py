@@ -11,9 +11,9 @@ the ranges and ``VXLOW`` only, never on a fitted coefficient). Then, by the stag
     the orchestration of :func:`~tirecli.models.magic_formula.mf61.evaluate_kernel` (combined slip)
     inlined: the parts the stage cannot change (``Fx0``, ``Fy0`` and their factors, and for ``mz``
     the combined ``Fx`` and ``Fy``) are computed once with the fixed coefficients, and each call
-    evaluates only ``Fx = Fx0 G_xa`` (:func:`~.mf61.g_xa`), ``Fy = G_yk Fy0 + S_Vyk``
-    (:func:`~.mf61.g_yk`, :func:`~.mf61.sv_yk`) or ``Mz`` (``mf61._mz``, given the zero-camber Fy0 of
-    ``mf61._fy0_zero_camber`` computed once).
+    evaluates only ``Fx = Fx0 G_xa`` (:func:`~.combined.g_xa`), ``Fy = G_yk Fy0 + S_Vyk``
+    (:func:`~.combined.g_yk`, :func:`~.combined.sv_yk`) or ``Mz`` (``aligning._mz``, given the zero-camber Fy0
+    of ``aligning._fy0_zero_camber`` computed once).
 
 No equation is copied: the values are those of ``evaluate(tire, ..., outputs=(channel,), combined=...)``
 at the same points (tests/test_mf_fit.py checks every kind to 1e-12 relative), as long as only the
@@ -27,7 +27,8 @@ from types import SimpleNamespace
 import numpy as np
 
 from tirecli.models.magic_formula import inputs as _inputs
-from tirecli.models.magic_formula import mf61
+from tirecli.models.magic_formula import aligning, combined, mf61, pure, state
+from tirecli.models.magic_formula.curve import _is_zero
 from tirecli.models.magic_formula.tire import MFTire, get_convention
 from tirecli.parallel import default_threads, thread_pool
 
@@ -102,33 +103,33 @@ def _fixed_parts(t, cv, pr, kind):
         return None
     red = pr.kernel.get("red")
     c = SimpleNamespace()
-    b = c.b = mf61.basic(t, cv, pr.kappa, pr.alpha, pr.gamma, pr.fz, pr.vx, pr.p)
+    b = c.b = state.basic(t, cv, pr.kappa, pr.alpha, pr.gamma, pr.fz, pr.vx, pr.p)
     if kind in ("gxa", "mz"):
-        c.fxf = mf61.fx0_factors(t, cv, b, pr.fz, pr.gamma, 1.0, red)
-        fx0 = mf61.fx0_curve(t, cv, c.fxf, pr.kappa)
+        c.fxf = pure.fx0_factors(t, cv, b, pr.fz, pr.gamma, 1.0, red)
+        fx0 = pure.fx0_curve(t, cv, c.fxf, pr.kappa)
         c.fx0 = fx0 * b.sgn_vx if b.backward else fx0
     if kind in ("gyk", "mz"):
-        c.L = mf61.fy0_load(t, cv, b, pr.fz)
-        c.fyf = mf61.fy0_factors(t, cv, b, pr.fz, b.g_star, None, red, c.L)
-        fy0 = mf61.fy0_curve(t, cv, b, c.fyf, pr.alpha)
+        c.L = pure.fy0_load(t, cv, b, pr.fz)
+        c.fyf = pure.fy0_factors(t, cv, b, pr.fz, b.g_star, None, red, c.L)
+        fy0 = pure.fy0_curve(t, cv, b, c.fyf, pr.alpha)
         c.fy0 = fy0 * b.sgn_vx if (b.backward and cv.alpha_star == "tan") else fy0
     if kind == "mz":
         c.fx = _gxa(t, cv, c, pr)
         c.gyk, c.svyk, c.fy = _gyk(t, cv, c, pr, red)
-        c.fy0_zero = mf61._fy0_zero_camber(t, cv, b, pr.fz, pr.alpha, red, c.L)
+        c.fy0_zero = aligning._fy0_zero_camber(t, cv, b, pr.fz, pr.alpha, red, c.L)
     return c
 
 
 def _gxa(t, cv, c, pr):
-    return c.fx0 * mf61.g_xa(t, cv, c.b, pr.kappa, c.b.g_star)
+    return c.fx0 * combined.g_xa(t, cv, c.b, pr.kappa, c.b.g_star)
 
 
 def _gyk(t, cv, c, pr, red):
     b = c.b
-    gyk = mf61.g_yk(t, cv, b, pr.kappa, b.g_star)
-    svyk = mf61.sv_yk(t, b, pr.kappa, pr.fz, c.fyf.mu, b.g_star, 1.0, red)
+    gyk = combined.g_yk(t, cv, b, pr.kappa, b.g_star)
+    svyk = combined.sv_yk(t, b, pr.kappa, pr.fz, c.fyf.mu, b.g_star, 1.0, red)
     fy = gyk * c.fy0
-    if not mf61._is_zero(svyk):
+    if not _is_zero(svyk):
         fy = fy + svyk
     return gyk, svyk, fy
 
@@ -144,5 +145,5 @@ def _variable_part(t, cv, pr, kind, c):
         return _gxa(t, cv, c, pr)
     if kind == "gyk":
         return _gyk(t, cv, c, pr, red)[2]
-    return mf61._mz(t, cv, c.b, pr.kappa, pr.alpha, pr.vx, pr.fz, pr.kernel.get("fz_mz"), c.fxf, c.fyf, c.L, c.fy0,
+    return aligning._mz(t, cv, c.b, pr.kappa, pr.alpha, pr.vx, pr.fz, pr.kernel.get("fz_mz"), c.fxf, c.fyf, c.L, c.fy0,
                     c.gyk, c.svyk, c.fx, c.fy, red, None, fy0_zero=c.fy0_zero)

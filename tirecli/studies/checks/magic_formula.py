@@ -14,7 +14,7 @@ def _fam(df, family):
 def compare_checks(result):
     """Both curves start at the origin and stay finite; the Magic Formula curve's initial slope
     d|mu|/d|s| is K_xk / Fz (docs/models/magic_formula_tyre.md §5.1: slope at zero slip equals the stiffness)."""
-    from tirecli.models.magic_formula.mf61 import pure_slip_factors
+    from tirecli.models.magic_formula.pure import pure_slip_factors
 
     d = _fam(result.data["sweep"], "compare")
     lu = result.data["lugre"]
@@ -72,7 +72,7 @@ def _gap_checks(result, d) -> list:
 def tire_checks(result):
     """Facts every Magic Formula curve of a sweep must satisfy (docs/models/magic_formula_tyre.md §5, §13.1, §15.5)."""
     from tirecli.models.magic_formula import evaluate
-    from tirecli.models.magic_formula.mf61 import pure_slip_factors
+    from tirecli.models.magic_formula.pure import pure_slip_factors
 
     t = result.payload["tire"]
     df = result.data["sweep"]
