@@ -95,24 +95,30 @@ def reference_mu(p, car, kappa0, t, y, torque, theta=1.0):
 def reference_open_loop(p, car, kappa0, v_of_t, omega_of_t, breakpoints, t_end, t_eval, theta=1.0, rtol=1e-10,
                         atol=1e-13):
     """The lumped tire alone driven by prescribed ``v(t)``, ``omega(t)``: ``mu`` at ``t_eval`` (solve_ivp
-    DOP853 on the lumped tire's right-hand side, tirecli.models.lugre_lumped.rhs, split at the breakpoints)."""
+    DOP853 on the lumped tire's right-hand side, tirecli.models.lugre_lumped.rhs, split at the breakpoints).
+
+    Inside a piece ``[a, b]`` the drive is read from inside it (its one-sided limits at ``a`` and ``b``: a jump
+    of the drive at ``b`` belongs to the next piece); at a breakpoint itself ``mu`` is the right limit (the value
+    there from the next piece on)."""
     tire = LumpedTire(p, kappa0)
 
     def u_of(t):
         rw = car.r * omega_of_t(t)
         return (rw - v_of_t(t), rw, theta)
 
-    def zdot(t, z):
-        return lugre_lumped.rhs(t, z, u_of(t), tire)
-
     edges = [0.0] + sorted(b for b in set(breakpoints) if 0 < b < t_end) + [t_end]
     z, out = [0.0], np.full(len(t_eval), np.nan)
     t_eval = np.asarray(t_eval, dtype=float)
     for a, b in zip(edges[:-1], edges[1:]):
-        q = (t_eval > a) & (t_eval <= b) if a > 0 else (t_eval >= a) & (t_eval <= b)
-        sol = solve_ivp(zdot, (a, b), z, method="DOP853", rtol=rtol, atol=atol, t_eval=t_eval[q], max_step=2e-3)
-        for tt, zz in zip(sol.t, sol.y[0]):
-            i = int(np.flatnonzero(t_eval == tt)[0])
-            out[i] = float(lugre_lumped.outputs(tt, [zz], u_of(tt), tire)["mu"])
-        z = [float(solve_ivp(zdot, (a, b), z, method="DOP853", rtol=rtol, atol=atol, max_step=2e-3).y[0, -1])]
+        b_in = np.nextafter(b, -np.inf)   # the drive's left limit at b
+
+        def zdot(t, z, b_in=b_in):
+            return lugre_lumped.rhs(t, z, u_of(min(t, b_in)), tire)
+        last = b == edges[-1]
+        q = (t_eval >= a) & ((t_eval <= b) if last else (t_eval < b))
+        sol = solve_ivp(zdot, (a, b), z, method="DOP853", rtol=rtol, atol=atol, dense_output=True, max_step=2e-3)
+        for i in np.flatnonzero(q):
+            tt = float(t_eval[i])
+            out[i] = float(np.squeeze(lugre_lumped.outputs(tt, sol.sol(tt), u_of(min(tt, b_in) if last else tt), tire)["mu"]))
+        z = [float(sol.y[0, -1])]
     return out

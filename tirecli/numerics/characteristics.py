@@ -38,7 +38,7 @@ import numpy as np
 from tirecli.models.lugre import LuGreParams
 from tirecli.models.lugre_pde import PatchReduction
 from tirecli.models.vehicle import QuarterCarParams
-from tirecli.numerics.ros2 import GAMMA, LOCKED, PRESCRIBED
+from tirecli.numerics.ros2 import GAMMA, LOCKED, PRESCRIBED, just_before
 
 
 #: Weight of the error estimate of ``Phi``: it enters only through differences over one patch
@@ -63,33 +63,38 @@ def _vehicle_wheel(rv, rw, m_r, ghFm, ghrFJ, a11, a12, a21, a22, det, locked):
 class History:
     """The characteristic history: time, travelled length ``X``, ``Phi``, ``Y`` and their rates.
 
+    Each point has the rates the step from it starts with (``dX``, ``dPhi``, ``dY``: right limits) and those
+    the step to it ends with (``lX``, ``lPhi``, ``lY``: left limits). They differ where the drive or the
+    adhesion jumps (a breakpoint: ``vr``, ``|r omega|`` and ``b`` jump there), and the Hermite interpolant of a
+    step takes each end's slope from inside the step: interpolating with the slopes after a jump would
+    misplace the elements that entered just before it, by up to one step's worth of the jump.
     Plain lists (appending and bisecting them is cheaper than numpy for one point per step).
     """
 
-    def __init__(self):
-        self.t, self.X, self.Phi, self.Y, self.dX, self.dPhi, self.dY = [], [], [], [], [], [], []
+    _LISTS = ("t", "X", "Phi", "Y", "dX", "dPhi", "dY", "lX", "lPhi", "lY")
 
-    def put(self, t, X, Phi, Y, dX, dPhi, dY):
-        """Append a point, or replace the last one if it has the same time."""
+    def __init__(self):
+        for name in self._LISTS:
+            setattr(self, name, [])
+
+    def put(self, t, X, Phi, Y, dX, dPhi, dY, left=None):
+        """Append a point, or replace the last one if it has the same time. ``left``: the left-limit rates
+        ``(dX, dPhi, dY)`` at ``t`` when they differ from the right-limit ones (a breakpoint)."""
         if self.t and self.t[-1] >= t:
-            for lst in (self.t, self.X, self.Phi, self.Y, self.dX, self.dPhi, self.dY):
-                lst.pop()
-        self.t.append(t)
-        self.X.append(X)
-        self.Phi.append(Phi)
-        self.Y.append(Y)
-        self.dX.append(dX)
-        self.dPhi.append(dPhi)
-        self.dY.append(dY)
+            for name in self._LISTS:
+                getattr(self, name).pop()
+        lX, lPhi, lY = (dX, dPhi, dY) if left is None else left
+        for name, x in zip(self._LISTS, (t, X, Phi, Y, dX, dPhi, dY, lX, lPhi, lY)):
+            getattr(self, name).append(x)
 
     def arrays(self) -> dict:
-        return {k: np.array(getattr(self, k)) for k in ("t", "X", "Phi", "Y", "dX", "dPhi", "dY")}
+        return {k: np.array(getattr(self, k)) for k in self._LISTS}
 
     def truncate(self, t: float) -> None:
         """Drop the points after ``t`` (a step that is taken back)."""
         while self.t and self.t[-1] > t:
-            for lst in (self.t, self.X, self.Phi, self.Y, self.dX, self.dPhi, self.dY):
-                lst.pop()
+            for name in self._LISTS:
+                getattr(self, name).pop()
 
     def lookup(self, target, now):
         """``(Phi(tau), Y(tau), vr(tau)/|r omega(tau)|)`` where ``X(tau) = target``, ``tau`` in ``[0, t_now]``.
@@ -114,8 +119,8 @@ class History:
             t1, X1, P1, Y1, dX1, dP1, dY1 = now
         else:
             k1 = k + 1
-            t1, X1, P1, Y1, dX1, dP1, dY1 = (self.t[k1], Xh[k1], self.Phi[k1], self.Y[k1], self.dX[k1],
-                                             self.dPhi[k1], self.dY[k1])
+            t1, X1, P1, Y1, dX1, dP1, dY1 = (self.t[k1], Xh[k1], self.Phi[k1], self.Y[k1], self.lX[k1],
+                                             self.lPhi[k1], self.lY[k1])
         dt = t1 - t0
         dXs = X1 - X0
         if dXs <= 0.0 or dt <= 0.0:
@@ -165,9 +170,12 @@ class CharacteristicsStepper:
         self.hist = History()
         s0 = p.sigma0
         # error weights (1/tol in the units of each state): speeds in m/s, deflections in friction
-        # units (sigma0 z), Phi dimensionless, X relative to L
+        # units (sigma0 z), Phi dimensionless, X relative to L; the patch states S_j no less than by their effect
+        # on the friction, |d mu/dS_j| (``mu_q`` of the Jacobian: sigma0 w_j - sigma1 (b w_j - ...), many times
+        # sigma0 w_j when the bristles are stiff, sigma1 b >> sigma0: sliding or a locked wheel; lumped.py)
         scale = [1.0, car.r, s0, PHI_WEIGHT, 1.0 / p.L] + [s0 * max(1.0, abs(float(x))) for x in red.w]
         self.iscale = [x / tol for x in scale]
+        self.itol = 1.0 / tol
         self.points = [float(x) * p.L for x in red.points]
         self.pidx = [int(i) for i in red.p]
         self.A = [float(x) for x in red.A]
@@ -180,6 +188,7 @@ class CharacteristicsStepper:
         self.sum_wBc = sum(self.wBc)
         self.uniform = red.uniform
         self._cache = [None, 0.0, 1.0]
+        self._left = None   # (t, dX, dPhi, dY): left-limit rates at a breakpoint t, for the history point there
         if K == 1 and len(self.points) == 1:  # one tire state, one tracked point (uniform load): no loops
             self._eval, self.attempt = self._eval1, self._attempt1
 
@@ -344,7 +353,9 @@ class CharacteristicsStepper:
     def start(self, t, y, mode):
         E = self.peek(t, y, mode)
         t, y, u, th, mode, f = E[:6]
-        self.hist.put(t, y[4], y[3], y[2], f[4], f[3], f[2])
+        left = self._left   # kept while the run restarts at this time (a released wheel: start again, free)
+        left = left[1:] if left is not None and abs(left[0] - t) <= 1e-12 * max(1.0, abs(t)) else None
+        self.hist.put(t, y[4], y[3], y[2], f[4], f[3], f[2], left)
         return E
 
     def peek(self, t, y, mode, jac=True):
@@ -363,7 +374,8 @@ class CharacteristicsStepper:
         J, Fm, rFJ = car.J, car.F_n / car.m, car.r * car.F_n / car.J
         K = self.K
         t1 = t + h
-        u1, th1 = (self.U(t1 - 1e-9 * h), self.TH(t1 - 1e-9 * h)) if left else self.inputs(t1)
+        tl = just_before(t1, h) if left else t1   # a step ending on a breakpoint: the left limits there (lumped.py)
+        u1, th1 = (self.U(tl), self.TH(tl)) if left else self.inputs(t1)
         ud, thd = (u1 - u0) / h, (th1 - th0) / h
         gh = GAMMA * h
         nq = len(diag)
@@ -394,7 +406,7 @@ class CharacteristicsStepper:
         if mode == PRESCRIBED:
             # v, omega: pseudo-states with the secant slopes as right-hand side, no Jacobian row
             ftv = ftw = 0.0
-            f = [(self.V(t1) - y[0]) / h, (self.W(t1) - y[1]) / h] + f[2:]
+            f = [(self.V(tl) - y[0]) / h, (self.W(tl) - y[1]) / h] + f[2:]
 
             def solve(rv, rw, rq):
                 base = tire(rq)
@@ -425,10 +437,14 @@ class CharacteristicsStepper:
         k2v, k2w, k2q = solve(f2[0] - 2.0 * k1v - gh * ftv, f2[1] - 2.0 * k1w - gh * ftw,
                               [f2[2 + i] - 2.0 * k1q[i] - gh * ftq[i] for i in range(nq)])
         sc = self.iscale
+        it = self.itol
         err = max(abs(k1v + k2v) * sc[0], abs(k1w + k2w) * sc[1],
-                  max(abs(k1q[i] + k2q[i]) * sc[2 + i] for i in range(nq)))
+                  max(abs(k1q[i] + k2q[i]) * sc[2 + i] for i in range(3)),
+                  max(abs(k1q[i] + k2q[i]) * max(sc[2 + i], abs(mu_q[i]) * it) for i in range(3, nq)))
         y_new = [y[0] + h * (1.5 * k1v + 0.5 * k2v), y[1] + h * (1.5 * k1w + 0.5 * k2w)] + \
                 [y[2 + i] + h * (1.5 * k1q[i] + 0.5 * k2q[i]) for i in range(nq)]
+        if mode == PRESCRIBED and left:   # the kinematics at t1 as the next step starts (right limits)
+            y_new[0], y_new[1] = self.V(t1), self.W(t1)
         return y_new, 0.5 * h * err
 
     def _attempt1(self, E, h, left=False):
@@ -438,7 +454,8 @@ class CharacteristicsStepper:
         car = self.car
         J, Fm, rFJ = car.J, car.F_n / car.m, car.r * car.F_n / car.J
         t1 = t + h
-        u1, th1 = (self.U(t1 - 1e-9 * h), self.TH(t1 - 1e-9 * h)) if left else self.inputs(t1)
+        tl = just_before(t1, h) if left else t1   # a step ending on a breakpoint: the left limits there (lumped.py)
+        u1, th1 = (self.U(tl), self.TH(tl)) if left else self.inputs(t1)
         ud, thd = (u1 - u0) / h, (th1 - th0) / h
         gh = GAMMA * h
         dq0, dq3 = 1.0 / (1.0 - gh * diag[0]), 1.0 / (1.0 - gh * diag[3])
@@ -452,7 +469,7 @@ class CharacteristicsStepper:
         prescribed, locked = mode == PRESCRIBED, mode == LOCKED
         if prescribed:
             ftv = ftw = 0.0
-            f = [(self.V(t1) - y[0]) / h, (self.W(t1) - y[1]) / h] + f[2:]
+            f = [(self.V(tl) - y[0]) / h, (self.W(tl) - y[1]) / h] + f[2:]
         else:
             mq0, mq1, mq2, mq3 = mu_q
             ftv, ftw = Fm * mu_th * thd, -rFJ * mu_th * thd + ud / J
@@ -488,10 +505,14 @@ class CharacteristicsStepper:
                                              f2[2] - 2.0 * k10 - gh * ft0, f2[3] - 2.0 * k11 - gh * ft1,
                                              f2[4] - 2.0 * k12 - gh * ft2, f2[5] - 2.0 * k13 - gh * ft3)
         sc = self.iscale
+        w3 = abs(mu_q[3]) * self.itol
         err = max(abs(k1v + k2v) * sc[0], abs(k1w + k2w) * sc[1],
-                  max(abs(k10 + k20) * sc[2], abs(k11 + k21) * sc[3], abs(k12 + k22) * sc[4], abs(k13 + k23) * sc[5]))
+                  max(abs(k10 + k20) * sc[2], abs(k11 + k21) * sc[3], abs(k12 + k22) * sc[4],
+                      abs(k13 + k23) * (w3 if w3 > sc[5] else sc[5])))
         y_new = [v0 + h * (1.5 * k1v + 0.5 * k2v), w0 + h * (1.5 * k1w + 0.5 * k2w), Y0 + h * (1.5 * k10 + 0.5 * k20),
                  P0 + h * (1.5 * k11 + 0.5 * k21), X0 + h * (1.5 * k12 + 0.5 * k22), S0 + h * (1.5 * k13 + 0.5 * k23)]
+        if prescribed and left:
+            y_new[0], y_new[1] = self.V(t1), self.W(t1)
         return y_new, 0.5 * h * err
 
     def holds(self, E):
@@ -500,10 +521,14 @@ class CharacteristicsStepper:
 
     # ------------------------------------------------------------------ dense output and events
 
+    @staticmethod
+    def _left_of(t):
+        return just_before(t, max(abs(t), 1e-3))
+
     def _inputs_at(self, t, left):
         if not left:
             return self.inputs(t)
-        tl = t - 1e-9 * max(abs(t), 1e-3)
+        tl = self._left_of(t)
         return self.U(tl), self.TH(tl)
 
     @staticmethod
@@ -512,12 +537,19 @@ class CharacteristicsStepper:
         return list(E[5])
 
     def rhs_at(self, t, y, mode, left=False):
-        """Right-hand side at ``(t, y)`` without touching the history (``left``: the inputs' left limits)."""
+        """Right-hand side at ``(t, y)`` (``left``: the inputs' and prescribed kinematics' left limits). The
+        history is not changed, but the left-limit rates of ``X``, ``Phi``, ``Y`` are kept for the history
+        point at ``t`` that the next :meth:`start` records (the integrator asks for them when a step ends on
+        a breakpoint, before the next step starts there)."""
         u, th = self._inputs_at(t, left)
         y = [float(x) for x in y]
         if mode == PRESCRIBED:
-            y[0], y[1] = self.V(t), self.W(t)
-        return self._eval(t, y, u, th, mode, False)
+            tk = self._left_of(t) if left else t
+            y[0], y[1] = self.V(tk), self.W(tk)
+        f = self._eval(t, y, u, th, mode, False)
+        if left:
+            self._left = (t, f[4], f[3], f[2])
+        return f
 
     def lock_margin(self, t, y, left=False):
         """``min(T_b, T_b - |r F|)`` at ``(t, y)`` with the wheel locked (>= 0 while the brake holds)."""

@@ -28,7 +28,7 @@ import numpy as np
 
 from tirecli.models.lugre import LuGreParams
 from tirecli.models.vehicle import QuarterCarParams
-from tirecli.numerics.ros2 import GAMMA, LOCKED, PRESCRIBED
+from tirecli.numerics.ros2 import GAMMA, LOCKED, PRESCRIBED, just_before
 
 _X_SERIES = 1e-4
 
@@ -106,8 +106,10 @@ class LumpedStepper:
             return u, th
         V, W = self.v_of_t, self.omega_of_t
         exp, expm1 = math.exp, math.expm1
-        # error scales: speeds in m/s, z in friction units (sigma0 z)
-        iv, iw, iz = 1.0 / self.tol, r / self.tol, s0 / self.tol
+        # error scales: speeds in m/s; z by its effect on the friction, |d mu/dz| = |sigma0 - sigma1 a| (no less
+        # than sigma0): with the bristles stiff (sigma1 a >> sigma0, sliding or locked) an error of z shows in mu
+        # through sigma1 dz/dt = sigma1 (vr - a z) many times larger than through sigma0 z
+        iv, iw, iz, is1 = 1.0 / self.tol, r / self.tol, s0 / self.tol, s1 / self.tol
 
         def core(v, w, z, th):
             """a, da/dvr-factors and friction at one state (shared by the stage evaluations)."""
@@ -183,8 +185,10 @@ class LumpedStepper:
             t, v, w, z, u0, th0, mode, fv, fw, fz, jac, *_ = E
             Jvv, Jvw, Jvz, Jwv, Jww, Jwz, Jzv, Jzw, Jzz, Jvth, Jwth, Jzth = jac
             t1 = t + h
-            # a step ending on a breakpoint sees the inputs' left limits there (steps in u, theta)
-            u1, th1 = (U0(t1 - 1e-9 * h), TH0(t1 - 1e-9 * h)) if left else inputs(t1)
+            # a step ending on a breakpoint sees the inputs' left limits there (steps in u, theta, and in the
+            # prescribed kinematics: a jump belongs to the next step, which starts with the right limits)
+            tl = just_before(t1, h) if left else t1
+            u1, th1 = (U0(tl), TH0(tl)) if left else inputs(t1)
             ud, thd = (u1 - u0) / h, (th1 - th0) / h
             gh = GAMMA * h
             ftv, ftw, ftz = Jvth * thd, (Jwth * thd + ud / J), Jzth * thd
@@ -193,8 +197,8 @@ class LumpedStepper:
             if mode == PRESCRIBED:
                 # v, omega are pseudo-states with the secant slopes as right-hand side and no
                 # Jacobian row: k1 = slope, k2 = -slope (their ROS2 update is then exact)
-                fv = (V(t1) - v) / h
-                fw = (W(t1) - w) / h
+                fv = (V(tl) - v) / h
+                fw = (W(tl) - w) / h
 
                 def solve(rv, rw, rz):
                     return rv, rw, (rz + gh * (Jzv * rv + Jzw * rw)) / dz
@@ -226,26 +230,33 @@ class LumpedStepper:
                                   f2z - 2.0 * k1z - gh * ftz)
             ev = abs(k1v + k2v) * iv
             ew = abs(k1w + k2w) * iw
-            ez = abs(k1z + k2z) * iz
+            wz = iz + is1 * Jzz                 # (sigma0 - sigma1 a) / tol
+            ez = abs(k1z + k2z) * (wz if wz > iz else (-wz if -wz > iz else iz))
             err = 0.5 * h * max(ev, ew, ez)
-            return [v + h * (1.5 * k1v + 0.5 * k2v), w + h * (1.5 * k1w + 0.5 * k2w),
-                    z + h * (1.5 * k1z + 0.5 * k2z)], err
+            z1 = z + h * (1.5 * k1z + 0.5 * k2z)
+            if mode == PRESCRIBED and left:   # the kinematics at t1 as the next step starts (right limits)
+                return [V(t1), W(t1), z1], err
+            return [v + h * (1.5 * k1v + 0.5 * k2v), w + h * (1.5 * k1w + 0.5 * k2w), z1], err
 
         def holds(E):
             # locked wheel: the brake holds while the tire torque -r F does not exceed T_b
             u, F = E[4], E[13]
             return u < 0.0 and -r * F <= -u
 
+        def left_of(t):
+            return just_before(t, max(abs(t), 1e-3))
+
         def left_inputs(t):
-            tl = t - 1e-9 * max(abs(t), 1e-3)
+            tl = left_of(t)
             return U0(tl), TH0(tl)
 
         def rhs_at(t, y, mode, left=False):
-            """Right-hand side at ``(t, y)`` (``left``: the inputs' left limits at ``t``)."""
+            """Right-hand side at ``(t, y)`` (``left``: the inputs' and prescribed kinematics' left limits at ``t``)."""
             u, th = left_inputs(t) if left else inputs(t)
             v, w, z = y
             if mode == PRESCRIBED:
-                v, w = V(t), W(t)
+                tk = left_of(t) if left else t
+                v, w = V(tk), W(tk)
             return list(rhs(t, v, w, z, u, th, mode))
 
         def lock_margin(t, y, left=False):

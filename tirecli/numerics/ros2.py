@@ -65,6 +65,14 @@ FREE, LOCKED, PRESCRIBED = 0, 1, 2
 EVENT_TOL = 1e-9
 
 
+def just_before(t: float, h: float) -> float:
+    """A time inside the step of length ``h`` [s] that ends at ``t`` [s], so close to ``t`` that every input there is
+    its left limit at ``t`` (to ``1e-9`` of the step times its slope): where a step that ends on a breakpoint reads
+    the inputs and the prescribed kinematics, so that a jump there belongs to the next step. Strictly before ``t``
+    even when ``1e-9 h`` is below the resolution of ``t``."""
+    return min(t - 1e-9 * h, math.nextafter(t, -math.inf))
+
+
 def hermite(s, h, y0, y1, f0, f1):
     """Cubic Hermite interpolant at ``s = (t - t0)/h`` in [0, 1] of a step of length ``h`` [s] with end
     values ``y0``, ``y1`` and end slopes ``f0`` (right limit at the start), ``f1`` (left limit at the end)."""
