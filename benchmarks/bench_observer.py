@@ -54,16 +54,17 @@ def deviation(tr, ref, grid):
 
 
 def table(title, plant, gains, sc, sensor, runs, grid):
-    from tirecli.numerics import observer_integrator as oi
+    from tirecli.numerics.observer.adaptive import simulate_adaptive
+    from tirecli.numerics.observer.method import simulate
 
     print(f"Reference for {title}: Radau rtol 1e-10 ...", file=sys.stderr)
     t0 = time.perf_counter()
-    ref = oi.simulate_adaptive(plant, gains, sc, sensor, method="radau", rtol=1e-10)
+    ref = simulate_adaptive(plant, gains, sc, sensor, method="radau", rtol=1e-10)
     t_ref = time.perf_counter() - t0
     rows = []
     for name, opts, repeat in runs:
         print(f"  {name} ...", file=sys.stderr)
-        el, tr = best_of(lambda: oi.simulate(plant, gains, sc, sensor, opts), repeat)
+        el, tr = best_of(lambda: simulate(plant, gains, sc, sensor, opts), repeat)
         dth, dvh = deviation(tr, ref, grid)
         work = (f"{tr.info['steps']} steps" if tr.info["method"] == "fixed" else f"{tr.info['rhs_calls']} rhs calls")
         rows.append((name + ("" if opts.method != "auto" else f" -> {tr.info['method']}"), el, dth, dvh, work))
@@ -90,7 +91,7 @@ def table(title, plant, gains, sc, sensor, runs, grid):
 
 
 def main() -> None:
-    from tirecli.numerics.observer_integrator import SolverOptions as S
+    from tirecli.numerics.observer.method import SolverOptions as S
     from tirecli.observers.measurement import Sensor
 
     plant, gains, sc = setup()

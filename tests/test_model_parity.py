@@ -275,10 +275,12 @@ def _observer_points(plant, n, seed):
 
 @pytest.mark.parametrize("encoder", [False, True])
 def test_observer_scalar_rhs_is_the_models(observers, encoder):
-    """numerics.observer_integrator.scalar_rhs (what the adaptive methods integrate) against full_rhs, the
-    composition of models.quarter_car.rhs and observers.observer.rhs: ideal and held measurement, with and
-    without the encoder's wheel-angle state, for every gain variant."""
-    from tirecli.numerics import observer_integrator as oi
+    """numerics.observer.adaptive.scalar_rhs (what the adaptive methods integrate) against
+    numerics.observer.reference.full_rhs, the composition of models.quarter_car.rhs and observers.observer.rhs:
+    ideal and held measurement, with and without the encoder's wheel-angle state, for every gain variant."""
+    from tirecli.numerics.observer.adaptive import scalar_rhs
+    from tirecli.numerics.observer.reference import full_rhs
+    from tirecli.numerics.observer.scenario import Scenario
 
     worst = 0.0
     for k, (plant, gains) in enumerate(observers):
@@ -286,8 +288,8 @@ def test_observer_scalar_rhs_is_the_models(observers, encoder):
         c = plant.car
         tq = {float(i): x for i, x in enumerate(u)}
         th = {float(i): x for i, x in enumerate(th_fm)}
-        sc = oi.Scenario(duration=1.0, torque=lambda t: tq[t], theta_fm=lambda t: th[t], v0=20.0, omega0=60.0)
-        fast, ref = oi.scalar_rhs(plant, gains, sc), oi.full_rhs(plant, gains, sc)
+        sc = Scenario(duration=1.0, torque=lambda t: tq[t], theta_fm=lambda t: th[t], v0=20.0, omega0=60.0)
+        fast, ref = scalar_rhs(plant, gains, sc), full_rhs(plant, gains, sc)
         for i in range(len(v)):
             X = [v[i], w[i], z[i], c.r * c.m * vh[i] + c.J * w[i], c.J * w[i] + plant.P * zh[i], zh[i], thh[i]]
             X = np.array(X + ([17.0] if encoder else []))
@@ -297,15 +299,15 @@ def test_observer_scalar_rhs_is_the_models(observers, encoder):
 
 
 def test_observer_fast_scheme_is_the_models(observers):
-    """numerics.observer_integrator.fast_model (the functions and constants simulate_fast inlines) against
+    """numerics.observer.fast.fast_model (the functions and constants simulate_fast inlines) against
     observers.plant.rhs and observers.observer.rhs: the plant's eta' and its stiff (chi, z) block, its wheel
     acceleration, and the observer's output error on its slow manifold (C x_hat' = y_m'), ideal and sampled."""
-    from tirecli.numerics import observer_integrator as oi
+    from tirecli.numerics.observer.fast import fast_model
     from tirecli.observers import observer, plant as plant_model
 
     worst = {}
     for k, (pl, gains) in enumerate(observers):
-        fm = oi.fast_model(pl, gains)
+        fm = fast_model(pl, gains)
         obs = observer.Observer(pl, gains)
         C = pl.matrices()[4]
         v, w, z, th_fm, u, (vh, zh_, thh), y_held = _observer_points(pl, 40, 80 + k)

@@ -8,7 +8,12 @@ import pytest
 
 from tirecli.conventions import theta_fm_from_obs
 from tirecli.models.profiles import Change, Constant, Transitions
-from tirecli.numerics import observer_integrator as oi
+from tirecli.numerics.observer import adaptive
+from tirecli.numerics.observer.adaptive import simulate_adaptive
+from tirecli.numerics.observer.fast import DEFAULT_STEP, StepTooLarge, _expo2, simulate_fast
+from tirecli.numerics.observer.method import SolverOptions, choose_method, simulate, slow_rate
+from tirecli.numerics.observer.reference import simulate_reference
+from tirecli.numerics.observer.scenario import Scenario, time_grid
 from tirecli.observers import lugre_observer as lo
 from tirecli.observers.measurement import Sensor
 
@@ -28,7 +33,7 @@ def scenario(duration, torque, theta_obs, v0=20.0, slip0=0.0, r=0.25, **kw):
         if isinstance(prof, Transitions):
             bps += [c.at for c in prof.changes] + [c.at + c.duration for c in prof.changes]
     romega = v0 * (1 + slip0) if slip0 <= 0 else v0 / (1 - slip0)
-    return oi.Scenario(duration=duration, torque=torque, theta_fm=theta_of(th), v0=v0, omega0=romega / r,
+    return Scenario(duration=duration, torque=torque, theta_fm=theta_of(th), v0=v0, omega0=romega / r,
                        breakpoints=tuple(bps), **kw)
 
 
@@ -46,13 +51,13 @@ def test_expo2_matches_expm():
             big[:2, 2:4] = np.eye(2)
             big[2:4, 4:] = np.eye(2)
             ex = expm(big)
-            got = np.array(oi._expo2(*M.ravel(), h)).reshape(3, 2, 2)
+            got = np.array(_expo2(*M.ravel(), h)).reshape(3, 2, 2)
             for k, ref in enumerate((ex[:2, :2], ex[:2, 2:4], ex[:2, 4:])):
                 np.testing.assert_allclose(got[k], ref, rtol=1e-7, atol=1e-9 * np.abs(ref).max())
 
 
 def test_time_grid_contains_breakpoints_and_samples():
-    g = oi.time_grid(1.0, 0.003, breakpoints=(0.5, 0.1234), samples=np.arange(0, 1.0001, 0.01))
+    g = time_grid(1.0, 0.003, breakpoints=(0.5, 0.1234), samples=np.arange(0, 1.0001, 0.01))
     assert g[0] == 0.0 and g[-1] == 1.0
     assert np.all(np.diff(g) <= 0.003 + 1e-12) and np.all(np.diff(g) > 0)
     for t in (0.5, 0.1234, 0.37, 0.99):
@@ -63,11 +68,11 @@ def test_exact_initial_state_stays_exact(plant, gains):
     """x_hat(0) = x(0), theta_hat(0) = theta: the estimates stay exact (accelerating, then braking)."""
     u = Transitions(350.0, (Change(1.0, -300.0, 0.5, "half-cosine"),))
     sc = scenario(3.0, u, 5.0 / 3.0, theta_hat0=5.0 / 3.0)
-    tr = oi.simulate_fast(plant, gains, sc)
+    tr = simulate_fast(plant, gains, sc)
     assert np.max(np.abs(tr.theta_hat - tr.theta)) < 1e-12
     assert np.max(np.abs(tr.v_hat - tr.v)) < 1e-12
     assert np.max(np.abs(tr.z_hat - tr.z)) < 1e-15
-    ref = oi.simulate_reference(plant, gains, replace(sc, duration=1.2))
+    ref = simulate_reference(plant, gains, replace(sc, duration=1.2))
     assert np.max(np.abs(ref.theta_hat - ref.theta)) < 1e-6
     assert np.max(np.abs(ref.v_hat - ref.v)) < 1e-8
 
@@ -75,14 +80,14 @@ def test_exact_initial_state_stays_exact(plant, gains):
 def test_wrong_theta_hat_converges_when_braking(plant, gains):
     """Constant-theta braking at slip about 0.05 from theta_hat(0) = 1 on a wet road (theta = 5/3)."""
     sc = scenario(3.0, Constant(-300.0), 5.0 / 3.0, v0=30.0, slip0=-0.04, theta_hat0=1.0)
-    tr = oi.simulate_fast(plant, gains, sc)
+    tr = simulate_fast(plant, gains, sc)
     slip = (plant.car.r * tr.omega - tr.v) / tr.v
     assert -0.055 < slip[len(slip) // 3] < -0.04
     err = np.abs(tr.theta_hat - tr.theta)
     assert err[0] == pytest.approx(2.0 / 3.0)
     e = np.interp([0.1, 0.3, 1.0, 3.0], tr.t, err)
     assert e[0] < 0.6 * err[0] and e[1] < 0.2 * err[0] and e[2] < 1e-3 and e[3] < 1e-3
-    ref = oi.simulate_reference(plant, gains, replace(sc, duration=0.6))
+    ref = simulate_reference(plant, gains, replace(sc, duration=0.6))
     both = np.arange(0.0, 0.6, 0.005)  # on both output grids
     # theta_hat moves 0.6 in 0.1 s here: the default step stays within 1 % of that jump
     assert np.max(np.abs(np.interp(both, tr.t, tr.theta_hat) - np.interp(both, ref.t, ref.theta_hat))) < 6e-3
@@ -91,7 +96,7 @@ def test_wrong_theta_hat_converges_when_braking(plant, gains):
 def test_small_slip_convergence_is_slow(plant, gains):
     """docs/models/observer_model.md §8: theta_hat(0) = 1.5 on a dry road at slip about 0.01 decays only to 1.23 in 5 s."""
     u = Transitions(250.0, (Change(7.0, -250.0, 1.0, "half-cosine"),))
-    tr = oi.simulate_fast(plant, gains, scenario(5.0, u, 1.0, theta_hat0=1.5))
+    tr = simulate_fast(plant, gains, scenario(5.0, u, 1.0, theta_hat0=1.5))
     assert float(np.interp(5.0, tr.t, tr.theta_hat)) == pytest.approx(1.23, abs=0.01)
 
 
@@ -101,11 +106,11 @@ def test_theta_hat_freezes_while_vr_is_zero(plant, gains):
     w0 = 20.0 / plant.car.r
     th = Transitions(1.0, (Change(1.0, 2.5, 0.0, "step"),))
     sc = scenario(3.0, Constant(plant.tire.sigma_w * w0), th, theta_hat0=1.5)
-    tr = oi.simulate_fast(plant, gains, sc)
+    tr = simulate_fast(plant, gains, sc)
     assert np.max(np.abs(plant.car.r * tr.omega - tr.v)) < 1e-12
     assert np.all(np.isfinite(tr.theta_hat))
     assert np.max(np.abs(tr.theta_hat - 1.5)) < 1e-12
-    ref = oi.simulate_reference(plant, gains, replace(sc, duration=1.5))
+    ref = simulate_reference(plant, gains, replace(sc, duration=1.5))
     assert np.max(np.abs(ref.theta_hat - 1.5)) < 1e-9
 
 
@@ -114,11 +119,11 @@ def test_fast_scheme_matches_radau(plant, gains):
     u = Transitions(300.0, (Change(0.8, -300.0, 0.4, "half-cosine"),))
     th = Transitions(1.0, (Change(0.3, 5.0 / 3.0, 0.0, "step"),))
     sc = scenario(2.0, u, th, v0=25.0)
-    ref = oi.simulate_reference(plant, gains, sc)
+    ref = simulate_reference(plant, gains, sc)
     both = np.arange(0.0, 2.0, 0.005)  # on both output grids
     errs = []
-    for step in (oi.DEFAULT_STEP, 1e-3):
-        fast = oi.simulate_fast(plant, gains, sc, step=step)
+    for step in (DEFAULT_STEP, 1e-3):
+        fast = simulate_fast(plant, gains, sc, step=step)
         f = lambda x: np.interp(both, fast.t, x)  # noqa: E731
         r = lambda x: np.interp(both, ref.t, x)  # noqa: E731
         errs.append(np.max(np.abs(f(fast.theta_hat) - r(ref.theta_hat))))
@@ -134,8 +139,8 @@ def test_sampled_measurement_matches_radau(plant, gains):
     u = Constant(350.0)
     for sensor in (Sensor(rate=1000.0), Sensor(rate=1000.0, noise_std=0.02, seed=3)):
         sc = scenario(0.01, u, 1.0)
-        fast = oi.simulate_fast(plant, gains, sc, sensor)
-        ref = oi.simulate_reference(plant, gains, sc, sensor, rtol=1e-9, atol=1e-12)
+        fast = simulate_fast(plant, gains, sc, sensor)
+        ref = simulate_reference(plant, gains, sc, sensor, rtol=1e-9, atol=1e-12)
         rise_f, rise_r = fast.theta_hat[-1] - 1.0, ref.theta_hat[-1] - 1.0
         assert rise_r > 0.05
         assert rise_f == pytest.approx(rise_r, rel=0.02)
@@ -146,7 +151,7 @@ def test_too_slow_fast_mode_is_refused(plant, gains):
     from tirecli.errors import RunError
 
     with pytest.raises(RunError, match="adaptive"):
-        oi.simulate_fast(plant, gains.replace(k3=-1.0, alpha=0.0), scenario(1.0, Constant(0.0), 1.0))
+        simulate_fast(plant, gains.replace(k3=-1.0, alpha=0.0), scenario(1.0, Constant(0.0), 1.0))
 
 
 @pytest.mark.slow
@@ -157,8 +162,8 @@ def test_fig2_fast_scheme_matches_radau(plant, gains):
 
     p = plan(builtin_config("obs-fig2")).detail
     sc = p.cases[0].scenario
-    fast = oi.simulate_fast(plant, gains, sc)
-    ref = oi.simulate_reference(plant, gains, sc)
+    fast = simulate_fast(plant, gains, sc)
+    ref = simulate_reference(plant, gains, sc)
     both = np.arange(0.0, 20.0, 0.005)  # on both output grids
     f = lambda x: np.interp(both, fast.t, x)  # noqa: E731
     r = lambda x: np.interp(both, ref.t, x)  # noqa: E731
@@ -278,7 +283,7 @@ def test_fig2_start_every_method_matches_the_tight_reference(plant, gains, metho
     t_eval = np.arange(0.0, 7.5, 0.01) + 0.005
     for g in (gains, gains.replace(k1=1.0e6)):
         ref = cached_reference(plant, g, sc, t_eval=t_eval)
-        tr = oi.simulate(plant, g, sc, opts=oi.SolverOptions(method=method))
+        tr = simulate(plant, g, sc, opts=SolverOptions(method=method))
         dv, dvh, dth = deviations(tr, ref)
         assert dvh < 1e-4 and dv < 1e-4, (method, g.k1, dv, dvh)
         assert dth < (3e-4 if tr.info["method"] == "fixed" else 5e-5), (method, g.k1, dth)
@@ -292,7 +297,7 @@ def test_stiff_gains_with_a_speed_error_every_method(plant, gains, method):
     g = gains.replace(k1=1.0e6)
     sc = fig2_start(plant, 3.0, v_hat0=23.0)
     ref = cached_reference(plant, g, sc, t_eval=np.arange(0.0, 3.0, 0.01) + 0.005)
-    tr = oi.simulate(plant, g, sc, opts=oi.SolverOptions(method=method))
+    tr = simulate(plant, g, sc, opts=SolverOptions(method=method))
     assert tr.info["method"] != "fixed"
     dv, dvh, dth = deviations(tr, ref)
     assert dvh < 1e-3 and dv < 1e-4, (method, dv, dvh)
@@ -302,25 +307,25 @@ def test_stiff_gains_with_a_speed_error_every_method(plant, gains, method):
 
 def test_auto_choice_follows_gains_and_measurement(plant, gains):
     sc = fig2_start(plant, 1.0)
-    opts = oi.SolverOptions()
+    opts = SolverOptions()
     held = Sensor(rate=1000.0)
-    assert oi.choose_method(plant, gains, sc, Sensor(), opts)[0] == "lsoda"
-    assert oi.choose_method(plant, gains, sc, held, opts)[0] == "fixed"
-    m, why = oi.choose_method(plant, gains.replace(k1=1.0e6), sc, held, opts)
+    assert choose_method(plant, gains, sc, Sensor(), opts)[0] == "lsoda"
+    assert choose_method(plant, gains, sc, held, opts)[0] == "fixed"
+    m, why = choose_method(plant, gains.replace(k1=1.0e6), sc, held, opts)
     assert m == "lsoda" and "slow-mode rate" in why
-    m, why = oi.choose_method(plant, gains.replace(k3=-1.0, alpha=0.0), sc, held, opts)
+    m, why = choose_method(plant, gains.replace(k3=-1.0, alpha=0.0), sc, held, opts)
     assert m == "lsoda" and "lambda_f" in why
     # h rho_slow: the closed form of the slow pole (docs/models/observer_model.md §6) for alpha = 0
     g0 = gains.replace(alpha=0.0)
-    assert oi.slow_rate(plant, g0) == pytest.approx(-lo.slow_pole_estimate(plant, g0), rel=1e-9)
+    assert slow_rate(plant, g0) == pytest.approx(-lo.slow_pole_estimate(plant, g0), rel=1e-9)
 
 
 def test_auto_hands_over_when_the_block_rate_grows(plant, gains):
     """A fixed run whose h rho_block passes the limit along the run is redone adaptively (and says so)."""
     sc = fig2_start(plant, 0.05, v_hat0=23.0)
-    with pytest.raises(oi.StepTooLarge):
-        oi.simulate_fast(plant, gains.replace(gamma=2e7), sc, Sensor(rate=1000.0), rate_limit=0.5)
-    tr = oi.simulate(plant, gains.replace(gamma=2e7), sc, Sensor(rate=1000.0))
+    with pytest.raises(StepTooLarge):
+        simulate_fast(plant, gains.replace(gamma=2e7), sc, Sensor(rate=1000.0), rate_limit=0.5)
+    tr = simulate(plant, gains.replace(gamma=2e7), sc, Sensor(rate=1000.0))
     assert tr.info["method"] == "lsoda" and "fixed step left" in tr.info["chosen_because"]
 
 
@@ -334,7 +339,7 @@ def test_sampled_measurement_every_method(plant, gains, method):
     for sensor in (Sensor(rate=1000.0), Sensor(rate=1000.0, noise_std=0.02, seed=3)):
         ref = cached_reference(plant, gains, sc, sensor, t_eval=t_eval)
         # a 0.25 ms fixed grid puts grid points at the mid-sample times (ignored by the adaptive methods)
-        tr = oi.simulate(plant, gains, sc, sensor, oi.SolverOptions(method=method, step=2.5e-4))
+        tr = simulate(plant, gains, sc, sensor, SolverOptions(method=method, step=2.5e-4))
         dv, dvh, dth = deviations(tr, ref)
         rise = np.ptp(ref[3])
         assert rise > 0.05
@@ -352,7 +357,7 @@ def test_encoder_is_exact_at_constant_speed_every_method(plant, gains, method):
     w0 = 20.0 / plant.car.r
     sc = scenario(0.006, Constant(plant.tire.sigma_w * w0), 1.0)
     enc = Sensor(rate=1000.0, teeth=48, method="period")
-    tr = oi.simulate(plant, gains, sc, enc, oi.SolverOptions(method=method))
+    tr = simulate(plant, gains, sc, enc, SolverOptions(method=method))
     assert np.max(np.abs(tr.y - w0)) < 1e-6 * w0
     assert np.max(np.abs(tr.v_hat - 20.0)) < 1e-6 and np.max(np.abs(tr.theta_hat - 1.0)) < 1e-6
 
@@ -362,10 +367,10 @@ def test_encoder_edges_agree_between_methods(plant, gains):
     rtol 1e-10 (edges root-found on the interpolant): the held readings and the estimates agree."""
     sc = fig2_start(plant, 0.02)
     enc = Sensor(rate=1000.0, teeth=48, method="period")
-    ref = oi.simulate_adaptive(plant, gains, sc, enc, method="radau", rtol=1e-10)
+    ref = simulate_adaptive(plant, gains, sc, enc, method="radau", rtol=1e-10)
     mid = np.arange(0.0, 0.02, 0.001) + 0.0005
-    for tr in (oi.simulate_adaptive(plant, gains, sc, enc, method="lsoda", rtol=1e-8),
-               oi.simulate_fast(plant, gains, sc, enc, step=1e-4)):
+    for tr in (simulate_adaptive(plant, gains, sc, enc, method="lsoda", rtol=1e-8),
+               simulate_fast(plant, gains, sc, enc, step=1e-4)):
         assert np.max(np.abs(np.interp(mid, tr.t, tr.y) - np.interp(mid, ref.t, ref.y))) < 1e-3
         assert np.max(np.abs(np.interp(mid, tr.t, tr.v_hat) - np.interp(mid, ref.t, ref.v_hat))) < 1e-5
 
@@ -373,7 +378,7 @@ def test_encoder_edges_agree_between_methods(plant, gains):
 def test_adaptive_methods_stop_at_every_breakpoint(plant, gains):
     """The Fig. 2 profile breakpoints (5, 7, 8, 10, 12, 13, 15 s) split an adaptive run: 8 segments."""
     sc = fig2_start(plant, 20.0)
-    tr = oi.simulate_adaptive(plant, gains, replace(sc, duration=20.0), method="lsoda", rtol=1e-4)
+    tr = simulate_adaptive(plant, gains, replace(sc, duration=20.0), method="lsoda", rtol=1e-4)
     assert tr.info["segments"] == len(sc.breakpoints) + 1 == 8
 
 
@@ -388,9 +393,9 @@ def test_lsoda_stall_in_its_nonstiff_mode_is_redone_with_bdf():
     p = plan(builtin_config("obs-speed-error")).detail
     case = p.cases[3]
     assert case.gains.gamma == 0.0 and case.sensor.ideal
-    tr = oi.simulate(p.plant, case.gains, case.scenario, case.sensor, p.solver)
+    tr = simulate(p.plant, case.gains, case.scenario, case.sensor, p.solver)
     assert tr.info["method"] == "lsoda" and tr.info["rhs_calls"] < 20000, tr.info
-    ref = oi.simulate_adaptive(p.plant, case.gains, case.scenario, method="radau", rtol=1e-10)
+    ref = simulate_adaptive(p.plant, case.gains, case.scenario, method="radau", rtol=1e-10)
     assert np.array_equal(ref.t, tr.t)
     assert np.max(np.abs(tr.v_hat - ref.v_hat)) < 5e-5 and np.max(np.abs(tr.v - ref.v)) < 5e-5
     # the slow speed-error mode still shows: about 0.1 exp(-0.027 x 20 s) left at 20 s
@@ -401,10 +406,10 @@ def test_lsoda_guard_redoes_a_segment_over_its_budget(plant, gains, monkeypatch)
     """With a stall rate below LSODA's normal work every segment counts as stalled: each is redone with BDF (said
     in the info and the method label) and the result is BDF's."""
     sc = fig2_start(plant, 6.0, v_hat0=20.1)
-    bdf = oi.simulate_adaptive(plant, gains, sc, method="bdf", rtol=1e-7)
-    monkeypatch.setattr(oi, "LSODA_STALL_CALLS", 20)
-    monkeypatch.setattr(oi, "LSODA_STALL_RATE", 1e-3)   # 20 calls must advance 2e4 s: none does
-    tr = oi.simulate_adaptive(plant, gains, sc, method="lsoda", rtol=1e-7)
+    bdf = simulate_adaptive(plant, gains, sc, method="bdf", rtol=1e-7)
+    monkeypatch.setattr(adaptive, "LSODA_STALL_CALLS", 20)
+    monkeypatch.setattr(adaptive, "LSODA_STALL_RATE", 1e-3)   # 20 calls must advance 2e4 s: none does
+    tr = simulate_adaptive(plant, gains, sc, method="lsoda", rtol=1e-7)
     assert tr.info["lsoda_stalled_segments_start_s"] == [0.0, 5.0] and "BDF" in tr.info["lsoda_stall"]
     assert "2 segment(s) by BDF" in tr.method
     assert tr.info["rhs_calls"] == bdf.info["rhs_calls"] + 2 * 20

@@ -192,14 +192,14 @@ def test_a_solver_failure_is_one_line_naming_the_solver():
     import warnings
 
     from tirecli.errors import RunError
-    from tirecli.numerics import observer_integrator as oi
+    from tirecli.numerics.observer.adaptive import simulate_adaptive
 
     p, case = _fig2_case()
     gains = case.gains.replace(alpha=1e7)
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         with pytest.raises(RunError) as err:
-            oi.simulate_adaptive(p.plant, gains, case.scenario, case.sensor, method="lsoda", rtol=1e-7)
+            simulate_adaptive(p.plant, gains, case.scenario, case.sensor, method="lsoda", rtol=1e-7)
     assert not caught, [str(w.message) for w in caught]
     msg = str(err.value)
     assert msg.startswith("the lsoda solver failed at t = 7 s (repeated convergence failures): try solver.method: "
@@ -209,33 +209,33 @@ def test_a_solver_failure_is_one_line_naming_the_solver():
 
 def test_the_fixed_scheme_failing_is_one_line(monkeypatch):
     from tirecli.errors import RunError
-    from tirecli.numerics import observer_integrator as oi
+    from tirecli.numerics.observer import method
 
     p, case = _fig2_case()
 
     def overflow(*args, **kwargs):
         raise OverflowError("math range error")
 
-    monkeypatch.setattr(oi, "simulate_fast", overflow)
+    monkeypatch.setattr(method, "simulate_fast", overflow)
     with pytest.raises(RunError, match=r"^the fixed solver failed at t = 0 s \(overflowerror: math range error\): "
                                        r"try solver\.method: lsoda or radau"):
-        oi.simulate(p.plant, case.gains, case.scenario, case.sensor, oi.SolverOptions(method="fixed"))
+        method.simulate(p.plant, case.gains, case.scenario, case.sensor, method.SolverOptions(method="fixed"))
 
 
 def test_work_past_the_budget_stops_a_run_at_once():
     """The run-time guard: OBS Fig. 2 takes about 3,400 evaluations; at a limit of 1,000 it stops, naming the
     option that raises the budget; the projection stops a run whose pace would pass the limit."""
     from tirecli.errors import RunError
-    from tirecli.numerics import observer_integrator as oi
+    from tirecli.numerics.observer.adaptive import simulate_adaptive
     from tirecli.numerics.solver_guard import CHECK_EVERY, WorkGuard
 
     p, case = _fig2_case()
     with limits.budget(1000), pytest.raises(RunError, match=r"at its pace up to t = .* the lsoda solver would need about "
                                                            r"[\d,]+ samples; the budget is 1,000 \(raise it with "
                                                            r"--max-samples \d+"):
-        oi.simulate_adaptive(p.plant, case.gains, case.scenario, case.sensor, method="lsoda", rtol=1e-7)
+        simulate_adaptive(p.plant, case.gains, case.scenario, case.sensor, method="lsoda", rtol=1e-7)
     with pytest.raises(RunError, match=r"would need about [\d,]+ evaluations, more than its limit of 1,000;"):
-        oi.simulate_adaptive(p.plant, case.gains, case.scenario, case.sensor, method="lsoda", rtol=1e-7, max_work=1000)
+        simulate_adaptive(p.plant, case.gains, case.scenario, case.sensor, method="lsoda", rtol=1e-7, max_work=1000)
     guard = WorkGuard("bdf", 0.0, 20.0, limit=1e6)
     f = guard.wrap(lambda t, x: x)
     for k in range(CHECK_EVERY * 15):       # 15,000 BDF evaluations (49,500 of LSODA's cost) for the first 0.1 s
@@ -253,7 +253,7 @@ def test_the_adaptation_loop_closed_form_matches_the_full_jacobian():
     Jacobian of the full 7-state system (plant + observer) at a braking state with theta_hat = theta."""
     import numpy as np
 
-    from tirecli.numerics import observer_integrator as oi
+    from tirecli.numerics.observer.adaptive import scalar_rhs, state_scales
     from tirecli.observers import envelope as en
 
     p, case = _fig2_case()
@@ -266,11 +266,11 @@ def test_the_adaptation_loop_closed_form_matches_the_full_jacobian():
     X = np.array([v, y, z, c.r * c.m * v + c.J * y, c.J * y + plant.P * z, z, 1.0])
     for gamma in (1e12, 1e14):
         gains = case.gains.replace(gamma=gamma)
-        f = oi.scalar_rhs(plant, gains, case.scenario)
+        f = scalar_rhs(plant, gains, case.scenario)
         J = np.empty((7, 7))
         f0 = f(1.0, X)
         for i in range(7):
-            h = 1e-7 * max(abs(X[i]), oi.state_scales(plant)[i])
+            h = 1e-7 * max(abs(X[i]), state_scales(plant)[i])
             Xp = X.copy()
             Xp[i] += h
             J[:, i] = (f(1.0, Xp) - f0) / h
@@ -284,7 +284,7 @@ def test_the_envelope_of_a_spinning_wheel():
     envelope's slip speed r (u - r F_n mu_s)/sigma_w against the run's."""
     import numpy as np
 
-    from tirecli.numerics import observer_integrator as oi
+    from tirecli.numerics.observer.adaptive import simulate_adaptive
     from tirecli.numerics.observer_work import scenario_envelope
     from tirecli.observers.envelope import knee_slip_speed, steady_phi
 
@@ -292,7 +292,7 @@ def test_the_envelope_of_a_spinning_wheel():
     env = scenario_envelope(p.plant, case.scenario)
     c, t = p.plant.car, p.plant.tire
     assert env.spin and env.capacity == pytest.approx(c.r * c.F_n * t.mu_s)
-    tr = oi.simulate_adaptive(p.plant, case.gains, case.scenario, case.sensor, method="lsoda", rtol=1e-6)
+    tr = simulate_adaptive(p.plant, case.gains, case.scenario, case.sensor, method="lsoda", rtol=1e-6)
     vr_run = float(np.max(c.r * tr.omega - tr.v))
     assert 0.8 < env.vr / vr_run < 1.3, (env.vr, vr_run)
     knee = knee_slip_speed(p.plant, 20.0)

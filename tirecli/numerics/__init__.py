@@ -6,8 +6,8 @@
 - :mod:`tirecli.numerics.characteristics` — the same with the distributed LuGre model, solved
   exactly along characteristics;
 - :mod:`tirecli.numerics.runs` — one entry point per run kind (coupled, open loop);
-- :mod:`tirecli.numerics.observer_integrator` — quarter car + adhesion observer (OBS): a structured
-  fixed-step scheme and a Radau reference;
+- :mod:`tirecli.numerics.observer` — quarter car + adhesion observer (OBS): a structured fixed-step scheme, adaptive
+  scipy methods and a Radau reference;
 - :mod:`tirecli.numerics.mf_fit` — Magic Formula 6.1 coefficients fitted to measured points, stage by
   stage, with intervals and identifiability.
 """

@@ -28,7 +28,7 @@ failures"). The bound is ``|K_eff,i| eps |omega| H_REF <= atol_i + rtol scale_i`
 1e-7, ``alpha <= 3e6``; measured: 3e6 runs, 6e6 and 1e7 fail (Radau and BDF slow down 10-20x there). A
 torque that spins the wheel up raises ``|omega|`` and with it the noise: then the torque is at fault.
 
-At run time :func:`tirecli.numerics.observer_integrator.simulate_adaptive` counts the same work
+At run time :func:`tirecli.numerics.observer.adaptive.simulate_adaptive` counts the same work
 (:class:`tirecli.numerics.solver_guard.WorkGuard`) and stops a run that passes the budget.
 """
 from __future__ import annotations
@@ -74,9 +74,9 @@ def scenario_envelope(plant, scenario) -> Envelope:
 
 def planned_method(plant, gains, scenario, sensor, opts, env: Envelope) -> tuple[str, str]:
     """The method a run will use, and why: ``solver.method``, or ``auto``'s choice
-    (:func:`tirecli.numerics.observer_integrator.choose_method`), with the fall-back to LSODA that ``auto``
+    (:func:`tirecli.numerics.observer.method.choose_method`), with the fall-back to LSODA that ``auto``
     makes when the fixed scheme's slow block is too fast for its step at the operating point."""
-    from tirecli.numerics.observer_integrator import BLOCK_RATE_LIMIT, choose_method, slow_rate
+    from tirecli.numerics.observer.method import BLOCK_RATE_LIMIT, choose_method, slow_rate
 
     if opts.method != "auto":
         return opts.method, "solver.method"
@@ -133,7 +133,7 @@ def injection_problem(plant, gains, scenario, sensor, opts, env: Envelope, given
     the run is fine or will use the fixed scheme (which takes the fast layer in closed form)."""
     from dataclasses import replace
 
-    from tirecli.numerics.observer_integrator import DEFAULT_RTOL
+    from tirecli.numerics.observer.method import DEFAULT_RTOL
 
     method, _ = planned_method(plant, gains, scenario, sensor, opts, env)
     if method == "fixed":
@@ -163,7 +163,7 @@ def injection_problem(plant, gains, scenario, sensor, opts, env: Envelope, given
 
 def _injection(plant, gains, opts, theta_max: float, omega: float, method: str) -> tuple[str, str] | None:
     """The first injection component whose rounding noise at wheel speed ``omega`` [rad/s] exceeds its tolerance."""
-    from tirecli.numerics.observer_integrator import state_scales
+    from tirecli.numerics.observer.adaptive import state_scales
 
     noise = EPS * omega * H_REF
     scales = state_scales(plant)[3:6]

@@ -18,8 +18,8 @@ Explicit form (docs/models/observer_model.md §3), ``y~ = y - (chi_hat - P z_hat
     theta_hat' = gamma y~ (phi_hat + alpha y~)
 
 with ``phi_hat = sigma0 |vr_hat|/g(vr_hat) z_hat``, ``vr_hat = r y - v(eta_hat, y)``, ``psi_hat = kappa r |y| z_hat``.
-Fast kernels that inline it: :func:`tirecli.numerics.observer_integrator.scalar_rhs` (the full system for
-the adaptive methods) and :func:`~tirecli.numerics.observer_integrator.simulate_fast` (its slow manifold);
+Fast kernels that inline it: :func:`tirecli.numerics.observer.adaptive.scalar_rhs` (the full system for
+the adaptive methods) and :func:`~tirecli.numerics.observer.fast.simulate_fast` (its slow manifold);
 parity: tests/test_model_parity.py.
 """
 from __future__ import annotations

@@ -13,7 +13,7 @@ python-control shape, pure and vectorized (state axis first; trailing axes broad
 
 In ``(v, omega, z)`` it is :func:`tirecli.models.quarter_car.rhs` with ``sigma2_in_wheel=False``
 (tests/test_observer_design.py). The observer that estimates it: :mod:`tirecli.observers.observer`.
-Fast kernel that inlines it: :func:`tirecli.numerics.observer_integrator.simulate_fast` (parity:
+Fast kernel that inlines it: :func:`tirecli.numerics.observer.fast.simulate_fast` (parity:
 tests/test_model_parity.py).
 """
 from __future__ import annotations

@@ -23,7 +23,7 @@ class Case:
 
     label: str
     gains: lo.ObserverGains
-    scenario: object          # tirecli.numerics.observer_integrator.Scenario
+    scenario: object          # tirecli.numerics.observer.scenario.Scenario
     sensor: Sensor
     theta_profile: object
     changes: list             # start times of the adhesion changes (settling)
@@ -71,7 +71,7 @@ def _theta_fm_fn(profile, convention):
 
 
 def _make_case(label, gains, checked, theta_raw, torque_raw, est, meas, config, r) -> Case:
-    from tirecli.numerics.observer_integrator import Scenario
+    from tirecli.numerics.observer.scenario import Scenario
 
     sc = checked["scenario"]
     base = config.base_dir
@@ -102,7 +102,7 @@ class Observe:
 
     plant: lo.ObserverPlant
     cases: list
-    solver: object            # tirecli.numerics.observer_integrator.SolverOptions
+    solver: object            # tirecli.numerics.observer.method.SolverOptions
     metrics: dict
     deprecated: list          # notes on deprecated keys (warnings of the run)
 
@@ -177,7 +177,7 @@ def plan(config: Config) -> Plan:
 #: Memory of one recorded time of a run (trajectory, frame, CSV text) and of one step of an adaptive
 #: solver that is not recorded (``h_max``) [bytes].
 BYTES_PER_POINT, BYTES_PER_STEP = 600, 50
-#: Output grid of the adaptive methods [s] (``tirecli.numerics.observer_integrator.simulate``).
+#: Output grid of the adaptive methods [s] (``tirecli.numerics.observer.method.simulate``).
 ADAPTIVE_OUTPUT_DT = 1e-3
 
 
@@ -219,7 +219,7 @@ def _sample_estimate(checked: dict, cases: list, solver, plant=None, origins=Non
 
 def _solver(checked: dict, config: Config):
     """``SolverOptions`` from ``solver:`` (or the deprecated ``numerics:``) and the deprecation notes."""
-    from tirecli.numerics.observer_integrator import SolverOptions
+    from tirecli.numerics.observer.method import SolverOptions
 
     sol, num = checked["solver"], checked["numerics"]
     if sol is not None and num is not None:

@@ -18,10 +18,10 @@ if TYPE_CHECKING:  # pandas is imported when a study runs, not when its config i
     import pandas as pd
 
 def simulate_case(detail: Observe, case: Case):
-    """Run one case with the configured solver (``auto``: :func:`tirecli.numerics.observer_integrator.choose_method`)."""
-    from tirecli.numerics import observer_integrator as oi
+    """Run one case with the configured solver (``auto``: :func:`tirecli.numerics.observer.method.choose_method`)."""
+    from tirecli.numerics.observer.method import simulate
 
-    return oi.simulate(detail.plant, case.gains, case.scenario, case.sensor, detail.solver)
+    return simulate(detail.plant, case.gains, case.scenario, case.sensor, detail.solver)
 
 
 def case_metrics(plant: lo.ObserverPlant, tr, case: Case, m: dict) -> dict:
