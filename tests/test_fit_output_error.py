@@ -102,18 +102,20 @@ def test_fit_reads_every_format_alike(cli, tmp_path, lock):
     files["csv"] = (f"file: {write(tmp_path / 'rig.csv', cols, 'csv', in_units)}, "
                     "units: {vx: km/h, fx: kN, fz: kN}, map: {BRKPRES: brake_pressure}")
     files["parquet"] = f"file: {write(tmp_path / 'rig.parquet', cols, 'parquet')}"
-    files["tdx"] = f"file: {write(tmp_path / 'rig.tdx', cols, 'tdx')}"
+    files["tdx"] = f"csv: {plain}"  # replaced by --data rig.tdx (a file that is not a .csv: data.file)
+    tdx = write(tmp_path / "rig.tdx", cols, "tdx")
     est = {}
     for name, data in files.items():
         (tmp_path / f"{name}.yaml").write_text(FIT.format(data=data, sigma1="false", more=""))
-        code, out, err = cli("--quiet", "fit", tmp_path / f"{name}.yaml", "--out", tmp_path / name)
+        code, out, err = cli("--quiet", "fit", tmp_path / f"{name}.yaml", "--out", tmp_path / name,
+                             *(("--data", tdx) if name == "tdx" else ()))
         assert code == 0, (name, err)
         est[name] = {k: v["estimate"] for k, v in run_json(tmp_path / name)["meta"]["steady_state"]["parameters"].items()}
     for name in ("csv", "parquet", "tdx"):
         for k, ref in est["plain"].items():
             assert est[name][k] == pytest.approx(ref, rel=1e-9), (name, k)
     meta = run_json(tmp_path / "tdx")["meta"]["data"]
-    assert meta["synthetic"] and meta["samples"] == lock["t"].size
+    assert meta["synthetic"] and meta["samples"] == lock["t"].size and meta["source"].endswith("rig.tdx")
 
 
 @pytest.mark.parametrize("text, words", [

@@ -72,7 +72,9 @@ def draw_fit_steady(result):
 @register("fit-transient", paper="generic", label="fit", title="Transient fits: sigma1, and the distributed model",
           caption="Measured mu(t) and the tire model driven by the measured v(t), s(t): the FM procedure's model (stage 2: "
                   "the steady-state parameters with sigma1 fitted to mu(t); default lumped kappa0(Z)) and, with model: "
-                  "distributed, the distributed model with all parameters fitted to mu(t) at once (stage 3); dashed: the "
+                  "distributed, the distributed model with all parameters fitted to mu(t) at once (stage 3), and with method: "
+                  "output-error the output-error fit's simulated mu (dashed, the quarter car run from the brake input, "
+                  "figure fit-output-error); dashed: the "
                   "steady state FM eq. (4) at the same (s, v), which misses the lag of the bristle dynamics. Below, "
                   "model - data. In stage 2 sigma1 also absorbs what the chosen transient model gets wrong: on the "
                   "synthetic braking #2 (truth: distributed model, sigma1 = 1 s/m) the lumped kappa0(Z) model returns "

@@ -63,7 +63,8 @@ from tirecli.studies.study import Lazy, Study
 
 def overrides_for(data: str | None, maps: list[str] | None, config: str | Path | None = None) -> list[str]:
     """``--set`` overrides from ``tirecli fit --data FILE --map FILE_COLUMN=NAME``: a ``.csv`` is ``data.csv`` (the
-    fit's own columns), another measured-data file (``.parquet``, ``.tdx``, ``.mf4``) ``data.file``.
+    fit's own columns), a measured-data file (``.parquet``, ``.tdx``, ``.mf4``) ``data.file``, any other name
+    ``data.csv`` (whose reader names what is wrong with it).
 
     ``--data`` is relative to the current directory and ``data.csv`` to the config's: a relative
     ``--data`` is kept as written when the two are the same (messages and run.json name the file as
@@ -72,7 +73,10 @@ def overrides_for(data: str | None, maps: list[str] | None, config: str | Path |
     if data:
         same_dir = config is not None and os.path.abspath(os.path.dirname(os.fspath(config)) or ".") == os.getcwd()
         given = data if (same_dir and not os.path.isabs(data)) else os.path.abspath(data)
-        key, other = ("csv", "file") if given.lower().endswith(".csv") else ("file", "csv")
+        from tirecli.io.readers import SUFFIXES
+
+        measured = os.path.splitext(given)[1].lower() in set(SUFFIXES) - {".csv"}
+        key, other = ("file", "csv") if measured else ("csv", "file")
         out += [f"data.{key}={json.dumps(given)}", f"data.{other}=null", "data.simulate=null"]
     if maps:
         mapping = {}
