@@ -67,14 +67,14 @@ def main():
     }
     # FM Fig. 4's braking #2 (the data of FM Fig. 6): Table 2 as it is
     from tirecli.config.loader import config_from_text
-    from tirecli.studies.simulate import run_simulate
+    from tirecli.studies import simulate
 
     text = (ROOT / "tirecli" / "studies" / "configs" / "fm-fig4.yaml").read_text()
     sim = config_from_text(text, "<fm-fig4>")
     sim.data["cases"] = [c for c in sim.data["cases"] if isinstance(c, dict) and c.get("label") == "braking #2"]
     sim.data["measurement"]["cases"] = ["braking #2"]
     sim.data["measurement"]["record_starts"] = [97]
-    cases["braking #2"] = (table2, 50.0, run_simulate(sim))
+    cases["braking #2"] = (table2, 50.0, simulate.run(simulate.plan(sim)))
 
     def rel(est, truth, k):
         return (est[k] - getattr(truth, k)) / getattr(truth, k) if getattr(truth, k) else est[k] - getattr(truth, k)

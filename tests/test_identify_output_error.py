@@ -21,7 +21,7 @@ GAIN = 20.0   # N m/bar, the simulate study's default pressure gain
 def braking(model: str, pressure: str, t_end: float, tol: float = 1e-6) -> dict:
     """A SYNTHETIC braking by the simulate study: its result (frames ``measured_clean``, ``measured``)."""
     from tirecli.config.loader import config_from_text
-    from tirecli.studies.simulate import run_simulate
+    from tirecli.studies import simulate
 
     text = f"""\
 study: simulate
@@ -36,7 +36,7 @@ cases: [{model}]
 measurement: {{rate: 100, noise: {{speed: 0.05, pressure: 0.5}}, seed: 2003}}
 output: {{dt: 0.01}}
 """
-    res = run_simulate(config_from_text(text, "<test braking>"))
+    res = simulate.run(simulate.plan(config_from_text(text, "<test braking>")))
     assert res.synthetic and res.meta["events"][0]["wheel_lock"], "the braking must lock the wheel"
     return res
 
