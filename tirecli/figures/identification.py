@@ -29,6 +29,20 @@ def _dist(result):
     return result.payload.get("distributed")
 
 
+def _oe(result):
+    """The output-error FitResult (``fit.method: output-error``), or None."""
+    return result.payload.get("output_error")
+
+
+def _oe_label(f) -> str:
+    """``"output error (locks 1.99-2.17 s)"``, naming what the data do not determine."""
+    locks = f.extra.get("locks") or []
+    lk = "; ".join(f"{a:.3g}-{b:.3g} s" if b is not None else f"{a:.3g} s-" for a, b in locks)
+    named = f.extra.get("not_identifiable") or []
+    return ("output error" + (f" (wheel lock {lk})" if lk else " (no wheel lock)")
+            + (f", NOT IDENTIFIABLE: {', '.join(named)}" if named else ""))
+
+
 @register("fit-steady", paper="generic", label="fit", title="Steady-state fit: samples and model",
           caption="|mu| against |s| of the samples used by the steady-state fit (coloured by vehicle speed) and the fitted "
                   "FM eq. (4) at the minimum, middle and maximum sample speed (stage 1 of the FM procedure; the "
@@ -58,7 +72,9 @@ def draw_fit_steady(result):
 @register("fit-transient", paper="generic", label="fit", title="Transient fits: sigma1, and the distributed model",
           caption="Measured mu(t) and the tire model driven by the measured v(t), s(t): the FM procedure's model (stage 2: "
                   "the steady-state parameters with sigma1 fitted to mu(t); default lumped kappa0(Z)) and, with model: "
-                  "distributed, the distributed model with all parameters fitted to mu(t) at once (stage 3); dashed: the "
+                  "distributed, the distributed model with all parameters fitted to mu(t) at once (stage 3), and with method: "
+                  "output-error the output-error fit's simulated mu (dashed, the quarter car run from the brake input, "
+                  "figure fit-output-error); dashed: the "
                   "steady state FM eq. (4) at the same (s, v), which misses the lag of the bristle dynamics. Below, "
                   "model - data. In stage 2 sigma1 also absorbs what the chosen transient model gets wrong: on the "
                   "synthetic braking #2 (truth: distributed model, sigma1 = 1 s/m) the lumped kappa0(Z) model returns "
@@ -67,11 +83,12 @@ def draw_fit_transient(result):
     require(result, "fit", "fit-transient")
     tr = result.data.get("transient")
     dd = result.data.get("distributed")
+    oe = result.data.get("output_error")
     fig, (a, b) = new_figure(nrows=2, width=7.0, height=6.0, sharex=True, height_ratios=(2.2, 1))
-    if tr is None and dd is None:
+    if tr is None and dd is None and oe is None:
         a.text(0.5, 0.5, "sigma1 not fitted (fit.sigma1: false)", ha="center", va="center", transform=a.transAxes)
         return fig
-    data = tr if tr is not None else dd
+    data = tr if tr is not None else dd if dd is not None else oe
     a.plot(data["t"], data["mu"], ".", color="0.5", ms=3, label="data")
     if tr is not None:
         s1 = result.payload["sigma1"]
@@ -84,18 +101,58 @@ def draw_fit_transient(result):
         lab = f"distributed model, all fitted (RMS {f.residual_rms:.2g})"
         a.plot(dd["t"], dd["mu_model"], color=COLORS[2], lw=1.1, ls="-.", label=lab)
         b.plot(dd["t"], dd["residual"], color=COLORS[2], lw=1.0, ls="-.", label="distributed model")
+    if oe is not None:
+        f = _oe(result)
+        a.plot(oe["t"], oe["mu_model"], color=COLORS[3], lw=1.1, ls="--",
+               label=f"{_oe_label(f)}, RMS {f.residual_rms:.2g}")
+        b.plot(oe["t"], oe["residual"], color=COLORS[3], lw=1.0, ls="--", label="output error")
     # the legend below the panels: measured data may run through any corner of the friction panel
     finish(a, "", "mu [-]", result.meta.get("title") or "Transient fit", legend=False)
     handles, labels = a.get_legend_handles_labels()
     fig.legend(handles, labels, loc="outside lower center", ncol=2, fontsize=8, frameon=False)
-    finish(b, "time t [s]", "model - data [-]", legend=dd is not None and tr is not None, loc="upper right")
+    finish(b, "time t [s]", "model - data [-]", legend=sum(x is not None for x in (tr, dd, oe)) > 1, loc="upper right")
+    _label(result, fig)
+    return fig
+
+
+@register("fit-output-error", paper="generic", label="fit", title="Output-error fit: speeds and friction simulated from the brake input",
+          caption="The output-error fit (fit.method: output-error): the coupled quarter car simulated from the measured brake "
+                  "input (pressure times its gain, or torque) with the fitted parameters, against the measured vehicle speed "
+                  "v, wheel speed r omega and friction mu; no interpolated kinematics drive the model. Shaded: the wheel locks "
+                  "of the fitted run. Below each quantity, model - data (only the samples compared, fit.output_error.window).")
+def draw_fit_output_error(result):
+    require(result, "fit", "fit-output-error")
+    d = result.data.get("output_error")
+    fig, axes = new_figure(nrows=4, width=7.0, height=8.0, sharex=True, height_ratios=(1.6, 1.6, 1, 1))
+    a, m, rs, rm = axes
+    if d is None:
+        a.text(0.5, 0.5, "no output-error fit (fit.method: fm)", ha="center", va="center", transform=a.transAxes)
+        return fig
+    f = _oe(result)
+    used = d["used"].to_numpy() > 0
+    a.plot(d["t"], d["v"], ".", color="0.5", ms=2.5, label="v, data")
+    a.plot(d["t"], d["romega"], ".", color="0.75", ms=2.5, label="r omega, data")
+    a.plot(d["t"], d["v_model"], color=COLORS[0], lw=1.2, label="v, model")
+    a.plot(d["t"], d["romega_model"], color=COLORS[1], lw=1.2, label="r omega, model")
+    m.plot(d["t"], d["mu"], ".", color="0.5", ms=2.5, label="mu, data")
+    m.plot(d["t"], d["mu_model"], color=COLORS[3], lw=1.2, label="mu, model")
+    rs.plot(d["t"][used], (d["v_model"] - d["v"])[used], color=COLORS[0], lw=0.9, label="v")
+    rs.plot(d["t"][used], (d["romega_model"] - d["romega"])[used], color=COLORS[1], lw=0.9, label="r omega")
+    rm.plot(d["t"][used], d["residual"][used], color=COLORS[3], lw=0.9, label="mu")
+    for ax in axes:
+        for t0, t1 in f.extra.get("locks") or []:
+            ax.axvspan(t0, t1 if t1 is not None else float(d["t"].iloc[-1]), color="0.85", zorder=0)
+    finish(a, "", "speed [m/s]", f"Output-error fit: {_oe_label(f)}", loc="upper right")
+    finish(m, "", "mu [-]", loc="lower left")
+    finish(rs, "", "model - data [m/s]", loc="upper right")
+    finish(rm, "time t [s]", "model - data [-]", loc="upper right")
     _label(result, fig)
     return fig
 
 
 # --------------------------------------------------------------------------- FM Fig. 6
 
-def _caption_fig6(result):
+def _caption_fig6_fits(result):
     f = _dist(result) if result is not None else None
     base = ("SYNTHETIC data: the noise-free 100 Hz samples of braking #2 of Fig. 4 (distributed model, Table 2) with "
             "t <= 2.6 s and |s| > 0.005 (post-release samples dropped), and the steady-state surface FM eq. (4) "
@@ -122,6 +179,28 @@ def _caption_fig6(result):
             "intervals); on data consistent to 1e-7 the same fit returns Table 2 to 1e-4 (tests). See Table 2.")
 
 
+def _oe_caption(result) -> str:
+    """The output-error part of the Fig. 6 / Table 2 captions: its numbers against Table 2, or why it is not shown."""
+    f = _oe(result) if result is not None else None
+    if f is None:
+        return OE_NOT_SHOWN
+    dev, inside = _deviations(f)
+    named = f.extra.get("not_identifiable") or []
+    return (f" Output error (fit.method: output-error; the last panel / columns): the coupled quarter car simulated from "
+            f"the brake input with the candidate parameters, fitted to the measured v, r omega and mu, starting from the "
+            f"previous fit's values; {_oe_label(f)}. Against Table 2 (the generating values when the data are the "
+            f"SYNTHETIC brakings of Table 2): {dev}; Table 2 lies inside the interval of {', '.join(inside) or 'none'}"
+            + (f"; not identifiable from these data: {', '.join(named)}" if named else "") + ".")
+
+
+def _caption_fig6(result):
+    return _caption_fig6_fits(result) + _oe_caption(result)
+
+
+def _caption_table2(result):
+    return _caption_table2_fits(result) + _oe_caption(result)
+
+
 @register(
     "fm-fig6", paper="FM", label="Fig. 6", study="fm-fig6", order=61,
     title="(mu, s, v) samples of braking #2 and the identified steady-state surfaces (synthetic data)",
@@ -135,14 +214,17 @@ def draw_fm_fig6(result):
     used = d["used"].to_numpy() > 0
     p_fm = _fm(result)
     f = _dist(result)
-    panels = [(p_fm, "FM procedure: steady-state fit (stage 1)")]
+    panels = [(p_fm, "FM procedure: steady-state fit (stage 1)", "FM procedure's fit")]
     if f is not None:
-        panels.append((result.payload["fitted"], "distributed model in the loop (stage 3)"))
+        panels.append((result.payload.get("fitted_distributed") or result.payload["fitted"],
+                       "distributed model in the loop (stage 3)", "distributed-model fit"))
+    if _oe(result) is not None:
+        panels.append((result.payload["fitted"], "output error: quarter car from the brake input", "output-error fit"))
     s_abs, v, m = np.abs(d["s"][used]), d["v"][used], np.abs(d["mu"][used])
     ss = np.linspace(0.0, 0.3, 61)
     vv = np.linspace(float(v.min()), float(v.max()), 41)
     S, V = np.meshgrid(ss, vv)
-    p3, name3 = panels[-1][0], ("distributed-model fit" if f is not None else "FM procedure's fit")
+    p3, name3 = panels[-1][0], panels[-1][2]
     M = _surface_mu(p3, S, V)
     # two rows that fit a page: the paper's 3-D view and the same surface as a map (top), the fitted
     # curves of each fit against the samples (bottom); one legend and one speed scale for the figure.
@@ -163,12 +245,14 @@ def draw_fm_fig6(result):
     lines = c.contour(S, V, M, levels=filled.levels[2::2], colors="#FFFFFF", linewidths=0.6)
     c.clabel(lines, fmt="%.1f", fontsize=7)
     fig.colorbar(filled, cax=fig.add_axes((0.87, 0.565, 0.013, 0.345)), label="|mu| of the surface [-]")
-    c.plot(s_abs, v, ".", color=COLORS[1], ms=3, label="synthetic samples (|s|, v) of braking #2")
+    cases = ((result.payload.get("checked") or {}).get("data") or {}).get("cases") or []
+    c.plot(s_abs, v, ".", color=COLORS[1], ms=3,
+           label="synthetic samples (|s|, v)" + (f" of {', '.join(cases)}" if cases else ""))
     finish(c, "slip |s| [-]", "speed v [m/s]", "(b) the same surface from above: |mu| over (|s|, v)", legend=False)
     axes = []
-    lefts = (0.07, 0.5) if len(panels) == 2 else (0.285,)
-    for i, ((p, title), x0) in enumerate(zip(panels, lefts)):
-        b = fig.add_axes((x0, 0.12, 0.35, 0.33), sharey=axes[0] if axes else None)
+    lefts, width = {1: ((0.285,), 0.35), 2: ((0.07, 0.5), 0.35), 3: ((0.06, 0.36, 0.66), 0.26)}[len(panels)]
+    for i, ((p, title, _), x0) in enumerate(zip(panels, lefts)):
+        b = fig.add_axes((x0, 0.12, width, 0.33), sharey=axes[0] if axes else None)
         axes.append(b)
         sc = b.scatter(s_abs, m, c=v, s=8, cmap="viridis")
         for k, vk in enumerate((float(v.max()), 0.5 * (float(v.min()) + float(v.max())), float(v.min()))):
@@ -177,9 +261,9 @@ def draw_fm_fig6(result):
                    label=f"Table 2, v = {vk:.1f} m/s")
         b.set_xlim(0, 0.3)
         b.set_ylim(bottom=0)
-        finish(b, "slip |s| [-]", "|mu| [-]" if i == 0 else "", f"({'cd'[i]}) {title}:\nfit (solid), Table 2 (dotted)",
+        finish(b, "slip |s| [-]", "|mu| [-]" if i == 0 else "", f"({'cde'[i]}) {title}:\nfit (solid), Table 2 (dotted)",
                legend=False)
-    fig.colorbar(sc, cax=fig.add_axes((lefts[-1] + 0.37, 0.12, 0.013, 0.33)), label="sample speed v [m/s]")
+    fig.colorbar(sc, cax=fig.add_axes((lefts[-1] + width + 0.02, 0.12, 0.013, 0.33)), label="sample speed v [m/s]")
     handles, labels = axes[0].get_legend_handles_labels()
     handles += c.get_legend_handles_labels()[0]
     labels += c.get_legend_handles_labels()[1]
@@ -204,7 +288,33 @@ def _deviations(f) -> tuple[str, list]:
     return ", ".join(parts), inside
 
 
-def _caption_table2(result):
+def _oe_note(result) -> str:
+    """The output-error fit in numbers: data, input, locks, residuals per channel, cost, identifiability."""
+    f = _oe(result)
+    rec = result.meta["output_error"]
+    rms = ", ".join(f"{c} {x:.2g}" for c, x in rec["channel_rms"].items())
+    named = rec["not_identifiable"]
+    ident = (f"NOT IDENTIFIABLE from these data: {', '.join(named)} (no interval)" if named else
+             f"every fitted parameter determined (smallest relative singular value of the scaled Jacobian "
+             f"{rec['smallest_relative_singular_value']:.2g})")
+    return (f"Output error: the coupled quarter car ({rec['model'].get('model', '')} model) simulated from the "
+            f"{rec['input']} and fitted to {', '.join(rec['channels'])} at {rec['samples_used']} samples (no "
+            f"interpolated kinematics); {_oe_label(f)}; residual RMS {rms}; {rec['runs']} runs in "
+            f"{rec['wall_time_s']:.1f} s; {ident}; correlation matrix in data/correlation_output_error.csv.")
+
+
+#: What the output-error fit does on the data of FM Fig. 6 and where it identifies the tire (bench_identify_oe.py,
+#: tests/test_fit_output_error.py), stated on the cards that do not run it.
+OE_NOT_SHOWN = (" The output-error fit (fit.method: output-error: the coupled quarter car simulated from the brake "
+                "pressure and fitted to v, r omega and mu, no interpolated kinematics) is not run for this card (it takes "
+                "about a minute): on this braking (no wheel lock, slip down to -0.18, below the force peak) it does not "
+                "separate mu_c from v_s - noise-free, it ends 27 % and 16 % off Table 2 at a residual no larger than "
+                "the truth's (benchmarks/bench_identify_oe.py) - while on a braking that locks the wheel it returns "
+                "sigma0, sigma1, mu_c, mu_s and v_s within 1e-3 of the generating values (examples/fm-fig6-output-error.yaml "
+                "draws this card with it; docs/models/lugre_friction.md §8).")
+
+
+def _caption_table2_fits(result):
     base = ("FM Table 2 (the paper's identification from measured braking #2; here also the generating values of the "
             "SYNTHETIC braking #2) beside tirecli's fits of that braking: estimate and 95% confidence interval. FM "
             "procedure: the steady state FM eq. (4) fitted to the samples, then sigma1 from the transient with the lumped "
@@ -238,28 +348,35 @@ def draw_fm_table2(result):
     par = result.data["parameters"]
     if "fit" not in par.columns:
         par = par.assign(fit="FM 4.3")
-    fm = par[par["fit"] != "distributed"].set_index("parameter")
+    fm = par[~par["fit"].isin(["distributed", "output-error"])].set_index("parameter")
     di = par[par["fit"] == "distributed"].set_index("parameter")
+    oe = par[par["fit"] == "output-error"].set_index("parameter")
     p_fm, p = _fm(result), result.payload["fitted"]
-    has_dist = len(di) > 0
+    p_di = result.payload.get("fitted_distributed") or p
+    has_dist, has_oe = len(di) > 0, len(oe) > 0
 
-    def cells(frame, k, pset):
+    def cells(frame, k, pset, g=".4g"):
         if k in frame.index:
             f = frame.loc[k]
+            if f["se"] != f["se"]:  # NaN: named not identifiable by the output-error fit
+                return [f"{f['estimate']:{g}}", "NOT IDENTIFIABLE (no interval)"]
             flag = " (on a bound)" if bool(f["at_bound"]) else ""
-            return [f"{f['estimate']:.4g}", f"[{f['ci_low']:.4g}, {f['ci_high']:.4g}]{flag}"]
-        return [f"{getattr(pset, k):.4g}", "fixed (not identified)"]
+            return [f"{f['estimate']:{g}}", f"[{f['ci_low']:{g}}, {f['ci_high']:{g}}]{flag}"]
+        return [f"{getattr(pset, k):{g}}", "fixed (not identified)"]
 
     rows = []
     for k, ref in TABLE2.items():
         unit = {"sigma0": "1/m", "sigma1": "s/m", "sigma2": "s/m", "v_s": "m/s", "L": "m"}.get(k, "-")
-        row = [k, f"{ref:g}"] + cells(fm, k, p_fm) + (cells(di, k, p) if has_dist else []) + [unit]
+        row = ([k, f"{ref:g}"] + cells(fm, k, p_fm) + (cells(di, k, p_di) if has_dist else [])
+               + (cells(oe, k, p, ".6g") if has_oe else []) + [unit])
         rows.append(row)
     st = result.payload["steady"]
     lvl = int(round(100 * st.confidence))
     columns = ["parameter", "FM Table 2", "FM procedure", f"FM procedure {lvl}% CI"]
     if has_dist:
         columns += ["distributed model", f"distributed model {lvl}% CI"]
+    if has_oe:
+        columns += ["output error", f"output error {lvl}% CI"]
     columns.append("unit")
     notes = [f"Data: {result.meta['data']['source']} ({result.meta['data']['used_steady']} samples in the steady-state "
              f"fit); SYNTHETIC." if result.synthetic else f"Data: {result.meta['data']['source']}.",
@@ -281,5 +398,7 @@ def draw_fm_table2(result):
                      f"data/correlation_distributed.csv{corr}." + (" On synthetic data its residual is the data's own "
                      "numerical error rather than noise, so its intervals are indicative only." if result.synthetic
                                                                   else ""))
+    if has_oe:
+        notes.append(_oe_note(result))
     notes.append("FM Table 2 prints the unit of sigma1 as 1/m; it is s/m (docs/models/lugre_friction.md §6).")
     return Table(columns=columns, rows=rows, notes=notes)

@@ -15,6 +15,7 @@ from tirecli.io.yamlio import dump_yaml
 from tirecli.models.lugre import mu_of_deflection
 from tirecli.models.profiles import Constant, Table
 from tirecli.numerics import identify, runs
+from tirecli.numerics.identify_oe import OE_PARAMETERS as OE_TIRE
 from tirecli.studies.base import StudyResult
 from tirecli.studies.configs import builtin_config_names
 from tirecli.studies.fit.data import _window_mask, load_samples
@@ -40,30 +41,35 @@ def plan(config: Config) -> Plan:
 
 
 STAGES = {"steady": "steady state (FM eq. 4)", "sigma1": "transient (sigma1)",
-          "distributed": "transient, distributed model (all at once)"}
+          "distributed": "transient, distributed model (all at once)",
+          "output-error": "output error (coupled quarter car from the brake input)"}
 #: The ``fit`` column of frame ``parameters``: the FM procedure (stages 1-2) or stage 3.
 FIT_FM, FIT_DISTRIBUTED = "FM 4.3", "distributed"
 
 
 def fitted_set(name: str, start_set, p, steady: identify.FitResult, s1: identify.FitResult | None, source: str,
-               synthetic: bool, dist: identify.FitResult | None = None) -> dict:
+               synthetic: bool, dist: identify.FitResult | None = None, oe: identify.FitResult | None = None) -> dict:
     """A parameter-set document (kind lugre) of the fitted values, with estimates and intervals as notes.
 
-    ``dist`` (stage 3), when given, supersedes the estimates of stages 1-2 for the parameters it fitted.
+    ``dist`` (stage 3) and then ``oe`` (the output-error fit), when given, supersede the estimates of the
+    stages before them for the parameters they fitted.
     """
     values = {}
     fits = {**{k: steady for k in steady.names}, **({"sigma1": s1} if s1 is not None else {}),
-            **({k: dist for k in dist.names} if dist is not None else {})}
+            **({k: dist for k in dist.names} if dist is not None else {}),
+            **({k: oe for k in oe.names if k in OE_TIRE} if oe is not None else {})}
     for key in ("sigma0", "sigma1", "sigma2", "mu_c", "mu_s", "v_s", "L", "alpha", "kappa0", "sigma_w"):
         val = float(getattr(p, key))
         if key in fits:
             f = fits[key]
             lvl = int(round(100 * f.confidence))
-            how = " with the distributed model in the loop" if f is dist else ""
+            how = (" with the distributed model in the loop" if f is dist else
+                   " by output error (the quarter car simulated from the brake input)" if f is oe else "")
             note = (f"fitted{how}: {f.estimate[key]:.6g} +/- {f.se[key]:.3g} (SE), {lvl}% CI [{f.ci_low[key]:.6g}, "
                     f"{f.ci_high[key]:.6g}]" + ("; on a bound" if f.at_bound[key] else ""))
-            if key in f.unidentifiable:
-                note = (f"NOT IDENTIFIED{how}: the data do not determine it ({f.identifiability_text()}); "
+            if key in unidentified(f):
+                why = f" ({f.identifiability_text()})" if key in f.unidentifiable else ""
+                note = (f"NOT IDENTIFIED{how}: the data do not determine it{why}; "
                         f"{f.estimate[key]:.6g} is only where the optimiser stopped, no interval")
             values[key] = {"value": val, "note": note}
         elif key in start_set.assumed:
@@ -75,7 +81,9 @@ def fitted_set(name: str, start_set, p, steady: identify.FitResult, s1: identify
     label = "SYNTHETIC data" if synthetic else "data"
     procedure = ("procedure of FM §4.3: steady-state least squares of FM eq. 4, then sigma1 from the transient"
                  + ("; then all fitted parameters at once by least squares of mu(t) with the distributed model "
-                    "(FM eqs. 1-2) driven by the measured kinematics" if dist is not None else ""))
+                    "(FM eqs. 1-2) driven by the measured kinematics" if dist is not None else "")
+                 + ("; then by output error: the coupled quarter car simulated from the measured brake input, fitted "
+                    "to the measured v, r omega and mu" if oe is not None else ""))
     return {
         "name": name, "kind": "lugre",
         "title": f"LuGre tire identified by tirecli fit from {label}: {source}",
@@ -94,7 +102,7 @@ def _estimate(n: int, dopt: dict | None):
     (``substeps`` and twice as many per sample interval)."""
     from tirecli.limits import Estimate
 
-    est = Estimate().add(n, (("data", "csv"), ("data", "simulate"), ("data",)), f"the {n:,} data samples",
+    est = Estimate().add(n, (("data", "file"), ("data", "csv"), ("data", "simulate"), ("data",)), f"the {n:,} data samples",
                          BYTES_PER_SAMPLE)
     if dopt is not None:
         est.add(3 * dopt["substeps"] * n, (("fit", "model", "substeps"), ("fit", "model")),
@@ -116,14 +124,21 @@ def _distributed_options(raw) -> dict | None:
 
 
 def _parameter_rows(f: identify.FitResult, stage: str, fit: str, start, initial) -> list:
+    missing = unidentified(f)
     rows = [{"fit": fit, "parameter": k, "estimate": f.estimate[k], "se": f.se[k], "ci_low": f.ci_low[k],
-             "ci_high": f.ci_high[k], "unit": identify.UNITS.get(k, "-"), "at_bound": f.at_bound[k],
-             "start": f.extra.get("start", {}).get(k, (initial or {}).get(k, getattr(start, k))), "stage": stage}
+             "ci_high": f.ci_high[k], "unit": f.extra.get("units", identify.UNITS).get(k, "-"), "at_bound": f.at_bound[k],
+             "start": f.extra.get("start", {}).get(k, (initial or {}).get(k, getattr(start, k, float("nan")))), "stage": stage}
             for k in f.names]
-    if f.unidentifiable:   # a column only when the data leave a parameter undetermined (outputs unchanged otherwise)
+    if missing:   # a column only when the data leave a parameter undetermined (outputs unchanged otherwise)
         for row in rows:
-            row["identified"] = row["parameter"] not in f.unidentifiable
+            row["identified"] = row["parameter"] not in missing
     return rows
+
+
+def unidentified(f: identify.FitResult) -> list:
+    """The parameters of fit ``f`` the data do not determine: the rank test of the least-squares fits
+    (``f.unidentifiable``) and those the output-error fit names (``extra["not_identifiable"]``)."""
+    return list(dict.fromkeys([*f.unidentifiable, *(f.extra.get("not_identifiable") or ())]))
 
 
 def run(plan_: Plan, progress=None) -> StudyResult:
@@ -133,7 +148,8 @@ def run(plan_: Plan, progress=None) -> StudyResult:
     config, checked, tire, vehicle = plan_.config, plan_.checked, plan_.sets["tire"], plan_.sets["vehicle"]
     start, car = tire.model(), vehicle.model()
     d, fc = checked["data"], checked["fit"]
-    data = load_samples(d, config.base_dir)
+    oe_on = fc["method"] == "output-error"
+    data = load_samples(d, config.base_dir, car.r, inputs=oe_on)
     t, v, s, mu = data["t"], data["v"], data["s"], data["mu"]
     _estimate(len(t), _distributed_options(fc["model"])).check(config.origins)
     import pandas as pd  # once the data are checked: a refused run fails at once
@@ -203,11 +219,21 @@ def run(plan_: Plan, progress=None) -> StudyResult:
         frames["distributed"] = pd.DataFrame({"t": t, "v": v, "s": s, "mu": mu, "mu_model": dout["mu_model"],
                                               "residual": dout["mu_model"] - mu, "used": use.astype(int),
                                               "z": dout["zbar"], "zdot": dout["zdot"]})
+    p_dist = p_fit if dist is not None else None
+    oe = oe_record = None
+    if oe_on:  # the output-error fit from the last stage's values
+        from tirecli.studies.fit.output_error import FIT_OE, run_stage
+
+        oe, p_fit, frames["output_error"], oe_record = run_stage(data, p_fit, car, fc, free, bounds,
+                                                                 s1cfg["bounds"] if s1 is not None else None)
+        _require(oe, "output-error", data, mu)
     rows = _parameter_rows(steady, STAGES["steady"], FIT_FM, start, fc["initial"])
     if s1 is not None:
         rows += _parameter_rows(s1, STAGES["sigma1"], FIT_FM, start, fc["initial"])
     if dist is not None:
         rows += _parameter_rows(dist, STAGES["distributed"], FIT_DISTRIBUTED, start, fc["initial"])
+    if oe is not None:
+        rows += _parameter_rows(oe, STAGES["output-error"], FIT_OE, start, fc["initial"])
     frames["parameters"] = pd.DataFrame(rows)
     corr = pd.DataFrame(steady.corr, columns=steady.names)
     corr.insert(0, "parameter", steady.names)
@@ -218,7 +244,11 @@ def run(plan_: Plan, progress=None) -> StudyResult:
         dc = pd.DataFrame(dist.corr, columns=dist.names)
         dc.insert(0, "parameter", dist.names)
         frames["correlation_distributed"] = dc
-    set_doc = fitted_set(fc["name"], tire, p_fit, steady, s1, data["source"], data["synthetic"], dist)
+    if oe is not None:
+        oc_ = pd.DataFrame(oe.corr, columns=oe.names)
+        oc_.insert(0, "parameter", oe.names)
+        frames["correlation_output_error"] = oc_
+    set_doc = fitted_set(fc["name"], tire, p_fit, steady, s1, data["source"], data["synthetic"], dist, oe)
     meta = {
         "title": checked["title"],
         "data": {"source": data["source"], "samples": int(len(t)), "used_steady": int(sel.sum()),
@@ -228,6 +258,8 @@ def run(plan_: Plan, progress=None) -> StudyResult:
         "sigma1": s1.record() if s1 is not None else None,
         "sigma1_model": _variant(s1cfg["model"]).record() if s1 is not None else None,
         "model": "distributed" if dist is not None else "lumped",
+        "method": fc["method"],
+        "output_error": oe_record,
         "distributed": ({**dist.record(), "model": dopt["variant"].record(), "window": dopt["window"],
                          "samples_used": int(dist.n),
                          "drive": f"v(t), r omega(t) through the samples ({dopt['interpolation']}), "
@@ -248,9 +280,10 @@ def run(plan_: Plan, progress=None) -> StudyResult:
                              title=set_doc["title"], citation=set_doc["citation"])
     return StudyResult(
         study="fit", config=config, parameter_sets={"start": tire, "fitted": fitted_ps, "vehicle": vehicle},
-        data=frames, meta=meta, figures=checked["figures"] or ["fit-steady", "fit-transient"],
+        data=frames, meta=meta, figures=checked["figures"] or ["fit-steady", "fit-transient"] + (["fit-output-error"] if oe is not None else []),
         payload={"start": start, "fitted": p_fit, "fitted_fm": p_fm, "table2": _table2(), "steady": steady,
-                 "sigma1": s1, "distributed": dist, "samples": data, "used": sel, "car": car, "checked": checked},
+                 "sigma1": s1, "distributed": dist, "output_error": oe,
+                 "fitted_distributed": p_dist, "samples": data, "used": sel, "car": car, "checked": checked},
         synthetic=data["synthetic"], files={"fitted.yaml": dump_yaml(set_doc)},
     )
 
@@ -261,6 +294,8 @@ def _require(result: identify.FitResult, stage: str, data: dict, mu) -> None:
     why = result.failure()
     if why is not None and result.unidentifiable and why == result.identifiability_text():   # the data, not the run
         raise DataError(f"{data['source']}: the {STAGES[stage]} fit is refused: {why}; no fitted.yaml was written")
+    if why and why.startswith("the covariance") and result.extra.get("not_identifiable"):
+        why = None  # named as not identifiable, without an interval (the summary and the set say so)
     with np.errstate(all="ignore"):
         top = float(np.max(np.abs(mu))) if len(mu) else float("nan")
         scale = float(np.sqrt(np.mean(np.square(mu)))) if len(mu) else float("nan")

@@ -2,6 +2,7 @@
 from __future__ import annotations
 
 from tirecli.config.schema import AnyOf, Bool, ListOf, Map, Num, Raw, Spec, Str
+from tirecli.conventions import AXIS_CONVENTIONS
 from tirecli.limits import MAX_TITLE_CHARS
 from tirecli.models.variants import LOADS
 from tirecli.numerics import identify
@@ -17,8 +18,13 @@ MAX_UNEXPLAINED = 0.5
 
 
 def _data_post(v, path, ctx):
-    if (v["csv"] is None) == (v["simulate"] is None):
-        ctx.fail(path, "give exactly one data source: csv (a file) or simulate (a simulate config)")
+    if sum(v[k] is not None for k in ("csv", "file", "simulate")) != 1:
+        ctx.fail(path, "give exactly one data source: file (a .csv, .parquet, .tdx or .mf4 file of measured data), "
+                       "csv (a CSV of the fit's own columns) or simulate (a simulate config)")
+    if v["file"] is None:
+        for k in ("units", "convention", "rate"):
+            if v[k] is not None:
+                ctx.fail(path + (k,), "applies to data.file only (a measured-data file read by tirecli's readers)")
     w = v["window"]
     if w and w["start"] is not None and w["end"] is not None and w["end"] <= w["start"]:
         ctx.fail(path + ("window", "end"), "must be after start")
@@ -43,6 +49,10 @@ WINDOW = Map(fields={"start": Num(unit="s", default=None, doc="first time"),
 
 DATA = Map(fields={
     "csv": _Nullable(Str(), doc="CSV file: columns t [s], v [m/s], s [-] (or romega [m/s]), mu [-]"),
+    "file": _Nullable(Str(), doc="measured-data file (.csv, .parquet, .tdx, .mf4) read into the channel table"),
+    "units": Map(open_keys=Str(), default=None, doc="data.file: {COLUMN: UNIT}, the unit of a column (default SI)"),
+    "convention": Str(choices=AXIS_CONVENTIONS, default=None, doc="data.file: axis convention of the file"),
+    "rate": Num(unit="1/s", gt=0, default=None, doc="data.file, MDF only: resample to this many samples a second"),
     "simulate": _Nullable(Str(), doc="simulate config (built-in name or file) whose samples are the data"),
     "frame": Str(default="measured", doc="frame of the simulate result (measured, measured_clean, ...)"),
     "cases": ListOf(item=Str(), default=None, doc="run only these cases of the simulate config"),
@@ -110,6 +120,40 @@ MODEL = AnyOf(options=(
 ), default="lumped",
     what="lumped, distributed, or a mapping {model: distributed, load, window, substeps, interpolation}")
 
+#: ``fit.method``: the FM procedure (stages 1-2, optionally the driven distributed fit), or then the output-error fit.
+METHODS = ("fm", "output-error")
+#: The input of the output-error fit: brake pressure times its gain, the brake's torque, or the signed wheel torque.
+OE_INPUTS = ("pressure", "brake_torque", "torque")
+
+
+def _oe_post(v, path, ctx):
+    from tirecli.numerics.identify_oe import INITIAL_PARAMETERS, OE_PARAMETERS
+
+    for k in (v["parameters"] or []):
+        if k not in OE_PARAMETERS + INITIAL_PARAMETERS:
+            ctx.fail(path + ("parameters",), f"unknown parameter {k!r} (expected among: "
+                                             f"{', '.join(OE_PARAMETERS + INITIAL_PARAMETERS)})")
+    w = v["window"]
+    if w and w["start"] is not None and w["end"] is not None and w["end"] <= w["start"]:
+        ctx.fail(path + ("window", "end"), "must be after start")
+
+
+OUTPUT_ERROR_DEFAULT = {"parameters": None, "model": None, "input": None, "pressure_gain": None, "hold": "linear",
+                        "window": None, "weighting": "noise"}
+OUTPUT_ERROR = Map(fields={
+    "parameters": ListOf(item=Str(), default=None,
+                         doc="parameters to fit (default: fit.parameters and sigma1); v0, omega0: the initial speeds"),
+    "model": AnyOf(options=VARIANT.options, default=None,
+                   what="a tire model variant (default distributed, uniform load)"),
+    "input": Str(choices=OE_INPUTS, default=None,
+                 doc="the brake input: pressure x pressure_gain, brake_torque or torque (default: the first the data give)"),
+    "pressure_gain": Num(unit="N m/bar", gt=0, default=None,
+                         doc="brake torque per unit pressure (default: the simulate config's, for data.simulate)"),
+    "hold": Str(choices=("linear", "zoh"), default="linear", doc="the input between samples: linear or zero-order hold"),
+    "window": WINDOW,
+    "weighting": Str(choices=("noise", "range"), default="noise", doc="channel weights: estimated noise or range"),
+}, post=_oe_post, default=OUTPUT_ERROR_DEFAULT)
+
 FIT = Map(fields={
     "parameters": ListOf(item=Str(choices=identify.STEADY_PARAMETERS),
                          default=["sigma0", "sigma2", "mu_c", "mu_s", "v_s"], doc="steady-state parameters to fit"),
@@ -118,9 +162,14 @@ FIT = Map(fields={
     "confidence": Num(unit="-", gt=0, lt=1, default=0.95, doc="level of the confidence intervals"),
     "sigma1": AnyOf(options=(Bool(), SIGMA1), default={}, what="false, or {model, bounds, window}"),
     "model": MODEL,
+    "method": Str(choices=METHODS, default="fm",
+                  doc="fm: the FM procedure (and model: distributed); output-error: then the coupled quarter car from the "
+                      "brake input fitted to v, r omega and mu"),
+    "output_error": OUTPUT_ERROR,
     "name": Str(default="fitted", doc="name of the fitted parameter set", max_len=MAX_TITLE_CHARS),
 }, post=_fit_post, default={"parameters": ["sigma0", "sigma2", "mu_c", "mu_s", "v_s"], "initial": None, "bounds": None,
-                            "confidence": 0.95, "sigma1": {}, "model": "lumped", "name": "fitted"})
+                            "confidence": 0.95, "sigma1": {}, "model": "lumped", "method": "fm",
+                            "output_error": OUTPUT_ERROR_DEFAULT, "name": "fitted"})
 
 SPEC = Map(fields=common_fields() | {
     "tire": Raw(kind="lugre", doc="LuGre set with the starting values and the fixed parameters"),
