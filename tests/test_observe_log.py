@@ -51,16 +51,41 @@ def test_log_options_exclude_the_simulated_sensor(cli, tmp_path):
     assert code == 2 and "drop 'rate'" in err
 
 
-def test_mapped_columns_and_units(tmp_path):
-    """A log in its own names and units (rpm, wheel_speed -> omega) reads as the SI log."""
+def _plan(cfg):
     from tirecli.config.loader import load_config
     from tirecli.studies.registry import plan
 
-    text = "time,wheel_speed,brake_torque\n0,600,-100\n0.5,570,-100\n"
-    cfg = _config(tmp_path, text, map={"wheel_speed": "omega", "brake_torque": "torque"}, units={"omega": "rpm"})
-    d = plan(load_config(cfg)).detail
+    return plan(load_config(cfg)).detail
+
+
+def test_mapped_columns_and_units(tmp_path):
+    """A log in its own names and units (rpm; a brake torque, > 0 braking) reads as the SI log: omega in
+    rad/s, the wheel torque u = -brake torque (conventions.wheel_torque_from_brake)."""
+    text = "time,wheel_speed,brake\n0,600,100\n0.5,570,100\n"
+    cfg = _config(tmp_path, text, map={"wheel_speed": "omega", "brake": "brake_torque"}, units={"omega": "rpm"})
+    d = _plan(cfg)
     assert d.omega[0] == pytest.approx(600 * 2 * np.pi / 60, rel=1e-12) and d.v is None
     assert d.torque.tolist() == [-100.0, -100.0]
+
+
+def test_wheel_speed_as_r_omega_and_torque_from_pressure(tmp_path):
+    """``romega`` [m/s] is divided by the vehicle's wheel radius; a brake pressure times ``torque_gain``
+    [N m/Pa] is a brake torque."""
+    text = "t,romega,p\n0,20,1.0e5\n0.01,19.9,2.0e5\n"
+    d = _plan(_config(tmp_path, text, torque_gain=2.0e-3))
+    r = d.plant.car.r
+    assert d.omega.tolist() == pytest.approx([20 / r, 19.9 / r], rel=1e-12)
+    assert d.torque.tolist() == [-200.0, -400.0]
+
+
+@pytest.mark.parametrize("text, extra, needle", [
+    ("t,omega,romega,torque\n0,80,20,0\n0.1,80,20,0\n", {}, "the wheel speed given twice (omega and romega)"),
+    ("t,omega,p\n0,80,1\n0.1,80,1\n", {}, "missing channel(s) torque"),
+    ("t,romega,torque\n0,80,0\n0.1,80,0\n", {"units": {"romega": "rad/s"}}, "channel romega: unit rad/s, expected m/s"),
+])
+def test_ambiguous_or_wrong_channels(cli, tmp_path, text, extra, needle):
+    code, _, err = cli("observe", _config(tmp_path, text, **extra), "--out", tmp_path / "out")
+    assert code == 2 and needle in err, err
 
 
 def test_observer_on_the_plants_log_reproduces_the_simulated_run():

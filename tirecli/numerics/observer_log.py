@@ -34,9 +34,9 @@ class _Held:
 _ONE = _Held(1.0)   # adhesion of the placeholder plant (not read by the observer part)
 
 
-#: Right-hand-side evaluations a sample interval costs, about (LSODA restarting after an input jump);
-#: the work estimate of a log run (:mod:`tirecli.studies.observe.work`).
-CALLS_PER_SAMPLE = 90
+#: Right-hand-side evaluations a sample interval costs, about (LSODA restarting after an input jump: 209 a
+#: sample on examples/obs-log.yaml); the work estimate of a log run (:mod:`tirecli.studies.observe.work`).
+CALLS_PER_SAMPLE = 200
 
 
 def observe_log(plant: ObserverPlant, gains: ObserverGains, t, y, u, v_hat0: float, z_hat0: float = 0.0,

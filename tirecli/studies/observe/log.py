@@ -24,10 +24,11 @@ from tirecli.errors import ConfigError, DataError
 from tirecli.studies.base import StudyResult
 from tirecli.studies.study import Line, Plan
 
-#: Channels of a log: required, optional.
-REQUIRED = ("t", "omega", "torque")
-OPTIONAL = ("vx",)
-
+#: Channels of a log: the time; the wheel speed as ``omega`` [rad/s] or ``romega`` = r omega [m/s]; the torque as
+#: ``torque`` (wheel torque, > 0 drives), ``brake_torque`` (> 0 brakes) or the brake pressure ``p`` [Pa] times
+#: ``torque_gain``; optionally the vehicle speed ``vx``.
+SPEEDS = ("omega", "romega")
+TORQUES = ("torque", "brake_torque", "p")
 
 @dataclass
 class LogCase:
@@ -53,6 +54,7 @@ class ObserveLog:
     source: str
     synthetic: bool
     solver: object            # SolverOptions (rtol, atol, h_max)
+    notes: list               # warnings of the run (deprecated keys)
 
 
 def _log_path(ref: str, base_dir) -> str:
@@ -60,16 +62,38 @@ def _log_path(ref: str, base_dir) -> str:
     return ref if p.is_absolute() else str(Path(base_dir) / p)
 
 
-def read_log(path: str, mapping: dict, units: dict):
-    """``(t, omega, torque, v or None, data)`` of a log, checked: DataError (one line, exit 2) for a missing
-    channel, a value that is not finite, a unit of the wrong kind, time that does not increase."""
+def _unit(data, name: str, expected: str) -> None:
+    unit = data.channels[name].unit
+    if unit not in (expected, ""):
+        raise DataError(f"{data.source}: channel {name}: unit {unit}, expected {expected} "
+                        f"(override with units: {{{name}: {expected}}})")
+
+
+def _first(data, names, what: str) -> str:
+    have = [n for n in names if data.has(n)]
+    if not have:
+        data.require(names[0])   # the reader's message: missing channel, what the file gives
+    if len(have) > 1:
+        raise DataError(f"{data.source}: {what} given twice ({' and '.join(have)}); map one of them")
+    return have[0]
+
+
+def read_log(path: str, mapping: dict, units: dict, r: float, torque_gain: float | None = None):
+    """``(t, omega, torque, v or None, data)`` of a log in SI (``omega`` [rad/s], the wheel torque [N m], > 0
+    drives), checked: DataError (one line, exit 2) for a missing channel, a value that is not finite, a unit of
+    the wrong kind, time that does not increase. ``r`` [m]: the wheel radius of a ``romega`` channel."""
+    from tirecli.conventions import wheel_torque_from_brake
     from tirecli.io.readers import read_measured
 
-    data = read_measured(path, mapping=mapping or None, units=units or None, require=REQUIRED)
-    unit = data.channels["torque"].unit
-    if unit not in ("N m", ""):
-        raise DataError(f"{data.source}: channel torque: unit {unit}, expected N m (the wheel torque; "
-                        "override with units: {torque: N m})")
+    data = read_measured(path, mapping=mapping or None, units=units or None, require=("t",))
+    speed = _first(data, SPEEDS, "the wheel speed")
+    torque = _first(data, TORQUES if torque_gain is not None else TORQUES[:2], "the torque")
+    if torque == "p" and torque_gain is None:
+        raise DataError(f"{data.source}: a brake pressure p needs measurement.torque_gain [N m/Pa]")
+    if speed == "romega":
+        _unit(data, "romega", "m/s")
+    if torque != "p":
+        _unit(data, torque, "N m")
     t = data.column("t")
     if len(t) < 2:
         raise DataError(f"{data.source}: {len(t)} sample(s); the observer needs at least 2")
@@ -78,9 +102,14 @@ def read_log(path: str, mapping: dict, units: dict):
         i = int(bad[0]) + 1
         raise DataError(f"{data.source}: t does not increase at row {i + 1} ({t[i - 1]:g} s then {t[i]:g} s); "
                         "a log needs strictly increasing time")
+    omega = data.column(speed) / (r if speed == "romega" else 1.0)
+    u = data.column(torque)
+    if torque == "brake_torque":
+        u = wheel_torque_from_brake(u)
+    elif torque == "p":
+        u = wheel_torque_from_brake(torque_gain * u)
     v = data.column("vx") if data.has("vx") else None
-    return t, data.column("omega"), data.column("torque"), v, data
-
+    return t, omega, u, v, data
 
 def plan_log(config, checked: dict, plant, gains, sets: dict, solver, deprecated: list, bytes_per_point: float) -> Plan:
     """Check an observe config on a log: read and check the log, build the cases, size the run."""
@@ -93,7 +122,7 @@ def plan_log(config, checked: dict, plant, gains, sets: dict, solver, deprecated
             raise ConfigError(config.origins.problem((key,), "not available on a measured log; use 'cases' "
                                                              "with observer gains"))
     path = _log_path(meas["log"], config.base_dir)
-    t, omega, torque, v, data = read_log(path, meas["map"], meas["units"])
+    t, omega, torque, v, data = read_log(path, meas["map"], meas["units"], plant.car.r, meas["torque_gain"])
     est = checked["estimate"] or {"v_error": 0.0, "z": 0.0, "theta": 1.0}
     conv = (checked["scenario"] or {}).get("theta_convention", "obs")
     v_ref0 = float(v[0]) if v is not None else plant.car.r * float(omega[0])
@@ -111,7 +140,7 @@ def plan_log(config, checked: dict, plant, gains, sets: dict, solver, deprecated
     est_ = log_work_estimate(len(t), len(cases), bytes_per_point)
     est_.check(config.origins)
     return Plan("observe", config, checked, sets, est_,
-                ObserveLog(plant, cases, t, omega, torque, v, data.source, data.synthetic, solver))
+                ObserveLog(plant, cases, t, omega, torque, v, data.source, data.synthetic, solver, list(deprecated)))
 
 
 def run_log(plan_: Plan, progress=None) -> StudyResult:
@@ -158,7 +187,7 @@ def run_log(plan_: Plan, progress=None) -> StudyResult:
                                                   "t_end_s": float(d.t[-1]), "measured_speed": d.v is not None,
                                                   "hold": "zero-order (each sample held until the next)"},
               "theta_convention": "theta_hat: OBS convention (1 dry, larger = less grip); theta_hat_fm = 1/theta_hat",
-              "runs": runs, "warnings": [], "assumed": []},
+              "runs": runs, "warnings": list(d.notes), "assumed": []},
         figures=checked["figures"] or ["obs-fig2"],
         payload={"plant": d.plant, "cases": d.cases, "trajectories": trajs, "runs": runs, "log": True},
         synthetic=d.synthetic,
@@ -186,4 +215,4 @@ def summary(result) -> list:
         lines.append(text)
     if not lg["measured_speed"]:
         lines.append(Line("the log has no vehicle speed (vx): v_hat is not compared with a reference", "note"))
-    return lines
+    return lines + [Line(w, "warning") for w in result.meta["warnings"]]

@@ -18,6 +18,8 @@ DEFAULT_VEHICLE = "canudas2003-obs-quarter-car"
 def _measurement_post(v, path, ctx):
     if v["log"] is not None and any(v[k] is not None for k in ("rate", "noise", "encoder")):
         ctx.fail(path, "a measured 'log' brings its own samples: drop 'rate', 'noise' and 'encoder'")
+    if v["log"] is None and (v["map"] or v["units"] or v["torque_gain"] is not None):
+        ctx.fail(path, "'map', 'units' and 'torque_gain' describe a measured 'log'; give one or drop them")
     if v["rate"] is None and (v["noise"] is not None or v["encoder"] is not None):
         ctx.fail(path, "noise and encoder quantisation need a sampling 'rate' [Hz] (the measurement is held between samples)")
 
@@ -33,7 +35,10 @@ MEASUREMENT = Map(fields={
                    default=None),
     "log": Str(default=None, doc="a measured log (.csv, .parquet, .mf4, .tdx): the observer runs on its wheel speed "
                                  "and torque, no plant is simulated (docs/observe.md, On a measured log)"),
-    "map": Map(open_keys=Str(), default={}, doc="FILE_COLUMN -> NAME of the log (t, omega, torque, vx)"),
+    "map": Map(open_keys=Str(), default={}, doc="FILE_COLUMN -> NAME of the log (t; omega or romega; torque, "
+                                                "brake_torque or p; vx)"),
+    "torque_gain": Num(unit="N m/Pa", gt=0, default=None,
+                       doc="brake torque per unit brake pressure: a log without a torque gives u = -gain p"),
     "units": Map(open_keys=Str(), default={}, doc="NAME -> UNIT of the log's columns"),
 }, post=_measurement_post, default=None)
 
