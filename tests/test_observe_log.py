@@ -129,3 +129,25 @@ def test_shipped_log_is_reproducible(tmp_path):
     new = Path(out).read_text().splitlines()
     old = LOG.read_text().splitlines()
     assert [ln for ln in new if not ln.startswith("# made by")] == [ln for ln in old if not ln.startswith("# made by")]
+
+
+@pytest.mark.parametrize("key, value, needle", [
+    ("scenario", {"duration": 1, "theta": 1, "torque": 0, "v0": 20}, "replaces the simulated scenario"),
+    ("metrics", {"phases": [0, 1]}, "the phase metrics need the true theta"),
+    ("gain_study", {"gain": "gamma", "values": [1, 2]}, "not available on a measured log"),
+])
+def test_simulation_keys_refused_with_a_log(cli, tmp_path, key, value, needle):
+    cfg = _config(tmp_path, GOOD)
+    doc = yaml.safe_load(cfg.read_text())
+    doc[key] = value
+    cfg.write_text(yaml.safe_dump(doc))
+    code, _, err = cli("observe", cfg, "--out", tmp_path / "out")
+    assert code == 2 and needle in err and f"{key}" in err, err
+
+
+def test_no_scenario_and_no_log_names_both(cli, tmp_path):
+    doc = yaml.safe_load((EXAMPLES / "obs-log.yaml").read_text())
+    doc.pop("measurement")
+    (tmp_path / "c.yaml").write_text(yaml.safe_dump(doc))
+    code, _, err = cli("observe", tmp_path / "c.yaml", "--out", tmp_path / "out")
+    assert code == 2 and "scenario: missing" in err and "measurement.log" in err, err

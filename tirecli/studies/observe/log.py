@@ -113,18 +113,21 @@ def read_log(path: str, mapping: dict, units: dict, r: float, torque_gain: float
 
 def plan_log(config, checked: dict, plant, gains, sets: dict, solver, deprecated: list, bytes_per_point: float) -> Plan:
     """Check an observe config on a log: read and check the log, build the cases, size the run."""
-    from tirecli.conventions import theta_obs_from_fm, to_theta_fm
     from tirecli.studies.observe.work import log_work_estimate
 
     meas = checked["measurement"]
-    for key in ("gain_study",):
-        if checked[key]:
-            raise ConfigError(config.origins.problem((key,), "not available on a measured log; use 'cases' "
-                                                             "with observer gains"))
+    why = {"gain_study": "not available on a measured log; use 'cases' with observer gains",
+           "scenario": "a measured log replaces the simulated scenario; drop 'scenario' (estimate.theta is in "
+                       "the OBS convention on a log)",
+           "metrics": "the phase metrics need the true theta of a simulated plant; a log run is measured against "
+                      "the log's vx",
+           "output": "a log run is written at the log's sample times; drop 'output'"}
+    for key, text in why.items():
+        if (key,) in config.origins.where:
+            raise ConfigError(config.origins.problem((key,), text))
     path = _log_path(meas["log"], config.base_dir)
     t, omega, torque, v, data = read_log(path, meas["map"], meas["units"], plant.car.r, meas["torque_gain"])
     est = checked["estimate"] or {"v_error": 0.0, "z": 0.0, "theta": 1.0}
-    conv = (checked["scenario"] or {}).get("theta_convention", "obs")
     v_ref0 = float(v[0]) if v is not None else plant.car.r * float(omega[0])
     raw = checked["cases"] or [{"label": "nominal"}]
     cases = []
@@ -136,7 +139,7 @@ def plan_log(config, checked: dict, plant, gains, sets: dict, solver, deprecated
         g = gains.replace(**{k: x for k, x in (c.get("observer") or {}).items() if x is not None})
         e = {**est, **{k: x for k, x in (c.get("estimate") or {}).items() if x is not None}}
         cases.append(LogCase(c["label"], g, v_ref0 + e["v_error"], e["z"],
-                             float(theta_obs_from_fm(to_theta_fm(e["theta"], conv)))))
+                             float(e["theta"])))
     est_ = log_work_estimate(len(t), len(cases), bytes_per_point)
     est_.check(config.origins)
     return Plan("observe", config, checked, sets, est_,
