@@ -240,5 +240,5 @@ def synthetic_log(config, rate: float, noise: float = 0.0, seed: int = 0):
                       "wheel torque (> 0 drives)"),
             RawColumn(tr.v[i], "vx", "vx", "m/s")]
     return assemble("<synthetic>", "csv", cols, "iso",
-                    comments=[f"SYNTHETIC observer log: the simulated plant of {config.label} (tirecli observe), "
+                    comments=[f"SYNTHETIC observer log: the simulated plant of {Path(str(config.label)).name} (tirecli observe), "
                               f"sampled at {rate:g} Hz, wheel-speed noise {noise:g} rad/s, seed {seed}"])
