@@ -191,6 +191,12 @@ def to_theta_fm(theta, convention):
     raise ValueError(f"unknown theta convention {convention!r}; expected one of {THETA_CONVENTIONS}")
 
 
+def wheel_torque_from_brake(brake_torque):
+    """The wheel torque ``u`` of the quarter car and the observer [N m] (> 0 drives, < 0 brakes) from a brake
+    torque [N m] counted positive when it brakes: ``u = -brake_torque``."""
+    return -np.asarray(brake_torque, dtype=float)
+
+
 #: Axis conventions of measured tyre data (:func:`axes_to_iso`).
 AXIS_CONVENTIONS = ("iso", "sae", "adapted-iso")
 

@@ -205,3 +205,40 @@ def synth_command(tire_ref, out, noise, seed, loads, pressures, points) -> str:
 
 
 __all__ = ["data_show", "data_convert", "data_synth", "describe", "read_options", "parse_list"]
+
+
+def observer_log_synth(config_path: str, out: str, rate: float, noise: float = 0.0, seed: int = 0) -> str:
+    """Write a SYNTHETIC observer log (CSV: ``t, omega, torque, vx``) of the simulated plant of an observe config
+    (:func:`tirecli.studies.observe.log.synthetic_log`); returns the path written."""
+    from tirecli.config.loader import load_config
+    from tirecli.io.readers import write_measured
+
+    data = synthetic_log(load_config(config_path), rate, noise, seed)
+    cmd = (f"made by: python -c \"from tirecli.app.data import observer_log_synth; observer_log_synth("
+           f"'{Path(config_path).name}', '{Path(out).name}', rate={rate:g}, noise={noise:g}, seed={seed})\"")
+    write_measured(out, data, "csv", comments=[cmd])
+    return out
+
+
+def synthetic_log(config, rate: float, noise: float = 0.0, seed: int = 0):
+    """A SYNTHETIC log of the first case of an observe ``config`` (a simulated plant): ``t, omega, torque, vx``
+    at ``rate`` [Hz] over the scenario, ``omega`` as the observe study's sampled measurement (``noise`` [rad/s]
+    Gaussian, ``seed``). Returns a :class:`tirecli.io.measured.MeasuredData`."""
+    from tirecli.io.measured import RawColumn, assemble
+    from tirecli.numerics import observer_integrator as oi
+    from tirecli.observers.measurement import Sensor
+    from tirecli.studies.registry import plan
+
+    p = plan(config)
+    det, case = p.detail, p.detail.cases[0]
+    sensor = Sensor(rate=rate, noise_std=noise, seed=seed)
+    tr = oi.simulate_adaptive(det.plant, case.gains, case.scenario, sensor, method="lsoda", rtol=1e-9)
+    ts = sensor.sample_times(case.scenario.duration)
+    i = np.searchsorted(tr.t, ts + 1e-12, side="right") - 1   # the segment start where sample k is held
+    cols = [RawColumn(ts, "t", "t", "s"), RawColumn(tr.y[i], "omega", "omega", "rad/s"),
+            RawColumn(np.asarray(case.scenario.torque(ts), float), "torque", "torque", "N m",
+                      "wheel torque (> 0 drives)"),
+            RawColumn(tr.v[i], "vx", "vx", "m/s")]
+    return assemble("<synthetic>", "csv", cols, "iso",
+                    comments=[f"SYNTHETIC observer log: the simulated plant of {Path(str(config.label)).name} (tirecli observe), "
+                              f"sampled at {rate:g} Hz, wheel-speed noise {noise:g} rad/s, seed {seed}"])

@@ -61,18 +61,28 @@ def _mark_synthetic(result, fig):
 )
 def draw_obs_fig2(result):
     fig, (a, b, c) = new_figure(nrows=3, width=7.2, height=8.4, sharex=True)
+    log = result.payload.get("log", False)   # the observer on a measured log: no true theta, v measured
     for k, (case, tr, run) in enumerate(_plot_runs(result)):
         col = COLORS[k % len(COLORS)]
         suffix = f" ({case.label})" if len(result.payload["cases"]) > 1 else ""
-        if k == 0:
+        if k == 0 and not log:
             a.plot(tr.t, tr.theta, color="k", lw=1.6, label="theta (true)")
         a.plot(tr.t, tr.theta_hat, "--", color=col, lw=1.4, label="theta_hat" + suffix)
-        for tc in run["metrics"]["crossings_s"]:
+        for tc in run["metrics"].get("crossings_s", []):
             a.axvline(tc, color=col, ls=":", lw=1.0)
-        b.plot(tr.t, _slip(result, tr), color=col, label="slip s" + suffix)
-        if k == 0:
-            c.plot(tr.t, tr.v, color="k", lw=1.6, label="v (true)")
+        if log:
+            b.plot(tr.t, tr.torque, color=col, label="torque (log)" if k == 0 else None)
+        else:
+            b.plot(tr.t, _slip(result, tr), color=col, label="slip s" + suffix)
+        if k == 0 and not np.all(np.isnan(tr.v)):
+            c.plot(tr.t, tr.v, color="k", lw=1.6, label="v (measured)" if log else "v (true)")
         c.plot(tr.t, tr.v_hat, "--", color=col, lw=1.4, label="v_hat" + suffix)
+    if log:
+        finish(a, "", "theta (OBS convention) [-]", "(a) road adhesion estimated from the log", loc="upper left")
+        finish(b, "", "wheel torque [N m]", "(b) wheel torque of the log (held between samples)")
+        finish(c, "time t [s]", "speed [m/s]", "(c) vehicle speed: measured and estimated", loc="upper left")
+        _mark_synthetic(result, fig)
+        return fig
     crossings = _plot_runs(result)[0][2]["metrics"]["crossings_s"]
     txt = ", ".join(f"{tc:.3f} s" for tc in crossings)
     finish(a, "", "theta (OBS convention) [-]", f"(a) road adhesion; dotted: v_r = 0 at {txt}", loc="upper left")

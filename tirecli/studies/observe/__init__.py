@@ -42,7 +42,7 @@ from tirecli.studies.registry import register
 from tirecli.studies.study import Lazy, Line, Study
 
 #: Units of the facts of each case (``NAME[LABEL]``; ``NAME`` too with one case).
-FACT_UNITS = {"convergence_time": "s", "rms_theta_error": "-", "max_theta_error": "-", "max_abs_v_error": "m/s",
+FACT_UNITS = {"convergence_time": "s", "rms_v_error": "m/s", "max_abs_v_error_at_s": "s", "v_hat_final": "m/s", "rms_theta_error": "-", "max_theta_error": "-", "max_abs_v_error": "m/s",
               "final_v_error": "m/s", "excitation_share": "-", "theta_hat_final": "-"}
 
 
@@ -50,6 +50,10 @@ def facts(result) -> dict:
     """Per case: ``convergence_time`` (settling time of theta_hat after the first adhesion change),
     ``rms_theta_error, max_theta_error`` (over the run, zero crossings of v_r excluded),
     ``max_abs_v_error, final_v_error, excitation_share, theta_hat_final``."""
+    if "log" in result.meta:
+        from tirecli.studies.observe.log import facts as log_facts
+
+        return log_facts(result)
     per_case = {}
     for run_ in result.meta["runs"]:
         m = run_["metrics"]
@@ -97,6 +101,10 @@ def metrics_table(result) -> list[str]:
 
 def summary(result) -> list:
     """The metrics table, the scenario's assumptions (notes) and the design or excitation warnings."""
+    if "log" in result.meta:
+        from tirecli.studies.observe.log import summary as log_summary
+
+        return log_summary(result)
     return (metrics_table(result) + [Line(f"assumed: {a}", "note") for a in result.meta.get("assumed", [])]
             + [Line(w, "warning") for w in result.meta.get("warnings", [])])
 

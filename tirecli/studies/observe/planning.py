@@ -116,9 +116,18 @@ def plan(config: Config) -> Plan:
     gain_set = config.group("observer", "observer", DEFAULT_GAINS)
     plant = lo.ObserverPlant(tire=tire.model(), car=vehicle.model())
     gains = gain_set.model()
-    sc = checked["scenario"]
-    est = checked["estimate"] or {"v_error": 0.0, "z": 0.0, "theta": 1.0}
     meas = checked["measurement"]
+    if meas and meas["log"] is not None:   # the observer on a measured log: no plant
+        from tirecli.studies.observe.log import plan_log
+
+        solver, deprecated = _solver(checked, config)
+        return plan_log(config, checked, plant, gains, {"tire": tire, "vehicle": vehicle, "observer": gain_set},
+                        solver, deprecated, BYTES_PER_POINT)
+    sc = checked["scenario"]
+    if sc is None:
+        raise ConfigError(config.origins.problem(("scenario",), "missing: a scenario (duration, theta, torque, v0) "
+                                                                "or measurement.log (a measured log)"))
+    est = checked["estimate"] or {"v_error": 0.0, "z": 0.0, "theta": 1.0}
     cases_raw, gstudy = checked["cases"], checked["gain_study"]
     if cases_raw and gstudy:
         raise ConfigError(config.origins.problem(("gain_study",), "use either 'cases' or 'gain_study', not both"))
@@ -136,6 +145,9 @@ def plan(config: Config) -> Plan:
         if len(set(labels)) != len(labels):
             raise ConfigError(config.origins.problem(("cases",), "two cases share a label; give each a distinct 'label'"))
         for j, c in enumerate(cases_raw):
+            if (c["measurement"] or {}).get("log") is not None:
+                raise ConfigError(config.origins.problem(("cases", j, "measurement", "log"),
+                                                         "a log is given once, at measurement.log"))
             g = gains.replace(**{k: v for k, v in (c["observer"] or {}).items() if v is not None})
             e = {**est, **{k: v for k, v in (c["estimate"] or {}).items() if v is not None}}
             cases.append(_make_case(c["label"], g, checked, c["theta"] if c["theta"] is not None else sc["theta"],

@@ -155,6 +155,10 @@ def run(plan_: Plan, progress=None) -> StudyResult:
     """Run a planned observe study (see :mod:`tirecli.studies.observe`)."""
     import pandas as pd  # once the config is checked: a refused run fails at once
 
+    if not isinstance(plan_.detail, Observe):   # the observer on a measured log
+        from tirecli.studies.observe.log import run_log
+
+        return run_log(plan_, progress)
     p, checked = plan_.detail, plan_.checked
     sc = checked["scenario"]
     dt_out = (checked["output"] or {}).get("dt", 0.01)

@@ -16,6 +16,10 @@ DEFAULT_VEHICLE = "canudas2003-obs-quarter-car"
 
 
 def _measurement_post(v, path, ctx):
+    if v["log"] is not None and any(v[k] is not None for k in ("rate", "noise", "encoder")):
+        ctx.fail(path, "a measured 'log' brings its own samples: drop 'rate', 'noise' and 'encoder'")
+    if v["log"] is None and (v["map"] or v["units"] or v["torque_gain"] is not None):
+        ctx.fail(path, "'map', 'units' and 'torque_gain' describe a measured 'log'; give one or drop them")
     if v["rate"] is None and (v["noise"] is not None or v["encoder"] is not None):
         ctx.fail(path, "noise and encoder quantisation need a sampling 'rate' [Hz] (the measurement is held between samples)")
 
@@ -29,6 +33,13 @@ MEASUREMENT = Map(fields={
                                          doc="count: edges per sample period; period: time of the last tooth interval"),
                            "clock": Num(unit="Hz", gt=0, default=None, doc="timer that time-stamps the edges (period method)")},
                    default=None),
+    "log": Str(default=None, doc="a measured log (.csv, .parquet, .mf4, .tdx): the observer runs on its wheel speed "
+                                 "and torque, no plant is simulated (docs/observe.md, On a measured log)"),
+    "map": Map(open_keys=Str(), default={}, doc="FILE_COLUMN -> NAME of the log (t; omega or romega; torque, "
+                                                "brake_torque or p; vx)"),
+    "torque_gain": Num(unit="N m/Pa", gt=0, default=None,
+                       doc="brake torque per unit brake pressure: a log without a torque gives u = -gain p"),
+    "units": Map(open_keys=Str(), default={}, doc="NAME -> UNIT of the log's columns"),
 }, post=_measurement_post, default=None)
 
 
@@ -105,7 +116,7 @@ SPEC = Map(fields=common_fields() | {
     "tire": Raw(kind="lugre", doc="LuGre parameter set (lumped, constant kappa0)"),
     "vehicle": Raw(kind="quarter_car", default=None, doc="quarter-car parameter set"),
     "observer": Raw(kind="observer", default=None, doc="observer gains (kind observer)"),
-    "scenario": SCENARIO,
+    "scenario": replace(SCENARIO, default=None),   # required unless measurement.log is given
     "estimate": _estimate(required=True),
     "measurement": MEASUREMENT,
     "solver": SOLVER,

@@ -42,3 +42,18 @@ def work_estimate(checked: dict, cases: list, solver, plant, origins):
             est.add(work, keys[kind] + (("observer",), ("scenario", "duration")),
                     what if len(cases) == 1 else f"{what} (case {case.label})", 0.0)   # evaluations: nothing stored
     return est
+
+
+def log_work_estimate(samples: int, cases: int, bytes_per_point: float):
+    """The work of an observe run on a measured log (:mod:`tirecli.studies.observe.log`): per case, the log's
+    samples recorded (``bytes_per_point`` each) and about :data:`tirecli.numerics.observer_log.CALLS_PER_SAMPLE` solver evaluations a
+    sample interval (LSODA restarts at every held sample)."""
+    from tirecli.limits import Estimate
+    from tirecli.numerics.observer_log import CALLS_PER_SAMPLE
+
+    est = Estimate()
+    for _ in range(cases):
+        est.add(samples, (("measurement", "log"), ("cases",)), "log samples recorded", bytes_per_point)
+        est.add(samples * CALLS_PER_SAMPLE, (("measurement", "log"), ("cases",)),
+                "observer evaluations (a restart at every held sample)", 0.0)
+    return est
