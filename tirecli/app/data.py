@@ -225,7 +225,7 @@ def synthetic_log(config, rate: float, noise: float = 0.0, seed: int = 0):
     at ``rate`` [Hz] over the scenario, ``omega`` as the observe study's sampled measurement (``noise`` [rad/s]
     Gaussian, ``seed``). Returns a :class:`tirecli.io.measured.MeasuredData`."""
     from tirecli.io.measured import RawColumn, assemble
-    from tirecli.numerics import observer_integrator as oi
+    from tirecli.numerics.observer import adaptive as oi
     from tirecli.observers.measurement import Sensor
     from tirecli.studies.registry import plan
 

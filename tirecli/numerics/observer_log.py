@@ -4,7 +4,7 @@
 states ``eta_hat, chi_hat, z_hat, theta_hat``) with the log's wheel speed ``y`` [rad/s] and wheel torque
 ``u`` [N m] held constant from one sample to the next (zero-order hold: the value of sample ``k`` applies on
 ``[t_k, t_{k+1})``). Every sample is an input jump, so the adaptive solver restarts at each one (LSODA,
-guarded against its stall in the non-stiff mode as in :mod:`tirecli.numerics.observer_integrator`); the
+guarded against its stall in the non-stiff mode as in :mod:`tirecli.numerics.observer.adaptive`); the
 states are returned at the sample times, right after each sample is taken.
 
 The model it integrates is :func:`tirecli.observers.observer.rhs` itself (nothing inlined).
@@ -14,7 +14,8 @@ from __future__ import annotations
 import numpy as np
 
 from tirecli.errors import RunError
-from tirecli.numerics.observer_integrator import Scenario, Trajectory, _lsoda_guarded, scalar_rhs, state_scales
+from tirecli.numerics.observer.adaptive import _lsoda_guarded, scalar_rhs, state_scales
+from tirecli.numerics.observer.scenario import Scenario, Trajectory
 from tirecli.numerics.solver_guard import WorkGuard, failure_message, quiet
 from tirecli.observers.lugre_observer import ObserverGains, ObserverPlant
 
